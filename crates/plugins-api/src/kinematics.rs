@@ -1,0 +1,121 @@
+//! Geometric helpers shared by formulations: minimal rotations, Cayley maps,
+//! and the closed-form rate of the traction direction `φ̇` (friction-math §4).
+
+use crate::{Mat3, Vec3};
+
+/// Projector onto the tangent plane of the unit normal `n`: `I - n⊗n`.
+#[inline]
+#[must_use]
+pub fn tangent_projector(n: &Vec3) -> Mat3 {
+    Mat3::identity() - n * n.transpose()
+}
+
+/// Skew matrix `[w]×` with `[w]× v = w × v`.
+#[inline]
+#[must_use]
+pub fn skew(w: &Vec3) -> Mat3 {
+    Mat3::new(0.0, -w.z, w.y, w.z, 0.0, -w.x, -w.y, w.x, 0.0)
+}
+
+/// Axial vector of the skew part of `m`.
+#[inline]
+#[must_use]
+pub fn axial(m: &Mat3) -> Vec3 {
+    0.5 * Vec3::new(m[(2, 1)] - m[(1, 2)], m[(0, 2)] - m[(2, 0)], m[(1, 0)] - m[(0, 1)])
+}
+
+/// Apply the minimal rotation that takes unit vector `a` to unit vector `b`
+/// (rotation about `a × b`) to `v`. Exact for all `a ≠ -b`; for antiparallel
+/// normals (no unique minimal rotation) `v` is returned unchanged.
+#[inline]
+#[must_use]
+pub fn rotate_minimal(a: &Vec3, b: &Vec3, v: &Vec3) -> Vec3 {
+    let c = a.dot(b);
+    if c <= -1.0 + 1e-14 {
+        return *v;
+    }
+    let k = a.cross(b);
+    // Rodrigues with sinθ = |k|, cosθ = c, axis k/|k|:
+    // R v = v c + (k × v) + k (k·v) / (1 + c).
+    v * c + k.cross(v) + k * (k.dot(v) / (1.0 + c))
+}
+
+/// Cayley map `(I - ½A)⁻¹(I + ½A)` (Hughes–Winget): an exact rotation when `A`
+/// is skew; for a mid-step displacement gradient `A = Δt L` it reproduces the
+/// step deformation gradient exactly. Returns the identity if `I - ½A` is singular.
+#[inline]
+#[must_use]
+pub fn cayley(a: &Mat3) -> Mat3 {
+    let half = 0.5 * a;
+    let lhs = Mat3::identity() - half;
+    match lhs.try_inverse() {
+        Some(inv) => inv * (Mat3::identity() + half),
+        None => Mat3::identity(),
+    }
+}
+
+/// Closed-form material rate of the traction direction `φ = t/|t|`, `t = (I - n⊗n) T`
+/// (friction-math §4): `ṫ = (I - n⊗n) Ṫ - (ṅ⊗n + n⊗ṅ) T`,
+/// `φ̇ = (I - φ⊗φ) ṫ / |t|`. Returns `None` when `|t| = 0` (no direction).
+#[inline]
+#[must_use]
+pub fn direction_rate(traction: &Vec3, traction_rate: &Vec3, n: &Vec3, n_rate: &Vec3) -> Option<Vec3> {
+    let t = traction - n * n.dot(traction);
+    let norm = t.norm();
+    if norm == 0.0 || !norm.is_finite() {
+        return None;
+    }
+    let phi = t / norm;
+    let t_rate = (traction_rate - n * n.dot(traction_rate))
+        - (n_rate * n.dot(traction) + n * n_rate.dot(traction));
+    Some((t_rate - phi * phi.dot(&t_rate)) / norm)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn minimal_rotation_maps_a_to_b_and_preserves_length() {
+        let a = Vec3::new(0.0, 0.0, 1.0);
+        let b = Vec3::new(0.3, -0.2, 0.9).normalize();
+        let r = rotate_minimal(&a, &b, &a);
+        assert!((r - b).norm() < 1e-15);
+        let v = Vec3::new(1.0, 2.0, 0.0);
+        assert!((rotate_minimal(&a, &b, &v).norm() - v.norm()).abs() < 1e-14);
+        // Tangent vectors stay tangent.
+        assert!(rotate_minimal(&a, &b, &v).dot(&b).abs() < 1e-14);
+    }
+
+    #[test]
+    fn cayley_of_skew_is_a_rotation() {
+        let r = cayley(&skew(&Vec3::new(0.1, -0.4, 0.2)));
+        assert!((r.transpose() * r - Mat3::identity()).norm() < 1e-14);
+        assert!((r.determinant() - 1.0).abs() < 1e-14);
+    }
+
+    /// friction-math §4: the closed-form `φ̇` must agree with central finite
+    /// differences of `φ(t)` along a smooth history to 1e-6 relative.
+    #[test]
+    fn direction_rate_matches_central_differences_along_smooth_history() {
+        let traction = |s: f64| {
+            Vec3::new(3.0 * s.cos() + 0.5, 2.0 * (1.3 * s).sin() - 0.7, -40.0 + 5.0 * s)
+        };
+        let traction_rate =
+            |s: f64| Vec3::new(-3.0 * s.sin(), 2.6 * (1.3 * s).cos(), 5.0);
+        let normal = |s: f64| Vec3::new(0.2 * s.sin(), 0.3 * (0.7 * s).cos(), 1.0).normalize();
+        let phi = |s: f64| {
+            let n = normal(s);
+            let t = traction(s) - n * n.dot(&traction(s));
+            t / t.norm()
+        };
+        for i in 0..20 {
+            let s = -1.0 + 0.1 * f64::from(i);
+            let h = 1e-5;
+            let n_rate = (normal(s + h) - normal(s - h)) / (2.0 * h);
+            let fd = (phi(s + h) - phi(s - h)) / (2.0 * h);
+            let exact = direction_rate(&traction(s), &traction_rate(s), &normal(s), &n_rate).unwrap();
+            assert!((fd - exact).norm() <= 1e-6 * exact.norm().max(1e-3), "s = {s}: {fd} vs {exact}");
+        }
+    }
+}

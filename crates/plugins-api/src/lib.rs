@@ -1,0 +1,52 @@
+//! # plugins-api: the stable contract between formsim's engine and its friction models
+//!
+//! Place in the pipeline: step 3 of an explicit step (contact) asks, for every
+//! contact point, for a friction traction. This crate owns *how that question is
+//! asked*: the [`FrictionLaw`] and [`KinematicFormulation`] traits
+//! (friction-math.md §2–§4), the point data a component may declare it needs
+//! ([`PointNeeds`], §6), parameter schemas ([`ParamSpec`]), the one shared
+//! return mapping that serves every isotropic law ([`return_mapping`], §2),
+//! link-time registration ([`registry`]), loading of laws from shared libraries
+//! through a versioned C-ABI table ([`abi`], [`loader`]), and the conformance
+//! suite every law must pass ([`conformance`], §5).
+//!
+//! It must not know about meshes, tools, scenes or any particular law: the
+//! built-in laws live in `friction-laws`, which depends on this crate like any
+//! plugin does. A plugin author depends on this crate alone.
+//!
+//! The return mapping lives here rather than in `friction-laws` so that the
+//! conformance suite (and so `formsim plugin check`) drives a plugin law through
+//! exactly the code the engine runs.
+
+pub mod abi;
+pub mod conformance;
+pub mod error;
+pub mod formulation;
+pub mod kinematics;
+pub mod law;
+pub mod loader;
+pub mod needs;
+pub mod params;
+pub mod registry;
+pub mod return_mapping;
+
+pub use error::FrictionError;
+pub use formulation::{DirectionInputs, KinematicFormulation, StepKinematics};
+pub use law::{CriticalShear, FrictionLaw, ShearInputs};
+pub use needs::PointNeeds;
+pub use params::{ParamSpec, Params};
+pub use return_mapping::{
+    PairedIntegrator, PointIntegrator, PointState, StepInput, StepOutput, TangentMode,
+};
+
+/// Re-export so that plugin authors need no direct nalgebra dependency.
+pub use nalgebra;
+
+/// A 3-vector in the global frame (mm, MPa, … as the quantity requires).
+pub type Vec3 = nalgebra::Vector3<f64>;
+/// A 3×3 matrix in the global frame.
+pub type Mat3 = nalgebra::Matrix3<f64>;
+
+/// Version of the C-ABI table that dynamic plugins export. A loader refuses a
+/// plugin whose table carries another version.
+pub const ABI_VERSION: u32 = 1;

@@ -1,0 +1,1 @@
+//! Loading friction laws from shared libraries (placeholder).
