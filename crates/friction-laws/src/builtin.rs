@@ -1,0 +1,1 @@
+//! Monomorphised pairings of built-in laws and formulations (placeholder).
