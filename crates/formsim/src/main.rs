@@ -1,1 +1,344 @@
-fn main(){}
+//! The `formsim` command-line tool.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use formsim::components::{self, LawSource};
+use formsim::plot::{Panel, Series};
+use formsim::{history, point_driver};
+use plugins_api::conformance::{self, Options, Subject};
+use plugins_api::{
+    FrictionError, FrictionLaw, KinematicFormulation, ParamSpec, Params, TangentMode, registry,
+};
+
+/// formsim: sheet-metal forming simulation with pluggable friction (units: mm, N, MPa, tonne, s).
+#[derive(Parser, Debug)]
+#[command(name = "formsim", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// List the friction laws and formulations with their parameter schemas, or check a law.
+    Laws(LawsArgs),
+    /// Dynamic friction-law plugins (shared libraries).
+    Plugin {
+        #[command(subcommand)]
+        action: PluginAction,
+    },
+    /// Integrate one contact point along a prescribed history (CSV in, CSV and PNG out).
+    FrictionPoint(FrictionPointArgs),
+}
+
+#[derive(Args, Debug)]
+struct LawsArgs {
+    /// Describe only this law or formulation.
+    #[arg(long, value_name = "NAME")]
+    describe: Option<String>,
+    #[command(subcommand)]
+    action: Option<LawsAction>,
+}
+
+#[derive(Subcommand, Debug)]
+enum LawsAction {
+    /// Run the conformance suite (friction-math §5) on a law with every formulation.
+    Check {
+        /// Law name (`formsim laws` lists them).
+        name: String,
+        /// Parameter value KEY=VALUE (repeatable); benchmark values otherwise.
+        #[arg(long = "param", value_name = "KEY=VALUE", value_parser = parse_param)]
+        params: Vec<(String, f64)>,
+    },
+}
+
+#[derive(Subcommand, Debug)]
+enum PluginAction {
+    /// Load a plugin, print its schema, run the conformance suite; exit non-zero on failure.
+    Check {
+        /// Path of the plugin's shared library (`.so`).
+        path: PathBuf,
+        /// Parameter value KEY=VALUE (repeatable).
+        #[arg(long = "param", value_name = "KEY=VALUE", value_parser = parse_param)]
+        params: Vec<(String, f64)>,
+    },
+}
+
+#[derive(Args, Debug)]
+#[command(group(clap::ArgGroup::new("source").required(true).args(["law", "plugin"])))]
+struct FrictionPointArgs {
+    /// Built-in or registered law (`ac`, `wvs`, `wh`, `levanov`).
+    #[arg(long, value_name = "NAME")]
+    law: Option<String>,
+    /// A plugin's shared library instead of a named law.
+    #[arg(long, value_name = "PATH")]
+    plugin: Option<PathBuf>,
+    /// Parameter value KEY=VALUE in scene units (mm, N, MPa, s); repeatable.
+    #[arg(long = "param", value_name = "KEY=VALUE", value_parser = parse_param)]
+    params: Vec<(String, f64)>,
+    /// Kinematic formulation: convective, jaumann, lagrangian, updated-lagrangian.
+    #[arg(long, value_name = "NAME", default_value = "convective")]
+    formulation: String,
+    /// Input history CSV (columns documented in `docs/point-history.md`).
+    #[arg(long, value_name = "IN.csv")]
+    history: PathBuf,
+    /// Output CSV: t,t_x,t_y,t_z,stick,dgamma,dissipation,omega,mu_eff.
+    #[arg(long, value_name = "OUT.csv")]
+    out: PathBuf,
+    /// Also plot the traction history to PNG (default: OUT with extension .png).
+    #[arg(long, value_name = "PNG", num_args = 0..=1)]
+    plot: Option<Option<PathBuf>>,
+}
+
+fn parse_param(text: &str) -> Result<(String, f64), String> {
+    Params::parse_assignment(text)
+}
+
+fn to_params(list: &[(String, f64)]) -> Params {
+    let mut p = Params::new();
+    for (k, v) in list {
+        p.set(k, *v);
+    }
+    p
+}
+
+fn main() -> ExitCode {
+    friction_laws::ensure_linked();
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Laws(args) => laws(&args),
+        Command::Plugin {
+            action: PluginAction::Check { path, params },
+        } => plugin_check(&path, &to_params(&params)),
+        Command::FrictionPoint(args) => friction_point(&args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn format_default(spec: &ParamSpec) -> String {
+    spec.default
+        .map_or_else(|| "required".to_string(), |d| format!("{d}"))
+}
+
+fn print_schema(specs: &[ParamSpec]) {
+    for s in specs {
+        println!(
+            "    {:<8} {:<14} {:<10} {:<22} {}",
+            s.name,
+            format!("[{}]", s.unit),
+            format_default(s),
+            s.range_text(),
+            s.doc
+        );
+    }
+}
+
+fn laws(args: &LawsArgs) -> Result<ExitCode, String> {
+    if let Some(LawsAction::Check { name, params }) = &args.action {
+        let entry = registry::law(name).map_err(|e| e.to_string())?;
+        let build = |p: &Params| registry::build_law(name, p);
+        return run_suite(name, entry.description.params, &build, &to_params(params));
+    }
+    let laws = registry::laws();
+    let forms = registry::formulations();
+    if let Some(name) = &args.describe {
+        if let Some(l) = laws.iter().find(|l| l.description.name == name) {
+            println!("law {}: {}", l.description.name, l.description.summary);
+            println!(
+                "    {:<8} {:<14} {:<10} {:<22} doc",
+                "param", "unit", "default", "range"
+            );
+            print_schema(l.description.params);
+            return Ok(ExitCode::SUCCESS);
+        }
+        if let Some(f) = forms.iter().find(|f| f.name == name) {
+            println!(
+                "formulation {}: {}\n    reads: {}",
+                f.name,
+                f.summary,
+                (f.build)().needs()
+            );
+            return Ok(ExitCode::SUCCESS);
+        }
+        let known: Vec<&str> = laws
+            .iter()
+            .map(|l| l.description.name)
+            .chain(forms.iter().map(|f| f.name))
+            .collect();
+        return Err(format!(
+            "unknown law or formulation `{name}`; known: {}",
+            known.join(", ")
+        ));
+    }
+    println!("Friction laws (units: mm, N, MPa, s; `formsim laws --describe NAME` for one):");
+    for l in &laws {
+        println!("\n  {} — {}", l.description.name, l.description.summary);
+        if let Ok(law) = (l.build)(&defaults_or_benchmark(
+            l.description.name,
+            l.description.params,
+        )) {
+            println!("    reads: {}", law.needs());
+        }
+        print_schema(l.description.params);
+    }
+    println!("\nKinematic formulations (any law pairs with any formulation):");
+    for f in &forms {
+        println!(
+            "  {:<20} {}  [reads: {}]",
+            f.name,
+            f.summary,
+            (f.build)().needs()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Resolved parameter values for listing purposes.
+fn defaults_or_benchmark(name: &str, specs: &[ParamSpec]) -> Vec<f64> {
+    let (params, _) = components::suite_params(name, specs, &Params::new());
+    params.resolve(name, specs).unwrap_or_default()
+}
+
+fn run_suite(
+    name: &str,
+    specs: &[ParamSpec],
+    build: &dyn Fn(&Params) -> Result<Box<dyn FrictionLaw>, FrictionError>,
+    given: &Params,
+) -> Result<ExitCode, String> {
+    let (base, chosen) = components::suite_params(name, specs, given);
+    base.resolve(name, specs).map_err(|e| e.to_string())?;
+    if !chosen.is_empty() {
+        println!(
+            "note: required parameters not given were set inside their range: {} (use --param to choose)",
+            chosen.join(", ")
+        );
+    }
+    let subject = Subject {
+        name: name.to_string(),
+        params: specs,
+        build,
+        base,
+    };
+    let formulations = components::all_formulations();
+    let refs: Vec<&dyn KinematicFormulation> = formulations
+        .iter()
+        .map(|f| f as &dyn KinematicFormulation)
+        .collect();
+    let report = conformance::check_law(&subject, &refs, &Options::default());
+    println!("{report}");
+    Ok(if report.passed() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+fn plugin_check(path: &Path, given: &Params) -> Result<ExitCode, String> {
+    let library = components::open_plugin(path).map_err(|e| e.to_string())?;
+    println!(
+        "plugin {} ({}): {}",
+        library.name(),
+        path.display(),
+        library.summary()
+    );
+    println!("    reads: {}", library.needs());
+    print_schema(library.params());
+    let build = |p: &Params| library.build(p);
+    let label = format!("plugin {}", library.name());
+    let specs = library.params();
+    run_suite(&label, specs, &build, given)
+}
+
+fn friction_point(args: &FrictionPointArgs) -> Result<ExitCode, String> {
+    let params = to_params(&args.params);
+    let source = match (&args.law, &args.plugin) {
+        (Some(name), _) => LawSource::Named(name.clone()),
+        (None, Some(path)) => LawSource::Plugin(path.clone()),
+        (None, None) => return Err("give --law NAME or --plugin PATH".into()),
+    };
+    let integrator =
+        components::point_integrator(&source, &params, &args.formulation, TangentMode::None)
+            .map_err(|e| e.to_string())?;
+    let hist = history::read(&args.history).map_err(|e| e.to_string())?;
+    let file = args.history.display().to_string();
+    let (records, summary) = point_driver::run(integrator.as_ref(), &hist, &file)?;
+    point_driver::write_csv(&args.out, &records)?;
+    println!(
+        "friction-point: law {}, formulation {} (k_t = {} MPa/mm)",
+        integrator.law_name(),
+        integrator.formulation_name(),
+        integrator.stick_stiffness()
+    );
+    println!(
+        "  {} steps: {} stick, {} slip, {} open; final frictional work ω = {:.6e} N/mm; max |t|/τ_c - 1 in slip = {:.1e}",
+        summary.steps, summary.stick, summary.slip, summary.open, summary.omega, summary.max_excess
+    );
+    if summary.clamped > 0 {
+        println!(
+            "  note: the law's lower clamp (e.g. WH μ_min) was active in {} steps, first at t = {} s",
+            summary.clamped,
+            summary.first_clamp_t.unwrap_or(f64::NAN)
+        );
+    }
+    println!("  wrote {}", args.out.display());
+    if let Some(plot) = &args.plot {
+        let png = plot
+            .clone()
+            .unwrap_or_else(|| args.out.with_extension("png"));
+        plot_point(
+            &png,
+            &records,
+            &integrator.law_name().to_string(),
+            integrator.formulation_name(),
+        )?;
+        println!("  wrote {}", png.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn plot_point(
+    png: &Path,
+    records: &[point_driver::Record],
+    law: &str,
+    formulation: &str,
+) -> Result<(), String> {
+    let series = |label: &str, f: &dyn Fn(&point_driver::Record) -> f64| Series {
+        label: label.to_string(),
+        points: records.iter().map(|r| (r.t, f(r))).collect(),
+    };
+    let panels = [
+        Panel {
+            title: format!("Friction traction — law {law}, formulation {formulation}"),
+            x_label: "time t [s]".into(),
+            y_label: "traction [MPa]".into(),
+            series: vec![
+                series("t_x", &|r| r.out.t.x),
+                series("t_y", &|r| r.out.t.y),
+                series("t_z", &|r| r.out.t.z),
+                series("|t|", &|r| r.out.t.norm()),
+                series("τ_c", &|r| r.out.tau_c),
+            ],
+        },
+        Panel {
+            title: "Effective friction coefficient".into(),
+            x_label: "time t [s]".into(),
+            y_label: "μ_eff = |t|/p [-]".into(),
+            series: vec![series("μ_eff", &|r| r.mu_eff())],
+        },
+        Panel {
+            title: "Frictional work".into(),
+            x_label: "time t [s]".into(),
+            y_label: "ω [N/mm]".into(),
+            series: vec![series("ω (cumulative dissipation)", &|r| r.omega)],
+        },
+    ];
+    formsim::plot::draw_panels(png, &panels, 1000, 340)
+}

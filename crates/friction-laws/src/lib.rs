@@ -15,11 +15,11 @@
 pub mod builtin;
 pub mod formulations;
 pub mod laws;
+mod registration;
 
 /// Keep this crate's registrations alive: the linker drops the `inventory`
 /// submissions of a crate nothing references. Call once before using the
 /// registry (formsim's CLI does).
 pub fn ensure_linked() {
-    std::hint::black_box(laws::REGISTERED);
-    std::hint::black_box(formulations::REGISTERED);
+    std::hint::black_box(registration::keep());
 }

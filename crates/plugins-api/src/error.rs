@@ -28,7 +28,9 @@ pub enum FrictionError {
         doc: String,
     },
     /// A parameter outside its valid range (or not finite).
-    #[error("parameter `{name}` = {value} {unit} of `{component}` is out of range: must be {range}")]
+    #[error(
+        "parameter `{name}` = {value} {unit} of `{component}` is out of range: must be {range}"
+    )]
     ParameterOutOfRange {
         /// Component (law) name.
         component: String,

@@ -56,8 +56,15 @@ pub struct DirectionInputs<'a> {
     pub t_old: Vec3,
     /// Pressure at step `n`, MPa.
     pub p_old: f64,
-    /// Trial traction `t_tr` (tangent to `n_new`), MPa; non-zero.
+    /// History traction carried into step `n+1` by this formulation's
+    /// transport and projected onto the new tangent plane: `t*` (MPa).
+    pub t_star: Vec3,
+    /// Trial traction `t_tr = t* - k_T Δu_T` (tangent to `n_new`), MPa; non-zero.
     pub t_trial: Vec3,
+    /// End-of-step traction of the radial return with the start-of-step
+    /// critical shear stress, `τ_c(p_{n+1}, ω_n) φ_tr` (MPa): the traction the
+    /// step is heading to, without its `Δγ`-dependent correction.
+    pub t_end: Vec3,
     /// Pressure at step `n+1`, MPa.
     pub p_new: f64,
 }

@@ -21,7 +21,11 @@ pub fn skew(w: &Vec3) -> Mat3 {
 #[inline]
 #[must_use]
 pub fn axial(m: &Mat3) -> Vec3 {
-    0.5 * Vec3::new(m[(2, 1)] - m[(1, 2)], m[(0, 2)] - m[(2, 0)], m[(1, 0)] - m[(0, 1)])
+    0.5 * Vec3::new(
+        m[(2, 1)] - m[(1, 2)],
+        m[(0, 2)] - m[(2, 0)],
+        m[(1, 0)] - m[(0, 1)],
+    )
 }
 
 /// Apply the minimal rotation that takes unit vector `a` to unit vector `b`
@@ -59,7 +63,12 @@ pub fn cayley(a: &Mat3) -> Mat3 {
 /// `φ̇ = (I - φ⊗φ) ṫ / |t|`. Returns `None` when `|t| = 0` (no direction).
 #[inline]
 #[must_use]
-pub fn direction_rate(traction: &Vec3, traction_rate: &Vec3, n: &Vec3, n_rate: &Vec3) -> Option<Vec3> {
+pub fn direction_rate(
+    traction: &Vec3,
+    traction_rate: &Vec3,
+    n: &Vec3,
+    n_rate: &Vec3,
+) -> Option<Vec3> {
     let t = traction - n * n.dot(traction);
     let norm = t.norm();
     if norm == 0.0 || !norm.is_finite() {
@@ -69,6 +78,29 @@ pub fn direction_rate(traction: &Vec3, traction_rate: &Vec3, n: &Vec3, n_rate: &
     let t_rate = (traction_rate - n * n.dot(traction_rate))
         - (n_rate * n.dot(traction) + n * n_rate.dot(traction));
     Some((t_rate - phi * phi.dot(&t_rate)) / norm)
+}
+
+/// Forward estimate of the slip direction in the frame of step `n+1`
+/// (friction-math §4 (b), `d = φ_n + Δt φ̇_n`), evaluated from objective
+/// quantities only: the transported history `t*` and the end-of-step traction
+/// `t_end`, both tangent to `n_new`. In that co-moving frame the normal is at
+/// rest, so the closed-form rate is [`direction_rate`] with `ṅ = 0` and
+/// `Δt Ṫ = t_end - t*`:
+///
+/// `d = φ* + (I - φ*⊗φ*) (t_end - t*) / |t*|`.
+///
+/// The spin, convection or surface rotation of each formulation enters through
+/// its own `t*`. Returns `None` when `|t*| = 0`.
+#[inline]
+#[must_use]
+pub fn forward_direction(t_star: &Vec3, t_end: &Vec3, n_new: &Vec3) -> Option<Vec3> {
+    let norm = t_star.norm();
+    if norm == 0.0 || !norm.is_finite() {
+        return None;
+    }
+    let phi = t_star / norm;
+    let rate = direction_rate(t_star, &(t_end - t_star), n_new, &Vec3::zeros())?;
+    Some(phi + rate)
 }
 
 #[cfg(test)]
@@ -99,10 +131,13 @@ mod tests {
     #[test]
     fn direction_rate_matches_central_differences_along_smooth_history() {
         let traction = |s: f64| {
-            Vec3::new(3.0 * s.cos() + 0.5, 2.0 * (1.3 * s).sin() - 0.7, -40.0 + 5.0 * s)
+            Vec3::new(
+                3.0 * s.cos() + 0.5,
+                2.0 * (1.3 * s).sin() - 0.7,
+                -40.0 + 5.0 * s,
+            )
         };
-        let traction_rate =
-            |s: f64| Vec3::new(-3.0 * s.sin(), 2.6 * (1.3 * s).cos(), 5.0);
+        let traction_rate = |s: f64| Vec3::new(-3.0 * s.sin(), 2.6 * (1.3 * s).cos(), 5.0);
         let normal = |s: f64| Vec3::new(0.2 * s.sin(), 0.3 * (0.7 * s).cos(), 1.0).normalize();
         let phi = |s: f64| {
             let n = normal(s);
@@ -114,8 +149,12 @@ mod tests {
             let h = 1e-5;
             let n_rate = (normal(s + h) - normal(s - h)) / (2.0 * h);
             let fd = (phi(s + h) - phi(s - h)) / (2.0 * h);
-            let exact = direction_rate(&traction(s), &traction_rate(s), &normal(s), &n_rate).unwrap();
-            assert!((fd - exact).norm() <= 1e-6 * exact.norm().max(1e-3), "s = {s}: {fd} vs {exact}");
+            let exact =
+                direction_rate(&traction(s), &traction_rate(s), &normal(s), &n_rate).unwrap();
+            assert!(
+                (fd - exact).norm() <= 1e-6 * exact.norm().max(1e-3),
+                "s = {s}: {fd} vs {exact}"
+            );
         }
     }
 }

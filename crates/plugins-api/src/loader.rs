@@ -1,1 +1,788 @@
-//! Loading friction laws from shared libraries (placeholder).
+//! Loading friction laws from shared libraries through the C-ABI table of [`crate::abi`].
+//!
+//! [`PluginLibrary::open`] loads a `cdylib`, finds its entry function
+//! ([`ENTRY_SYMBOL_NAME`]), checks the table's ABI version and contents, and
+//! copies its name, summary and parameter schema into host memory.
+//! [`PluginLibrary::build`] resolves user parameters against that schema and
+//! asks the plugin to create a law; the result, a [`DynamicLaw`], implements
+//! [`FrictionLaw`] by calling through the table and can be used anywhere a
+//! built-in law can (one indirect call per `τ_c` evaluation, no allocation).
+//!
+//! Lifetimes: every [`DynamicLaw`] holds an `Arc` of its library, so the
+//! library stays loaded until the last law built from it and the
+//! [`PluginLibrary`] itself are dropped.
+//!
+//! Memory: [`ParamSpec`] has `&'static str` fields, so the texts of a table are
+//! copied once per [`PluginLibrary::open`] into leaked host strings (a few
+//! hundred bytes per opened library; not reclaimed when it is unloaded). Open a
+//! library once and keep it, rather than re-opening it per step.
+//!
+//! Failures inside a plugin never unwind into the host: a panic or error in
+//! `critical_shear` makes [`DynamicLaw::critical_shear`] return `τ_c = NaN`,
+//! which the return mapping reports as [`FrictionError::NonFiniteResult`]; the
+//! plugin's message is kept and can be read with [`take_last_error`] (on the
+//! failing thread) or [`DynamicLaw::last_error`].
+
+use std::cell::RefCell;
+use std::ffi::{CStr, c_char, c_void};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, PoisonError};
+
+use libloading::Library;
+
+use crate::abi::{
+    AbiCriticalShear, AbiParamSpec, AbiShearInputs, CreateFn, CriticalShearFn, DestroyFn,
+    ENTRY_SYMBOL, ENTRY_SYMBOL_NAME, EntryFn, FrictionPluginV1, LastErrorFn, STATUS_ERROR,
+    STATUS_OK, STATUS_PANIC, StickStiffnessFn,
+};
+use crate::law::LawDescription;
+use crate::{
+    ABI_VERSION, CriticalShear, FrictionError, FrictionLaw, ParamSpec, Params, PointNeeds,
+    ShearInputs,
+};
+
+/// Every [`PointNeeds`] bit this version of formsim knows how to provide.
+const KNOWN_NEEDS: PointNeeds = PointNeeds(
+    PointNeeds::SLIDING_VELOCITY.0
+        | PointNeeds::FLOW_STRESS.0
+        | PointNeeds::TEMPERATURE.0
+        | PointNeeds::SPIN.0
+        | PointNeeds::VELOCITY_GRADIENT.0
+        | PointNeeds::DEFORMATION_GRADIENT.0
+        | PointNeeds::TOOL_ROTATION.0,
+);
+
+/// Upper bound on a plugin's parameter count, to reject corrupt tables.
+const MAX_PARAMS: usize = 256;
+
+/// Size of the host buffers that receive plugin error messages (bytes).
+const ERROR_BUFFER: usize = 1024;
+
+thread_local! {
+    static LAST_PLUGIN_ERROR: RefCell<Option<String>> = const { RefCell::new(None) };
+}
+
+/// Take the message of the last plugin failure on this thread (a panic or
+/// error inside a [`DynamicLaw`] call), if any, clearing it.
+///
+/// Call it after the return mapping reported [`FrictionError::NonFiniteResult`]
+/// for a plugin law to tell the user *why* (`plugin exp-decay: panicked in
+/// critical_shear at p = … MPa: …`).
+#[must_use]
+pub fn take_last_error() -> Option<String> {
+    LAST_PLUGIN_ERROR.with(|e| e.borrow_mut().take())
+}
+
+/// The table's function pointers, checked non-null at load.
+#[derive(Clone, Copy)]
+struct Functions {
+    create: CreateFn,
+    destroy: DestroyFn,
+    stick_stiffness: StickStiffnessFn,
+    critical_shear: CriticalShearFn,
+    last_error: LastErrorFn,
+}
+
+/// A table read and validated, with its texts copied into host memory.
+struct TableInfo {
+    abi_version: u32,
+    name: &'static str,
+    summary: &'static str,
+    params: &'static [ParamSpec],
+    needs: PointNeeds,
+    work_dependent: bool,
+    functions: Functions,
+}
+
+/// What a library and every law built from it share.
+struct Shared {
+    path: String,
+    info: TableInfo,
+    /// Keeps the code of `info.functions` mapped. `None` only for tables that
+    /// live in the host executable itself (tests).
+    _library: Option<Library>,
+}
+
+impl Shared {
+    fn error(&self, reason: String) -> FrictionError {
+        FrictionError::Plugin {
+            path: self.path.clone(),
+            reason,
+        }
+    }
+
+    /// The plugin's last error message on this thread, or `fallback`.
+    #[cold]
+    fn plugin_message(&self, fallback: &str) -> String {
+        let mut buf = [0 as c_char; ERROR_BUFFER];
+        // SAFETY: `buf` is writable for its length (the `last_error` contract).
+        let len = unsafe { (self.info.functions.last_error)(buf.as_mut_ptr(), buf.len()) };
+        if len == 0 {
+            return fallback.to_string();
+        }
+        buf[ERROR_BUFFER - 1] = 0;
+        // SAFETY: `last_error` NUL-terminates what it writes into `buf` (ABI
+        // contract); the last byte is forced to NUL in case it does not.
+        let text = unsafe { CStr::from_ptr(buf.as_ptr()) }
+            .to_string_lossy()
+            .into_owned();
+        if len > text.len() {
+            format!("{text}…")
+        } else {
+            text
+        }
+    }
+}
+
+/// A friction-law plugin loaded from a shared library.
+///
+/// Cheap to clone (shared handle). See the [module docs](self) for lifetimes
+/// and memory.
+#[derive(Clone)]
+pub struct PluginLibrary {
+    shared: Arc<Shared>,
+}
+
+impl std::fmt::Debug for PluginLibrary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PluginLibrary")
+            .field("path", &self.shared.path)
+            .field("name", &self.shared.info.name)
+            .field("abi_version", &self.shared.info.abi_version)
+            .field("needs", &self.shared.info.needs)
+            .finish_non_exhaustive()
+    }
+}
+
+impl PluginLibrary {
+    /// Load the plugin at `path` and check its table.
+    ///
+    /// # Safety contract (why this function is not `unsafe`)
+    ///
+    /// Loading a shared library runs its initialisation code, and the host then
+    /// calls functions whose signatures it cannot verify: a library is trusted
+    /// like the formsim binary itself. `open` is safe to call on the premise
+    /// that the file is either *not* a formsim plugin (detected: missing entry
+    /// symbol) or a plugin built with [`export_friction_law!`](crate::export_friction_law)
+    /// (or a hand-written table honouring every contract in [`crate::abi`]).
+    /// Only open plugins you trust. What is checked: the file exists and loads;
+    /// the entry symbol `formsim_friction_plugin_v1` exists; the table's
+    /// `abi_version` equals [`ABI_VERSION`] (read before anything else); no
+    /// function pointer is null; texts are UTF-8; the needs are known to this
+    /// formsim; the parameter schema is consistent (ranges, defaults, unique
+    /// names).
+    ///
+    /// A path without a directory part is read relative to the current
+    /// directory, never searched on the system library path.
+    ///
+    /// # Errors
+    /// [`FrictionError::Plugin`] naming the path and what is wrong: file not
+    /// found, not a shared library, not a formsim friction plugin (symbol not
+    /// found), ABI version mismatch (with the version to rebuild against), or an
+    /// invalid table.
+    pub fn open(path: impl AsRef<Path>) -> Result<Self, FrictionError> {
+        let path = path.as_ref();
+        let shown = path.display().to_string();
+        let error = |reason: String| FrictionError::Plugin {
+            path: shown.clone(),
+            reason,
+        };
+        match std::fs::metadata(path) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                return Err(error("file not found".into()));
+            }
+            Err(e) => return Err(error(format!("cannot read the file: {e}"))),
+            Ok(m) if m.is_dir() => {
+                return Err(error("is a directory, not a shared library".into()));
+            }
+            Ok(_) => {}
+        }
+        let mut load_path = PathBuf::from(path);
+        if path.parent().is_none_or(|p| p.as_os_str().is_empty()) {
+            load_path = Path::new(".").join(path);
+        }
+        let load_text = load_path
+            .to_str()
+            .ok_or_else(|| error("the path is not valid UTF-8".into()))?
+            .to_string();
+
+        // SAFETY: loading runs the library's initialisers; per the contract
+        // documented above, the caller trusts the file.
+        let library = unsafe { Library::new(load_text) }
+            .map_err(|e| error(format!("cannot be loaded as a shared library: {e}")))?;
+
+        // SAFETY: `formsim_friction_plugin_v1` has type `EntryFn` in every
+        // library that defines it (ABI v1 contract); we copy the function
+        // pointer and keep `library` alive for as long as it is used.
+        let entry: Option<EntryFn> = unsafe { library.get::<EntryFn>(ENTRY_SYMBOL) }
+            .ok()
+            .map(|s| *s);
+        let Some(entry) = entry else {
+            return Err(error(not_a_plugin_reason(&library)));
+        };
+        let table = entry();
+        if table.is_null() {
+            return Err(error(format!(
+                "`{ENTRY_SYMBOL_NAME}` returned no table (the plugin failed to build it)"
+            )));
+        }
+        // SAFETY: `table` is non-null and, per the ABI contract, points to a
+        // table that lives as long as the library; `read_table` reads the
+        // version field first and nothing else unless it matches.
+        let info = unsafe { read_table(table) }.map_err(error)?;
+        Ok(Self {
+            shared: Arc::new(Shared {
+                path: shown,
+                info,
+                _library: Some(library),
+            }),
+        })
+    }
+
+    /// Path the library was opened from, as given.
+    #[must_use]
+    pub fn path(&self) -> &str {
+        &self.shared.path
+    }
+
+    /// ABI version of the table (equal to [`ABI_VERSION`] once opened).
+    #[must_use]
+    pub fn abi_version(&self) -> u32 {
+        self.shared.info.abi_version
+    }
+
+    /// Law name as typed in scenes.
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        self.shared.info.name
+    }
+
+    /// One-line summary with the formula.
+    #[must_use]
+    pub fn summary(&self) -> &'static str {
+        self.shared.info.summary
+    }
+
+    /// Parameter schema, in the order the law receives the values.
+    #[must_use]
+    pub fn params(&self) -> &'static [ParamSpec] {
+        self.shared.info.params
+    }
+
+    /// Point data the law reads beyond `p` and `ω`.
+    #[must_use]
+    pub fn needs(&self) -> PointNeeds {
+        self.shared.info.needs
+    }
+
+    /// Whether `τ_c` depends on the frictional work `ω`.
+    #[must_use]
+    pub fn work_dependent(&self) -> bool {
+        self.shared.info.work_dependent
+    }
+
+    /// Name, summary and schema as a [`LawDescription`], like a registry entry.
+    #[must_use]
+    pub fn description(&self) -> LawDescription {
+        LawDescription {
+            name: self.name(),
+            summary: self.summary(),
+            params: self.params(),
+        }
+    }
+
+    /// Resolve `params` against the schema (defaults, ranges) and build the law.
+    ///
+    /// # Errors
+    /// Parameter errors naming the parameter, unit and range; the plugin's
+    /// rejection of the values ([`FrictionError::InvalidParameters`]); a panic in
+    /// the plugin ([`FrictionError::Plugin`]).
+    pub fn build(&self, params: &Params) -> Result<Box<dyn FrictionLaw>, FrictionError> {
+        Ok(Box::new(self.build_dynamic(params)?))
+    }
+
+    /// As [`Self::build`], returning the concrete [`DynamicLaw`].
+    ///
+    /// # Errors
+    /// As [`Self::build`].
+    pub fn build_dynamic(&self, params: &Params) -> Result<DynamicLaw, FrictionError> {
+        let values = params.resolve(self.name(), self.params())?;
+        self.instantiate(&values)
+    }
+
+    /// Build the law from one value per schema entry, in schema order.
+    ///
+    /// # Errors
+    /// Wrong number of values; a value outside its range; as [`Self::build`].
+    pub fn instantiate(&self, values: &[f64]) -> Result<DynamicLaw, FrictionError> {
+        let name = self.name();
+        let specs = self.params();
+        if values.len() != specs.len() {
+            return Err(FrictionError::InvalidParameters {
+                component: name.to_string(),
+                reason: format!(
+                    "{} values given, the schema has {}",
+                    values.len(),
+                    specs.len()
+                ),
+            });
+        }
+        for (spec, &value) in specs.iter().zip(values) {
+            if !spec.accepts(value) {
+                return Err(FrictionError::ParameterOutOfRange {
+                    component: name.to_string(),
+                    name: spec.name.to_string(),
+                    value,
+                    unit: spec.unit.to_string(),
+                    range: spec.range_text(),
+                });
+            }
+        }
+        let shared = &self.shared;
+        let mut handle: *mut c_void = std::ptr::null_mut();
+        let mut buf = [0 as c_char; ERROR_BUFFER];
+        // SAFETY: `values` holds `values.len()` readable values, `handle` and
+        // `buf` are writable (the `create` contract).
+        let status = unsafe {
+            (shared.info.functions.create)(
+                values.as_ptr(),
+                values.len(),
+                &mut handle,
+                buf.as_mut_ptr(),
+                buf.len(),
+            )
+        };
+        if status != STATUS_OK {
+            buf[ERROR_BUFFER - 1] = 0;
+            // SAFETY: `create` NUL-terminates its message in `buf` (ABI
+            // contract); the last byte is forced to NUL in case it does not.
+            let message = unsafe { CStr::from_ptr(buf.as_ptr()) }
+                .to_string_lossy()
+                .into_owned();
+            let message = if message.is_empty() {
+                "no message".to_string()
+            } else {
+                message
+            };
+            return Err(match status {
+                STATUS_ERROR => FrictionError::InvalidParameters {
+                    component: name.to_string(),
+                    reason: message,
+                },
+                STATUS_PANIC => shared.error(message),
+                other => shared.error(format!("create returned unknown status {other}: {message}")),
+            });
+        }
+        if handle.is_null() {
+            return Err(shared.error("create reported success but returned a null handle".into()));
+        }
+        let mut law = DynamicLaw {
+            handle,
+            k_t: f64::NAN,
+            last_error: Mutex::new(None),
+            shared: Arc::clone(shared),
+        };
+        // SAFETY: `handle` is live: just created, destroyed only by `law`'s `Drop`.
+        let k_t = unsafe { (shared.info.functions.stick_stiffness)(handle) };
+        if !(k_t.is_finite() && k_t > 0.0) {
+            // Returning drops `law`, which destroys the handle.
+            return Err(if k_t.is_nan() {
+                shared.error(format!(
+                    "stick_stiffness returned NaN; {}",
+                    shared.plugin_message("the plugin gave no message")
+                ))
+            } else {
+                FrictionError::InvalidParameters {
+                    component: name.to_string(),
+                    reason: format!(
+                        "the law reports a stick stiffness k_t = {k_t} MPa/mm; it must be finite and > 0"
+                    ),
+                }
+            });
+        }
+        law.k_t = k_t;
+        Ok(law)
+    }
+}
+
+/// Why a library without the v1 entry symbol is refused; mentions another
+/// major version's symbol if the library has one.
+fn not_a_plugin_reason(library: &Library) -> String {
+    let mut reason = format!(
+        "this library is not a formsim friction plugin: symbol `{ENTRY_SYMBOL_NAME}` not found"
+    );
+    for major in (0..=16u32).filter(|&m| m != 1) {
+        let symbol = format!("formsim_friction_plugin_v{major}");
+        // SAFETY: only the presence of the symbol is tested; it is never
+        // called or dereferenced, so its type does not matter.
+        if unsafe { library.get::<*const c_void>(symbol.as_str()) }.is_ok() {
+            reason.push_str(&format!(
+                " (it exports `{symbol}`: plugin ABI major version {major}, this formsim expects {ABI_VERSION}: \
+                 rebuild the plugin against plugins-api {})",
+                env!("CARGO_PKG_VERSION")
+            ));
+            break;
+        }
+    }
+    reason
+}
+
+/// The message for a table whose `abi_version` is not ours.
+fn version_mismatch(found: u32) -> String {
+    format!(
+        "plugin ABI version {found}, this formsim expects {ABI_VERSION}: rebuild the plugin against plugins-api {}",
+        env!("CARGO_PKG_VERSION")
+    )
+}
+
+/// Copy a NUL-terminated UTF-8 text of the table.
+///
+/// # Safety
+/// `ptr` is null or points to a NUL-terminated string.
+unsafe fn text(ptr: *const c_char, what: &str) -> Result<String, String> {
+    if ptr.is_null() {
+        return Err(format!("invalid table: {what} is a null pointer"));
+    }
+    // SAFETY: non-null and NUL-terminated (function contract).
+    let c = unsafe { CStr::from_ptr(ptr) };
+    c.to_str()
+        .map(str::to_string)
+        .map_err(|_| format!("invalid table: {what} is not valid UTF-8"))
+}
+
+fn leak(s: String) -> &'static str {
+    Box::leak(s.into_boxed_str())
+}
+
+/// Read, check and copy a plugin table.
+///
+/// # Safety
+/// `table` is non-null and points to at least a `u32` (the version); if that
+/// equals [`ABI_VERSION`], it points to a whole [`FrictionPluginV1`] whose
+/// pointers are null or valid as documented in [`crate::abi`].
+unsafe fn read_table(table: *const FrictionPluginV1) -> Result<TableInfo, String> {
+    // SAFETY: the first field of every table version is the `u32` version,
+    // readable per the function contract.
+    let abi_version = unsafe { std::ptr::addr_of!((*table).abi_version).read() };
+    if abi_version != ABI_VERSION {
+        return Err(version_mismatch(abi_version));
+    }
+    // SAFETY: the version matches, so the whole v1 table is readable.
+    let t = unsafe { table.read() };
+    let missing = |what: &str| format!("invalid table: function `{what}` is a null pointer");
+    let functions = Functions {
+        create: t.create.ok_or_else(|| missing("create"))?,
+        destroy: t.destroy.ok_or_else(|| missing("destroy"))?,
+        stick_stiffness: t
+            .stick_stiffness
+            .ok_or_else(|| missing("stick_stiffness"))?,
+        critical_shear: t.critical_shear.ok_or_else(|| missing("critical_shear"))?,
+        last_error: t.last_error.ok_or_else(|| missing("last_error"))?,
+    };
+    // SAFETY: table strings are null or NUL-terminated (ABI contract).
+    let name = unsafe { text(t.name, "the law name") }?;
+    if name.is_empty()
+        || !name
+            .bytes()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == b'-' || c == b'_')
+    {
+        return Err(format!(
+            "invalid table: law name `{name}` must be made of a-z, 0-9, `-`, `_`"
+        ));
+    }
+    // SAFETY: as above.
+    let summary = unsafe { text(t.summary, "the summary") }?;
+    let needs = PointNeeds(t.needs);
+    if !KNOWN_NEEDS.contains(needs) {
+        return Err(format!(
+            "the law needs point data unknown to this formsim (bits {:#x}; known: {}); update formsim",
+            t.needs & !KNOWN_NEEDS.0,
+            KNOWN_NEEDS
+        ));
+    }
+    if t.work_dependent > 1 {
+        return Err(format!(
+            "invalid table: work_dependent = {} (must be 0 or 1)",
+            t.work_dependent
+        ));
+    }
+    if t.n_params > MAX_PARAMS {
+        return Err(format!(
+            "invalid table: {} parameters (at most {MAX_PARAMS})",
+            t.n_params
+        ));
+    }
+    let raw: &[AbiParamSpec] = if t.n_params == 0 {
+        &[]
+    } else if t.params.is_null() {
+        return Err("invalid table: the parameter array is a null pointer".into());
+    } else {
+        // SAFETY: non-null, `n_params` entries (ABI contract), bounded above.
+        unsafe { std::slice::from_raw_parts(t.params, t.n_params) }
+    };
+    let mut owned = Vec::with_capacity(raw.len());
+    for (i, p) in raw.iter().enumerate() {
+        // SAFETY: parameter strings are null or NUL-terminated (ABI contract).
+        let pname = unsafe { text(p.name, &format!("the name of parameter {i}")) }?;
+        // SAFETY: as above.
+        let unit = unsafe { text(p.unit, &format!("the unit of parameter `{pname}`")) }?;
+        // SAFETY: as above.
+        let doc = unsafe { text(p.doc, &format!("the doc of parameter `{pname}`")) }?;
+        if pname.is_empty()
+            || owned
+                .iter()
+                .any(|(n, ..): &(String, String, String, &AbiParamSpec)| *n == pname)
+        {
+            return Err(format!(
+                "invalid table: parameter name `{pname}` is empty or repeated"
+            ));
+        }
+        if p.min.is_nan() || p.max.is_nan() || p.min > p.max {
+            return Err(format!(
+                "invalid table: parameter `{pname}` has range [{}, {}]",
+                p.min, p.max
+            ));
+        }
+        owned.push((pname, unit, doc, p));
+    }
+    let mut params = Vec::with_capacity(owned.len());
+    for (pname, unit, doc, p) in owned {
+        let spec = ParamSpec {
+            name: leak(pname),
+            unit: leak(unit),
+            default: (p.has_default != 0).then_some(p.default_value),
+            min: p.min,
+            min_exclusive: p.min_exclusive != 0,
+            max: p.max,
+            doc: leak(doc),
+        };
+        if let Some(d) = spec.default
+            && !spec.accepts(d)
+        {
+            return Err(format!(
+                "invalid table: default {d} {} of parameter `{}` is outside its range {}",
+                spec.unit,
+                spec.name,
+                spec.range_text()
+            ));
+        }
+        params.push(spec);
+    }
+    Ok(TableInfo {
+        abi_version,
+        name: leak(name),
+        summary: leak(summary),
+        params: Box::leak(params.into_boxed_slice()),
+        needs,
+        work_dependent: t.work_dependent == 1,
+        functions,
+    })
+}
+
+/// A friction law living in a plugin, called through its C-ABI table.
+///
+/// Implements [`FrictionLaw`]. A failure inside the plugin yields `τ_c = NaN`
+/// (so the return mapping reports [`FrictionError::NonFiniteResult`]) and keeps
+/// the plugin's message for [`Self::last_error`] and [`take_last_error`].
+pub struct DynamicLaw {
+    handle: *mut c_void,
+    /// `k_T`, read once at creation (immutable).
+    k_t: f64,
+    last_error: Mutex<Option<String>>,
+    shared: Arc<Shared>,
+}
+
+// SAFETY: the handle is owned by this value alone (destroyed once, in `Drop`);
+// the ABI contract requires `critical_shear`/`stick_stiffness` to be callable
+// concurrently with the same handle (the macro's shims only take `&T` with
+// `T: FrictionLaw: Send + Sync`), and `destroy` may run on any thread (`T: Send`).
+unsafe impl Send for DynamicLaw {}
+// SAFETY: see `Send`; shared access only calls the thread-safe table functions
+// and the `Mutex`-protected error slot.
+unsafe impl Sync for DynamicLaw {}
+
+impl DynamicLaw {
+    /// The plugin's message for the most recent failure of this law (on any
+    /// thread), if one happened.
+    #[must_use]
+    pub fn last_error(&self) -> Option<String> {
+        self.last_error
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .clone()
+    }
+
+    /// Path of the library the law comes from.
+    #[must_use]
+    pub fn plugin_path(&self) -> &str {
+        &self.shared.path
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn record_failure(&self, status: i32, p: f64) {
+        let message = self.shared.plugin_message(&format!(
+            "critical_shear failed with status {status} at p = {p} MPa (no message)"
+        ));
+        let message = format!(
+            "plugin {} ({}): {message}",
+            self.shared.info.name, self.shared.path
+        );
+        LAST_PLUGIN_ERROR.with(|e| *e.borrow_mut() = Some(message.clone()));
+        *self
+            .last_error
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner) = Some(message);
+    }
+}
+
+impl std::fmt::Debug for DynamicLaw {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("DynamicLaw")
+            .field("name", &self.shared.info.name)
+            .field("path", &self.shared.path)
+            .field("k_t", &self.k_t)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Drop for DynamicLaw {
+    fn drop(&mut self) {
+        // The library outlives this call: `shared` (holding it) is dropped after.
+        // SAFETY: `handle` came from `create` and is destroyed exactly once, here.
+        unsafe { (self.shared.info.functions.destroy)(self.handle) };
+    }
+}
+
+impl FrictionLaw for DynamicLaw {
+    fn name(&self) -> &str {
+        self.shared.info.name
+    }
+
+    fn stick_stiffness(&self) -> f64 {
+        self.k_t
+    }
+
+    fn needs(&self) -> PointNeeds {
+        self.shared.info.needs
+    }
+
+    fn work_dependent(&self) -> bool {
+        self.shared.info.work_dependent
+    }
+
+    #[inline]
+    fn critical_shear(&self, x: &ShearInputs) -> CriticalShear {
+        let input = AbiShearInputs::from(x);
+        let mut out = AbiCriticalShear::default();
+        // SAFETY: `handle` is live (destroyed only in `Drop`), `input` readable,
+        // `out` writable; concurrent calls are allowed by the ABI contract.
+        let status =
+            unsafe { (self.shared.info.functions.critical_shear)(self.handle, &input, &mut out) };
+        if status == STATUS_OK {
+            return out.into();
+        }
+        self.record_failure(status, x.p);
+        CriticalShear {
+            tau: f64::NAN,
+            dtau_dp: f64::NAN,
+            dtau_domega: f64::NAN,
+            dtau_dspeed: f64::NAN,
+            clamped: false,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn good_table() -> FrictionPluginV1 {
+        *crate::abi::tests::table()
+    }
+
+    /// Validate a copy of a table without any library (the host executable
+    /// holds the code of `crate::abi::tests`).
+    fn check(t: &FrictionPluginV1) -> Result<TableInfo, String> {
+        // SAFETY: `t` is a whole, valid-or-deliberately-broken v1 table whose
+        // pointers are null or point to the leaked test table's data.
+        unsafe { read_table(t) }
+    }
+
+    #[test]
+    fn valid_table_is_copied() {
+        let info = check(&good_table()).unwrap();
+        assert_eq!(info.name, "touchy");
+        assert_eq!(info.params.len(), 1);
+        assert_eq!(info.params[0].name, "mu");
+        assert_eq!(info.params[0].default, None);
+        assert_eq!(info.needs, PointNeeds::NONE);
+    }
+
+    #[test]
+    fn version_mismatch_names_both_versions_and_the_crate_version() {
+        let t = FrictionPluginV1 {
+            abi_version: ABI_VERSION + 1,
+            ..good_table()
+        };
+        let e = check(&t).err().unwrap();
+        assert!(
+            e.contains(&format!(
+                "plugin ABI version {}, this formsim expects {ABI_VERSION}",
+                ABI_VERSION + 1
+            )) && e.contains("rebuild the plugin against plugins-api"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn broken_tables_are_refused_with_a_reason() {
+        let e = check(&FrictionPluginV1 {
+            critical_shear: None,
+            ..good_table()
+        })
+        .err()
+        .unwrap();
+        assert!(e.contains("`critical_shear` is a null pointer"), "{e}");
+        let e = check(&FrictionPluginV1 {
+            name: std::ptr::null(),
+            ..good_table()
+        })
+        .err()
+        .unwrap();
+        assert!(e.contains("law name is a null pointer"), "{e}");
+        let e = check(&FrictionPluginV1 {
+            needs: 1 << 20,
+            ..good_table()
+        })
+        .err()
+        .unwrap();
+        assert!(
+            e.contains("unknown to this formsim") && e.contains("0x100000"),
+            "{e}"
+        );
+        let e = check(&FrictionPluginV1 {
+            params: std::ptr::null(),
+            ..good_table()
+        })
+        .err()
+        .unwrap();
+        assert!(e.contains("parameter array is a null pointer"), "{e}");
+        let bad_default = AbiParamSpec {
+            default_value: -1.0,
+            has_default: 1,
+            // SAFETY: the good table has one parameter.
+            ..unsafe { *good_table().params }
+        };
+        let e = check(&FrictionPluginV1 {
+            params: &bad_default,
+            ..good_table()
+        })
+        .err()
+        .unwrap();
+        assert!(
+            e.contains("default -1 - of parameter `mu` is outside its range >= 0"),
+            "{e}"
+        );
+    }
+}

@@ -33,7 +33,15 @@ impl ParamSpec {
         max: f64,
         doc: &'static str,
     ) -> Self {
-        Self { name, unit, default: None, min, min_exclusive: false, max, doc }
+        Self {
+            name,
+            unit,
+            default: None,
+            min,
+            min_exclusive: false,
+            max,
+            doc,
+        }
     }
 
     /// A parameter with a default value and range `[min, max]`.
@@ -46,7 +54,15 @@ impl ParamSpec {
         max: f64,
         doc: &'static str,
     ) -> Self {
-        Self { name, unit, default: Some(default), min, min_exclusive: false, max, doc }
+        Self {
+            name,
+            unit,
+            default: Some(default),
+            min,
+            min_exclusive: false,
+            max,
+            doc,
+        }
     }
 
     /// The same parameter with an exclusive lower bound (`> min`).
@@ -79,7 +95,11 @@ impl ParamSpec {
     #[must_use]
     pub fn accepts(&self, value: f64) -> bool {
         value.is_finite()
-            && (if self.min_exclusive { value > self.min } else { value >= self.min })
+            && (if self.min_exclusive {
+                value > self.min
+            } else {
+                value >= self.min
+            })
             && value <= self.max
     }
 }
@@ -188,21 +208,43 @@ mod tests {
 
     #[test]
     fn errors_name_the_parameter_unit_and_range() {
-        let e = Params::new().with("mu", 0.1).with("k_t", 0.0).resolve("ac", &SPECS).unwrap_err();
+        let e = Params::new()
+            .with("mu", 0.1)
+            .with("k_t", 0.0)
+            .resolve("ac", &SPECS)
+            .unwrap_err();
         let text = e.to_string();
-        assert!(text.contains("k_t") && text.contains("MPa/mm") && text.contains("> 0"), "{text}");
+        assert!(
+            text.contains("k_t") && text.contains("MPa/mm") && text.contains("> 0"),
+            "{text}"
+        );
         let e = Params::new().resolve("ac", &SPECS).unwrap_err().to_string();
         assert!(e.contains("missing parameter `mu`"), "{e}");
-        let e = Params::new().with("muu", 1.0).resolve("ac", &SPECS).unwrap_err().to_string();
+        let e = Params::new()
+            .with("muu", 1.0)
+            .resolve("ac", &SPECS)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("muu") && e.contains("known: mu, k_t"), "{e}");
-        let e = Params::new().with("mu", f64::NAN).resolve("ac", &SPECS).unwrap_err().to_string();
+        let e = Params::new()
+            .with("mu", f64::NAN)
+            .resolve("ac", &SPECS)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("NaN"), "{e}");
     }
 
     #[test]
     fn assignment_parsing() {
-        assert_eq!(Params::parse_assignment("mu=0.1").unwrap(), ("mu".into(), 0.1));
+        assert_eq!(
+            Params::parse_assignment("mu=0.1").unwrap(),
+            ("mu".into(), 0.1)
+        );
         assert!(Params::parse_assignment("mu").is_err());
-        assert!(Params::parse_assignment("mu=abc").unwrap_err().contains("not a number"));
+        assert!(
+            Params::parse_assignment("mu=abc")
+                .unwrap_err()
+                .contains("not a number")
+        );
     }
 }

@@ -65,11 +65,18 @@ pub fn formulations() -> Vec<&'static FormulationEntry> {
 /// # Errors
 /// [`FrictionError::UnknownComponent`] listing the known laws.
 pub fn law(name: &str) -> Result<&'static LawEntry, FrictionError> {
-    laws().into_iter().find(|e| e.description.name == name).ok_or_else(|| FrictionError::UnknownComponent {
-        kind: "law",
-        name: name.to_string(),
-        known: laws().iter().map(|e| e.description.name).collect::<Vec<_>>().join(", "),
-    })
+    laws()
+        .into_iter()
+        .find(|e| e.description.name == name)
+        .ok_or_else(|| FrictionError::UnknownComponent {
+            kind: "law",
+            name: name.to_string(),
+            known: laws()
+                .iter()
+                .map(|e| e.description.name)
+                .collect::<Vec<_>>()
+                .join(", "),
+        })
 }
 
 /// The formulation registered under `name`.
@@ -77,11 +84,18 @@ pub fn law(name: &str) -> Result<&'static LawEntry, FrictionError> {
 /// # Errors
 /// [`FrictionError::UnknownComponent`] listing the known formulations.
 pub fn formulation(name: &str) -> Result<&'static FormulationEntry, FrictionError> {
-    formulations().into_iter().find(|e| e.name == name).ok_or_else(|| FrictionError::UnknownComponent {
-        kind: "formulation",
-        name: name.to_string(),
-        known: formulations().iter().map(|e| e.name).collect::<Vec<_>>().join(", "),
-    })
+    formulations()
+        .into_iter()
+        .find(|e| e.name == name)
+        .ok_or_else(|| FrictionError::UnknownComponent {
+            kind: "formulation",
+            name: name.to_string(),
+            known: formulations()
+                .iter()
+                .map(|e| e.name)
+                .collect::<Vec<_>>()
+                .join(", "),
+        })
 }
 
 /// Build the law `name` with `params` (defaults for the rest).

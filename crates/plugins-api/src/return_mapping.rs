@@ -40,7 +40,11 @@ pub struct PointState {
 
 impl Default for PointState {
     fn default() -> Self {
-        Self { t: Vec3::zeros(), p: 0.0, omega: 0.0 }
+        Self {
+            t: Vec3::zeros(),
+            p: 0.0,
+            omega: 0.0,
+        }
     }
 }
 
@@ -63,7 +67,13 @@ impl StepInput {
     /// A step with no flow-stress or temperature data.
     #[must_use]
     pub fn new(p: f64, du: Vec3, kin: StepKinematics) -> Self {
-        Self { p, du, kin, flow_stress: f64::NAN, temperature: f64::NAN }
+        Self {
+            p,
+            du,
+            kin,
+            flow_stress: f64::NAN,
+            temperature: f64::NAN,
+        }
     }
 }
 
@@ -111,14 +121,24 @@ impl Default for StepOutput {
 
 fn check_vec(field: &'static str, unit: &'static str, v: &Vec3) -> Result<(), FrictionError> {
     match v.iter().find(|x| !x.is_finite()) {
-        Some(&bad) => Err(FrictionError::InvalidInput { field, value: bad, unit, reason: "not finite" }),
+        Some(&bad) => Err(FrictionError::InvalidInput {
+            field,
+            value: bad,
+            unit,
+            reason: "not finite",
+        }),
         None => Ok(()),
     }
 }
 
 fn check_input(input: &StepInput, needs: PointNeeds) -> Result<(), FrictionError> {
     if !input.p.is_finite() {
-        return Err(FrictionError::InvalidInput { field: "p", value: input.p, unit: "MPa", reason: "not finite" });
+        return Err(FrictionError::InvalidInput {
+            field: "p",
+            value: input.p,
+            unit: "MPa",
+            reason: "not finite",
+        });
     }
     if input.p < 0.0 {
         return Err(FrictionError::InvalidInput {
@@ -129,7 +149,12 @@ fn check_input(input: &StepInput, needs: PointNeeds) -> Result<(), FrictionError
         });
     }
     if !(input.kin.dt.is_finite() && input.kin.dt > 0.0) {
-        return Err(FrictionError::InvalidInput { field: "dt", value: input.kin.dt, unit: "s", reason: "time step must be finite and > 0" });
+        return Err(FrictionError::InvalidInput {
+            field: "dt",
+            value: input.kin.dt,
+            unit: "s",
+            reason: "time step must be finite and > 0",
+        });
     }
     check_vec("du", "mm", &input.du)?;
     check_vec("n", "-", &input.kin.n_new)?;
@@ -137,40 +162,87 @@ fn check_input(input: &StepInput, needs: PointNeeds) -> Result<(), FrictionError
     for (field, n) in [("n", &input.kin.n_new), ("n_old", &input.kin.n_old)] {
         let len = n.norm();
         if (len - 1.0).abs() > 1e-6 {
-            return Err(FrictionError::InvalidInput { field, value: len, unit: "-", reason: "normal must be a unit vector (|n| = 1 within 1e-6)" });
+            return Err(FrictionError::InvalidInput {
+                field,
+                value: len,
+                unit: "-",
+                reason: "normal must be a unit vector (|n| = 1 within 1e-6)",
+            });
         }
     }
-    if needs.contains(PointNeeds::FLOW_STRESS) && !(input.flow_stress.is_finite() && input.flow_stress > 0.0) {
-        return Err(FrictionError::InvalidInput { field: "sigma_y", value: input.flow_stress, unit: "MPa", reason: "the law needs the blank flow stress: finite and > 0" });
+    if needs.contains(PointNeeds::FLOW_STRESS)
+        && !(input.flow_stress.is_finite() && input.flow_stress > 0.0)
+    {
+        return Err(FrictionError::InvalidInput {
+            field: "sigma_y",
+            value: input.flow_stress,
+            unit: "MPa",
+            reason: "the law needs the blank flow stress: finite and > 0",
+        });
     }
-    if needs.contains(PointNeeds::TEMPERATURE) && !(input.temperature.is_finite() && input.temperature > 0.0) {
-        return Err(FrictionError::InvalidInput { field: "temperature", value: input.temperature, unit: "K", reason: "the law needs the temperature: finite and > 0" });
+    if needs.contains(PointNeeds::TEMPERATURE)
+        && !(input.temperature.is_finite() && input.temperature > 0.0)
+    {
+        return Err(FrictionError::InvalidInput {
+            field: "temperature",
+            value: input.temperature,
+            unit: "K",
+            reason: "the law needs the temperature: finite and > 0",
+        });
     }
     let mats = [
-        (PointNeeds::SPIN.union(PointNeeds::VELOCITY_GRADIENT), "L", &input.kin.vel_grad),
+        (
+            PointNeeds::SPIN.union(PointNeeds::VELOCITY_GRADIENT),
+            "L",
+            &input.kin.vel_grad,
+        ),
         (PointNeeds::DEFORMATION_GRADIENT, "F_old", &input.kin.f_old),
         (PointNeeds::DEFORMATION_GRADIENT, "F", &input.kin.f_new),
-        (PointNeeds::TOOL_ROTATION, "tool_rotation", &input.kin.tool_rotation),
+        (
+            PointNeeds::TOOL_ROTATION,
+            "tool_rotation",
+            &input.kin.tool_rotation,
+        ),
     ];
     for (flag, field, m) in mats {
-        if (needs.0 & flag.0) != 0 {
-            if let Some(&bad) = m.iter().find(|x| !x.is_finite()) {
-                return Err(FrictionError::InvalidInput { field, value: bad, unit: "-", reason: "not finite" });
-            }
+        if (needs.0 & flag.0) != 0
+            && let Some(&bad) = m.iter().find(|x| !x.is_finite())
+        {
+            return Err(FrictionError::InvalidInput {
+                field,
+                value: bad,
+                unit: "-",
+                reason: "not finite",
+            });
         }
     }
     Ok(())
 }
 
 #[inline]
-fn evaluate<L: FrictionLaw + ?Sized>(law: &L, x: &ShearInputs) -> Result<crate::CriticalShear, FrictionError> {
+fn evaluate<L: FrictionLaw + ?Sized>(
+    law: &L,
+    x: &ShearInputs,
+) -> Result<crate::CriticalShear, FrictionError> {
     let cs = law.critical_shear(x);
-    let bad = [cs.tau, cs.dtau_dp, cs.dtau_domega, cs.dtau_dspeed].into_iter().find(|v| !v.is_finite());
+    let bad = [cs.tau, cs.dtau_dp, cs.dtau_domega, cs.dtau_dspeed]
+        .into_iter()
+        .find(|v| !v.is_finite());
     if let Some(value) = bad {
-        return Err(FrictionError::NonFiniteResult { component: law.name().to_string(), what: "critical shear stress or derivative", value, p: x.p });
+        return Err(FrictionError::NonFiniteResult {
+            component: law.name().to_string(),
+            what: "critical shear stress or derivative",
+            value,
+            p: x.p,
+        });
     }
     if cs.tau < 0.0 {
-        return Err(FrictionError::NonFiniteResult { component: law.name().to_string(), what: "negative critical shear stress", value: cs.tau, p: x.p });
+        return Err(FrictionError::NonFiniteResult {
+            component: law.name().to_string(),
+            what: "negative critical shear stress",
+            value: cs.tau,
+            p: x.p,
+        });
     }
     Ok(cs)
 }
@@ -214,18 +286,30 @@ where
     } else {
         project(formulation.transport(&state.t, kin))
     };
-    check_vec("transported traction", "MPa", &t_star).map_err(|_| FrictionError::NonFiniteResult {
-        component: formulation.name().to_string(),
-        what: "transported traction",
-        value: f64::NAN,
-        p,
+    check_vec("transported traction", "MPa", &t_star).map_err(|_| {
+        FrictionError::NonFiniteResult {
+            component: formulation.name().to_string(),
+            what: "transported traction",
+            value: f64::NAN,
+            p,
+        }
     })?;
     let du_t = project(input.du);
     let t_tr = t_star - du_t * k_t;
     let norm_tr = t_tr.norm();
     let du_norm = du_t.norm();
-    let sliding_speed = if needs.contains(PointNeeds::SLIDING_VELOCITY) { du_norm / kin.dt } else { f64::NAN };
-    let mut x = ShearInputs { p, omega: state.omega, sliding_speed, flow_stress: input.flow_stress, temperature: input.temperature };
+    let sliding_speed = if needs.contains(PointNeeds::SLIDING_VELOCITY) {
+        du_norm / kin.dt
+    } else {
+        f64::NAN
+    };
+    let mut x = ShearInputs {
+        p,
+        omega: state.omega,
+        sliding_speed,
+        flow_stress: input.flow_stress,
+        temperature: input.temperature,
+    };
     let cs = evaluate(law, &x)?;
 
     if norm_tr <= cs.tau || norm_tr == 0.0 {
@@ -243,24 +327,25 @@ where
 
     // Slip.
     let phi = t_tr / norm_tr;
-    let d = formulation
-        .slip_direction(&DirectionInputs { kin, t_old: state.t, p_old: state.p, t_trial: t_tr, p_new: p })
-        .and_then(|d| {
-            let d = project(d);
-            let len = d.norm();
-            (len.is_finite() && len > 0.0).then(|| d / len)
-        })
-        .filter(|d| d.dot(&phi) > 0.0)
-        .unwrap_or(phi);
-    let c = d.dot(&phi).clamp(0.0, 1.0);
+    let frame = Frame {
+        formulation,
+        kin,
+        n,
+        t_old: state.t,
+        p_old: state.p,
+        t_star,
+        k_t,
+        needs,
+    };
+    let (d, c, from_formulation) = frame.direction(law, input.du, x)?;
 
-    let (dgamma, tau, cs_end) = if law.work_dependent() {
+    let (dgamma, tau, dissipation, cs_end) = if law.work_dependent() {
         solve_work_dependent(law, &mut x, state.omega, norm_tr, k_t, c, cs)?
     } else {
-        ((norm_tr - cs.tau) / k_t, cs.tau, cs)
+        let dgamma = (norm_tr - cs.tau) / k_t;
+        (dgamma, cs.tau, c * cs.tau * dgamma, cs)
     };
 
-    let dissipation = c * tau * dgamma;
     out.t = phi * tau;
     out.tau_c = cs_end.tau;
     out.dgamma = dgamma;
@@ -274,16 +359,29 @@ where
             out.dt_dp = phi * cs_end.dtau_dp;
         }
         TangentMode::Consistent => {
+            // Implicit differentiation of g(τ) = τ - τ_c(p, ω(τ), v) = 0,
+            // ω(τ) = ω_n + c τ (|t_tr| - τ)/k_T (see `solve_work_dependent`).
             let tau_w = cs_end.dtau_domega;
-            let f_dg = -k_t - tau_w * c * (norm_tr - 2.0 * k_t * dgamma);
-            let dgamma_dnorm = -(1.0 - tau_w * c * dgamma) / f_dg;
-            let dtau_dnorm = 1.0 - k_t * dgamma_dnorm;
-            let dtau_dp = -k_t * cs_end.dtau_dp / f_dg;
-            let dtau_dv = -k_t * cs_end.dtau_dspeed / f_dg;
+            let g_tau = 1.0 - tau_w * c * (norm_tr - 2.0 * tau) / k_t;
+            let dtau_dnorm = tau_w * c * tau / (k_t * g_tau);
+            let dtau_dc = tau_w * tau * (norm_tr - tau) / (k_t * g_tau);
+            let mut dtau_dp = cs_end.dtau_dp / g_tau;
+            let dtau_dv = cs_end.dtau_dspeed / g_tau;
             let pp = phi * phi.transpose();
-            let mut tangent = -k_t * ((tau / norm_tr) * (tangent_projector(&n) - pp) + dtau_dnorm * pp);
+            let mut tangent =
+                -k_t * ((tau / norm_tr) * (tangent_projector(&n) - pp) + dtau_dnorm * pp);
             if dtau_dv != 0.0 && du_norm > 0.0 {
                 tangent += phi * (du_t / (du_norm * kin.dt)).transpose() * dtau_dv;
+            }
+            if dtau_dc != 0.0 && from_formulation {
+                // The dissipated share c = φ_tr·d depends on Δu_T and p through the
+                // formulation's slip direction: differentiate it numerically
+                // (central differences over the slip scale |t_tr|/k_T; only when a
+                // consistent tangent is asked for).
+                let (dc_du, dc_dp) =
+                    frame.share_gradient(law, input.du, x_start(&x, state.omega), norm_tr)?;
+                tangent += phi * dc_du.transpose() * dtau_dc;
+                dtau_dp += dtau_dc * dc_dp;
             }
             out.tangent = tangent;
             out.dt_dp = phi * dtau_dp;
@@ -296,7 +394,102 @@ where
     Ok(out)
 }
 
-/// Backward-Euler slip of a work-dependent law: returns `(Δγ, τ, τ_c(ω_{n+1}))`.
+/// The shear inputs at the start of the step (work `ω_n`).
+fn x_start(x: &ShearInputs, omega_n: f64) -> ShearInputs {
+    ShearInputs {
+        omega: omega_n,
+        ..*x
+    }
+}
+
+/// What the slip direction of a step depends on, so that it can be evaluated
+/// again for perturbed `Δu_T` and `p` (consistent tangent).
+struct Frame<'a, F: ?Sized> {
+    formulation: &'a F,
+    kin: &'a StepKinematics,
+    n: Vec3,
+    t_old: Vec3,
+    p_old: f64,
+    t_star: Vec3,
+    k_t: f64,
+    needs: PointNeeds,
+}
+
+impl<F: KinematicFormulation + ?Sized> Frame<'_, F> {
+    /// Unit slip direction `d`, share `c = φ_tr·d`, and whether the formulation
+    /// chose `d` (rather than the backward-Euler fallback `φ_tr`), for slip
+    /// increment `du` and shear inputs `x` (pressure, `ω_n`, speed).
+    fn direction<L: FrictionLaw + ?Sized>(
+        &self,
+        law: &L,
+        du: Vec3,
+        x: ShearInputs,
+    ) -> Result<(Vec3, f64, bool), FrictionError> {
+        let du_t = du - self.n * self.n.dot(&du);
+        let t_tr = self.t_star - du_t * self.k_t;
+        let norm_tr = t_tr.norm();
+        let phi = t_tr / norm_tr;
+        let mut x = x;
+        if self.needs.contains(PointNeeds::SLIDING_VELOCITY) {
+            x.sliding_speed = du_t.norm() / self.kin.dt;
+        }
+        let cs = evaluate(law, &x)?;
+        let t_end = phi * cs.tau.min(norm_tr);
+        let chosen = self
+            .formulation
+            .slip_direction(&DirectionInputs {
+                kin: self.kin,
+                t_old: self.t_old,
+                p_old: self.p_old,
+                t_star: self.t_star,
+                t_trial: t_tr,
+                t_end,
+                p_new: x.p,
+            })
+            .and_then(|d| {
+                let d = d - self.n * self.n.dot(&d);
+                let len = d.norm();
+                (len.is_finite() && len > 0.0).then(|| d / len)
+            })
+            .filter(|d| d.dot(&phi) > 0.0);
+        Ok(match chosen {
+            Some(d) => (d, d.dot(&phi).clamp(0.0, 1.0), true),
+            None => (phi, 1.0, false),
+        })
+    }
+
+    /// `(∂c/∂Δu_T, ∂c/∂p)` by central differences.
+    fn share_gradient<L: FrictionLaw + ?Sized>(
+        &self,
+        law: &L,
+        du: Vec3,
+        x: ShearInputs,
+        norm_tr: f64,
+    ) -> Result<(Vec3, f64), FrictionError> {
+        let h = 1e-6 * norm_tr / self.k_t;
+        let mut grad = Vec3::zeros();
+        for i in 0..3 {
+            let mut e = Vec3::zeros();
+            e[i] = h;
+            let (_, plus, _) = self.direction(law, du + e, x)?;
+            let (_, minus, _) = self.direction(law, du - e, x)?;
+            grad[i] = (plus - minus) / (2.0 * h);
+        }
+        let hp = 1e-6 * x.p;
+        let (_, plus, _) = self.direction(law, du, ShearInputs { p: x.p + hp, ..x })?;
+        let (_, minus, _) = self.direction(law, du, ShearInputs { p: x.p - hp, ..x })?;
+        Ok((grad, (plus - minus) / (2.0 * hp)))
+    }
+}
+
+/// Backward-Euler slip of a work-dependent law: returns `(Δγ, τ, ΔD, τ_c(ω_{n+1}))`.
+///
+/// Solved for the traction magnitude `τ ∈ [0, |t_tr|]` rather than for `Δγ`, so
+/// that `τ` carries no cancellation error: `g(τ) = τ - τ_c(p, ω(τ))` with
+/// `ω(τ) = ω_n + c τ (|t_tr| - τ)/k_T`, `g(0) = -τ_c(ω_n) ≤ 0 < g(|t_tr|)`
+/// (slip). Newton's method, safeguarded by bisection. The result is made exactly
+/// consistent: `ω_{n+1} = ω(τ*)`, and the traction is `τ_c(p, ω_{n+1})` itself,
+/// so `|t| = τ_c(ω_{n+1})` holds to the last bit and `ΔD = ω_{n+1} - ω_n ≥ 0`.
 fn solve_work_dependent<L: FrictionLaw + ?Sized>(
     law: &L,
     x: &mut ShearInputs,
@@ -305,43 +498,44 @@ fn solve_work_dependent<L: FrictionLaw + ?Sized>(
     k_t: f64,
     c: f64,
     cs_n: crate::CriticalShear,
-) -> Result<(f64, f64, crate::CriticalShear), FrictionError> {
-    let residual = |x: &mut ShearInputs, dg: f64| -> Result<(f64, f64, crate::CriticalShear), FrictionError> {
-        let tau = norm_tr - k_t * dg;
-        x.omega = omega_n + c * tau * dg;
-        let cs = evaluate(law, x)?;
-        let f = tau - cs.tau;
-        let df = -k_t - cs.dtau_domega * c * (norm_tr - 2.0 * k_t * dg);
-        Ok((f, df, cs))
-    };
+) -> Result<(f64, f64, f64, crate::CriticalShear), FrictionError> {
+    let work = |tau: f64| c * tau * ((norm_tr - tau) / k_t);
     let mut lo = 0.0;
-    let mut hi = norm_tr / k_t;
-    let mut dg = ((norm_tr - cs_n.tau) / k_t).clamp(lo, hi);
-    let tol = 1e-15 * norm_tr.max(f64::MIN_POSITIVE);
-    let mut last = cs_n;
+    let mut hi = norm_tr;
+    // Start from the radial return with the old work.
+    let mut tau = cs_n.tau.clamp(lo, hi);
+    let mut cs = cs_n;
     for _ in 0..200 {
-        let (f, df, cs) = residual(x, dg)?;
-        last = cs;
-        if f.abs() <= tol {
+        x.omega = omega_n + work(tau);
+        cs = evaluate(law, x)?;
+        let g = tau - cs.tau;
+        if g == 0.0 {
             break;
         }
-        if f > 0.0 {
-            lo = dg;
+        if g < 0.0 {
+            lo = tau;
         } else {
-            hi = dg;
+            hi = tau;
         }
-        let newton = dg - f / df;
-        dg = if df != 0.0 && newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
-        if hi - lo <= 4.0 * f64::EPSILON * hi {
+        let dg = 1.0 - cs.dtau_domega * c * (norm_tr - 2.0 * tau) / k_t;
+        let newton = tau - g / dg;
+        let next = if dg.is_finite() && dg != 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        let converged = (next - tau).abs() <= 2.0 * f64::EPSILON * norm_tr
+            || hi - lo <= 2.0 * f64::EPSILON * norm_tr;
+        tau = next;
+        if converged {
+            x.omega = omega_n + work(tau);
+            cs = evaluate(law, x)?;
             break;
         }
     }
-    // Enforce |t| = τ_c(ω_{n+1}) exactly: the traction takes the law's value at the
-    // converged work, and Δγ follows from it.
-    let tau = last.tau.min(norm_tr);
+    let dissipation = work(tau);
     let dgamma = (norm_tr - tau) / k_t;
-    x.omega = omega_n + c * tau * dgamma;
-    Ok((dgamma, tau, last))
+    Ok((dgamma, cs.tau.min(norm_tr), dissipation, cs))
 }
 
 /// A law paired with a formulation: the unit the engine drives per batch of
@@ -365,7 +559,12 @@ pub trait PointIntegrator: Send + Sync {
     ///
     /// # Errors
     /// The first point's error, with the points before it already updated.
-    fn step_batch(&self, states: &mut [PointState], inputs: &[StepInput], outputs: &mut [StepOutput]) -> Result<(), FrictionError>;
+    fn step_batch(
+        &self,
+        states: &mut [PointState],
+        inputs: &[StepInput],
+        outputs: &mut [StepOutput],
+    ) -> Result<(), FrictionError>;
 }
 
 /// A concrete law-and-formulation pair with its tangent mode.
@@ -382,7 +581,11 @@ pub struct PairedIntegrator<L, F> {
 impl<L: FrictionLaw, F: KinematicFormulation> PairedIntegrator<L, F> {
     /// Pair `law` and `formulation` without tangents (explicit dynamics).
     pub fn new(law: L, formulation: F) -> Self {
-        Self { law, formulation, tangent: TangentMode::None }
+        Self {
+            law,
+            formulation,
+            tangent: TangentMode::None,
+        }
     }
 }
 
@@ -403,7 +606,12 @@ impl<L: FrictionLaw, F: KinematicFormulation> PointIntegrator for PairedIntegrat
     fn step(&self, state: &mut PointState, input: &StepInput) -> Result<StepOutput, FrictionError> {
         step(&self.law, &self.formulation, self.tangent, state, input)
     }
-    fn step_batch(&self, states: &mut [PointState], inputs: &[StepInput], outputs: &mut [StepOutput]) -> Result<(), FrictionError> {
+    fn step_batch(
+        &self,
+        states: &mut [PointState],
+        inputs: &[StepInput],
+        outputs: &mut [StepOutput],
+    ) -> Result<(), FrictionError> {
         for ((state, input), output) in states.iter_mut().zip(inputs).zip(outputs.iter_mut()) {
             *output = step(&self.law, &self.formulation, self.tangent, state, input)?;
         }

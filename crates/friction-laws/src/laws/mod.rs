@@ -1,4 +1,180 @@
-//! The built-in friction laws of friction-math §3.
+//! The built-in friction laws of friction-math §3: `ac`, `wvs`, `wh`, `levanov`.
+//!
+//! Each law is a plain struct holding its validated parameters and implementing
+//! [`plugins_api::FrictionLaw`]; the return mapping is the shared one in
+//! `plugins_api::return_mapping`. Every law exposes the same building blocks so
+//! that registration happens in one place: `NAME`, `PARAMS` (schema in builder
+//! order), `DESCRIPTION`, `from_values` (values in `PARAMS` order, all
+//! validation), `build` (boxed) and a typed `new`.
+
+use plugins_api::law::LawDescription;
+use plugins_api::{FrictionError, ParamSpec};
+
+mod ac;
+mod levanov;
+mod wh;
+mod wvs;
+
+pub use ac::Ac;
+pub use levanov::Levanov;
+pub use wh::Wh;
+pub use wvs::Wvs;
 
 /// Names of the laws this module registers (referenced by `ensure_linked`).
-pub const REGISTERED: &[&str] = &[];
+pub const REGISTERED: &[&str] = &[Ac::NAME, Wvs::NAME, Wh::NAME, Levanov::NAME];
+
+/// Descriptions (name, summary, parameter schema) of the four built-in laws,
+/// in the order of [`REGISTERED`].
+pub const DESCRIPTIONS: &[LawDescription] = &[
+    Ac::DESCRIPTION,
+    Wvs::DESCRIPTION,
+    Wh::DESCRIPTION,
+    Levanov::DESCRIPTION,
+];
+
+/// Default stick stiffness `k_T` (MPa/mm): the thesis's "100 GPa" read as 1e5 MPa/mm.
+pub const DEFAULT_STICK_STIFFNESS: f64 = 1e5;
+
+/// Schema of the stick stiffness `k_T`, shared by every law (last in each `PARAMS`).
+pub const STICK_STIFFNESS: ParamSpec = ParamSpec::optional(
+    "k_t",
+    "MPa/mm",
+    DEFAULT_STICK_STIFFNESS,
+    0.0,
+    f64::INFINITY,
+    "tangential stiffness in stick k_T (MPa/mm), a penalty-like regularisation",
+)
+.exclusive_min();
+
+/// Check `values` against `specs` (count, finiteness and range of each value),
+/// as `Params::resolve` does, so that the typed constructors validate too.
+///
+/// # Errors
+/// [`FrictionError::InvalidParameters`] for a wrong number of values;
+/// [`FrictionError::ParameterOutOfRange`] naming the first offending parameter,
+/// its value, unit and valid range.
+pub(crate) fn check_values(
+    law: &str,
+    specs: &[ParamSpec],
+    values: &[f64],
+) -> Result<(), FrictionError> {
+    if values.len() != specs.len() {
+        return Err(FrictionError::InvalidParameters {
+            component: law.to_string(),
+            reason: format!(
+                "expected {} parameter values ({}), got {}",
+                specs.len(),
+                specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", "),
+                values.len()
+            ),
+        });
+    }
+    for (spec, &value) in specs.iter().zip(values) {
+        if !spec.accepts(value) {
+            return Err(FrictionError::ParameterOutOfRange {
+                component: law.to_string(),
+                name: spec.name.to_string(),
+                value,
+                unit: spec.unit.to_string(),
+                range: spec.range_text(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Helpers shared by the laws' unit tests.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use plugins_api::{
+        DirectionInputs, FrictionLaw, KinematicFormulation, PointNeeds, ShearInputs,
+        StepKinematics, Vec3,
+    };
+
+    /// A trivial formulation for point histories on a fixed flat tool:
+    /// transport = identity, backward-Euler slip direction, needs nothing.
+    pub(crate) struct Identity;
+
+    impl KinematicFormulation for Identity {
+        fn name(&self) -> &str {
+            "test-identity"
+        }
+        fn needs(&self) -> PointNeeds {
+            PointNeeds::NONE
+        }
+        fn transport(&self, t_old: &Vec3, _kin: &StepKinematics) -> Vec3 {
+            *t_old
+        }
+        fn slip_direction(&self, _x: &DirectionInputs<'_>) -> Option<Vec3> {
+            None
+        }
+    }
+
+    /// Kinematics of a step over a fixed flat tool with normal `+z`.
+    pub(crate) fn flat_kinematics() -> StepKinematics {
+        let n = Vec3::new(0.0, 0.0, 1.0);
+        StepKinematics::simple(1e-3, n, n)
+    }
+
+    /// Shear inputs at `(p, ω)` with flow stress `sigma_y`; other fields NaN
+    /// (not computed), as the engine leaves them.
+    pub(crate) fn inputs(p: f64, omega: f64, sigma_y: f64) -> ShearInputs {
+        ShearInputs {
+            p,
+            omega,
+            sliding_speed: f64::NAN,
+            flow_stress: sigma_y,
+            temperature: f64::NAN,
+        }
+    }
+
+    /// Relative difference `|a - b| / |b|` (absolute if `b = 0`).
+    pub(crate) fn rel(a: f64, b: f64) -> f64 {
+        if b == 0.0 {
+            (a - b).abs()
+        } else {
+            ((a - b) / b).abs()
+        }
+    }
+
+    /// Central finite differences of `τ_c` with respect to `p` (step `h`) and
+    /// `ω` (step `k`) at `x`.
+    pub(crate) fn central_differences<L: FrictionLaw>(
+        law: &L,
+        x: &ShearInputs,
+        h: f64,
+        k: f64,
+    ) -> (f64, f64) {
+        let tau = |p: f64, omega: f64| law.critical_shear(&ShearInputs { p, omega, ..*x }).tau;
+        let d_p = (tau(x.p + h, x.omega) - tau(x.p - h, x.omega)) / (2.0 * h);
+        let d_omega = (tau(x.p, x.omega + k) - tau(x.p, x.omega - k)) / (2.0 * k);
+        (d_p, d_omega)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The registry lists exactly the four laws of friction-math §3, each with
+    /// `k_t` last in its schema and the same `k_t` spec.
+    #[test]
+    fn registered_names_match_descriptions_and_share_stick_stiffness() {
+        assert_eq!(REGISTERED, &["ac", "wvs", "wh", "levanov"]);
+        for (name, d) in REGISTERED.iter().zip(DESCRIPTIONS) {
+            assert_eq!(*name, d.name);
+            assert_eq!(d.params.last(), Some(&STICK_STIFFNESS), "{name}");
+            assert!(!d.summary.is_empty());
+        }
+    }
+
+    /// Wrong number of values: a clear error listing the expected parameters.
+    #[test]
+    fn wrong_value_count_is_rejected_with_parameter_list() {
+        let e = Ac::from_values(&[0.1]).unwrap_err().to_string();
+        assert!(
+            e.contains("expected 2 parameter values (mu, k_t), got 1"),
+            "{e}"
+        );
+    }
+}

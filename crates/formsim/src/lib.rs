@@ -1,0 +1,14 @@
+//! # formsim: the command-line tool and the library that composes the solvers
+//!
+//! Place in the pipeline: the top. It owns user-facing work: resolving
+//! components named by the user (built-in laws, formulations, dynamic plugins)
+//! into monomorphised point integrators ([`components`]), reading prescribed
+//! contact-point histories ([`history`]) and integrating them
+//! ([`point_driver`]), and plotting ([`plot`]). Scenes, forming runs and reports
+//! join as the engine crates arrive. It must not re-implement physics: every
+//! friction number comes from `plugins-api`'s return mapping and the laws.
+
+pub mod components;
+pub mod history;
+pub mod plot;
+pub mod point_driver;

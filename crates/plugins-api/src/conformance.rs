@@ -1,1 +1,0 @@
-//! The conformance suite of friction-math §5 (placeholder).
