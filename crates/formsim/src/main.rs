@@ -8,9 +8,7 @@ use formsim::components::{self, LawSource};
 use formsim::plot::{Panel, Series};
 use formsim::{history, point_driver};
 use plugins_api::conformance::{self, Options, Subject};
-use plugins_api::{
-    FrictionError, FrictionLaw, KinematicFormulation, ParamSpec, Params, TangentMode, registry,
-};
+use plugins_api::{FrictionLaw, KinematicFormulation, ParamSpec, Params, TangentMode, registry};
 
 /// formsim: sheet-metal forming simulation with pluggable friction (units: mm, N, MPa, tonne, s).
 #[derive(Parser, Debug)]
@@ -210,7 +208,7 @@ fn defaults_or_benchmark(name: &str, specs: &[ParamSpec]) -> Vec<f64> {
 fn run_suite(
     name: &str,
     specs: &[ParamSpec],
-    build: &dyn Fn(&Params) -> Result<Box<dyn FrictionLaw>, FrictionError>,
+    build: &conformance::BuildLaw<'_>,
     given: &Params,
 ) -> Result<ExitCode, String> {
     let (base, chosen) = components::suite_params(name, specs, given);
@@ -269,7 +267,13 @@ fn friction_point(args: &FrictionPointArgs) -> Result<ExitCode, String> {
             .map_err(|e| e.to_string())?;
     let hist = history::read(&args.history).map_err(|e| e.to_string())?;
     let file = args.history.display().to_string();
-    let (records, summary) = point_driver::run(integrator.as_ref(), &hist, &file)?;
+    let (records, summary) = point_driver::run(integrator.as_ref(), &hist, &file).map_err(|e| {
+        // A plugin that failed inside (a caught panic, an error) says why.
+        match plugins_api::loader::take_last_error() {
+            Some(why) => format!("{e} ({why})"),
+            None => e,
+        }
+    })?;
     point_driver::write_csv(&args.out, &records)?;
     println!(
         "friction-point: law {}, formulation {} (k_t = {} MPa/mm)",
@@ -296,7 +300,7 @@ fn friction_point(args: &FrictionPointArgs) -> Result<ExitCode, String> {
         plot_point(
             &png,
             &records,
-            &integrator.law_name().to_string(),
+            integrator.law_name(),
             integrator.formulation_name(),
         )?;
         println!("  wrote {}", png.display());

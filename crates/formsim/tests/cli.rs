@@ -335,3 +335,53 @@ fn laws_check_runs_the_conformance_suite() {
     assert!(o.status.success(), "{}", text(&o));
     assert!(text(&o).contains("0 failed"), "{}", text(&o));
 }
+
+/// A plugin law that panics inside `critical_shear` is reported by the host with
+/// the panic message and a non-zero exit; the host does not crash.
+#[test]
+fn a_panicking_plugin_is_reported_and_exits_nonzero() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let release = !cfg!(debug_assertions);
+    let mut cmd = Command::new(cargo);
+    cmd.current_dir(&root)
+        .args(["build", "-q", "-p", "test-panicky"]);
+    if release {
+        cmd.arg("--release");
+    }
+    assert!(cmd.status().unwrap().success());
+    let target =
+        std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
+    let lib = target
+        .join(if release { "release" } else { "debug" })
+        .join(format!(
+            "{}test_panicky{}",
+            std::env::consts::DLL_PREFIX,
+            std::env::consts::DLL_SUFFIX
+        ));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.csv");
+    let hist = history();
+    let o = formsim(&[
+        "friction-point",
+        "--plugin",
+        lib.to_str().unwrap(),
+        "--param",
+        "panic_above_p=20",
+        "--history",
+        hist.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success(), "{}", text(&o));
+    let err = String::from_utf8_lossy(&o.stderr);
+    let last = err.lines().last().unwrap_or_default();
+    assert!(
+        last.starts_with("error: ") && last.contains("deliberate panic"),
+        "{err}"
+    );
+    assert!(
+        last.contains("die-shoulder.csv:"),
+        "the failing line of the history is named: {err}"
+    );
+}

@@ -63,12 +63,12 @@ pub enum FrictionError {
         /// Why it is rejected.
         reason: &'static str,
     },
-    /// A law or formulation produced a non-finite number.
-    #[error("`{component}` returned a non-finite {what} ({value}) at p = {p} MPa")]
+    /// A law or formulation produced a non-finite number or a negative `τ_c`.
+    #[error("`{component}` returned {what} ({value}) at p = {p} MPa")]
     NonFiniteResult {
         /// Component that produced it.
         component: String,
-        /// What was non-finite (e.g. `critical shear stress`).
+        /// What was wrong, with its article (e.g. `a negative critical shear stress`).
         what: &'static str,
         /// The value.
         value: f64,

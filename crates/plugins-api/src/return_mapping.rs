@@ -231,7 +231,7 @@ fn evaluate<L: FrictionLaw + ?Sized>(
     if let Some(value) = bad {
         return Err(FrictionError::NonFiniteResult {
             component: law.name().to_string(),
-            what: "critical shear stress or derivative",
+            what: "a non-finite critical shear stress or derivative",
             value,
             p: x.p,
         });
@@ -239,7 +239,7 @@ fn evaluate<L: FrictionLaw + ?Sized>(
     if cs.tau < 0.0 {
         return Err(FrictionError::NonFiniteResult {
             component: law.name().to_string(),
-            what: "negative critical shear stress",
+            what: "a negative critical shear stress",
             value: cs.tau,
             p: x.p,
         });
@@ -289,7 +289,7 @@ where
     check_vec("transported traction", "MPa", &t_star).map_err(|_| {
         FrictionError::NonFiniteResult {
             component: formulation.name().to_string(),
-            what: "transported traction",
+            what: "a non-finite transported traction",
             value: f64::NAN,
             p,
         }

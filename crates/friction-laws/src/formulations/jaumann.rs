@@ -7,7 +7,7 @@ use plugins_api::{DirectionInputs, KinematicFormulation, PointNeeds, StepKinemat
 pub const NAME: &str = "jaumann";
 
 /// One-line summary for registries and the CLI.
-pub const SUMMARY: &str = "co-rotational: history rotated by the blank spin (Hughes-Winget) then onto the new tangent plane; d = phi_n + dt (phi_dot - W phi) in the spun frame";
+pub const SUMMARY: &str = "co-rotational: history rotated by the blank spin (Hughes-Winget) then onto the new tangent plane; d = phi* + dt phi_dot in the spun frame (Jaumann rate)";
 
 /// The co-rotational (Jaumann, Eulerian) formulation of friction-math §4, the
 /// thesis's new model.
@@ -28,7 +28,7 @@ pub const SUMMARY: &str = "co-rotational: history rotated by the blank spin (Hug
 /// evaluated in the frame of step `n+1` where this formulation's transported
 /// history `t*` lives (so that it uses objective quantities only and is exactly
 /// objective): `d = φ* + (I - φ*⊗φ*)(t_end - t*)/|t*|`
-/// ([`forward_direction`](plugins_api::kinematics::forward_direction): the
+/// ([`plugins_api::kinematics::forward_direction`]: the
 /// closed-form `φ̇` with `ṅ = 0` in the co-moving frame and `Δt Ṫ = t_end - t*`,
 /// `t_end = τ_c(ω_n) φ_tr` the radial-return traction, the `Δ²γ` term dropped).
 /// The spin enters through `t*`: advancing the direction by the Jaumann rate
@@ -131,31 +131,142 @@ mod tests {
         assert!((Jaumann.transport(&t, &k) - r_w * t).norm() <= 1e-14 * t.norm());
     }
 
-    /// With no history the slip direction falls back to backward Euler; with a
-    /// history and `W = 0`, unchanged normals and a trial along `t_n`, `d = φ_n`.
-    #[test]
-    fn slip_direction_edge_cases() {
-        let k = kin();
-        let x = DirectionInputs {
-            kin: &k,
-            t_old: Vec3::zeros(),
+    /// Orthonormal tangent basis `(e1, e2)` of the unit normal `n`.
+    fn tangent_basis(n: &Vec3) -> (Vec3, Vec3) {
+        let v = Vec3::new(1.0, 0.3, -0.2);
+        let e1 = (v - n * n.dot(&v)).normalize();
+        (e1, n.cross(&e1))
+    }
+
+    /// Direction inputs with the given transported history and end traction;
+    /// the other fields are arbitrary (the direction must not read them).
+    fn inputs(k: &StepKinematics, t_star: Vec3, t_end: Vec3) -> DirectionInputs<'_> {
+        DirectionInputs {
+            kin: k,
+            t_old: tangent_history(k),
             p_old: 10.0,
-            t_trial: Vec3::x(),
-            p_new: 10.0,
-        };
-        assert_eq!(Jaumann.slip_direction(&x), None);
-        let n = Vec3::z();
-        let k = StepKinematics::simple(1e-3, n, n);
-        let t = Vec3::new(3.0, 4.0, 0.0);
-        let x = DirectionInputs {
-            kin: &k,
-            t_old: t,
-            p_old: 10.0,
-            t_trial: 2.0 * t,
+            t_star,
+            t_trial: t_end * 3.0,
+            t_end,
             p_new: 12.0,
+        }
+    }
+
+    /// friction-math §4 (jaumann row, (b)): with no transported history
+    /// (`|t*| = 0`) there is no rate to advance, so `None` (backward Euler); a
+    /// non-finite `t*` likewise gives `None`, never a NaN direction.
+    #[test]
+    fn slip_direction_is_none_without_transported_history() {
+        let k = kin();
+        let (e1, _) = tangent_basis(&k.n_new);
+        assert_eq!(Jaumann.slip_direction(&inputs(&k, Vec3::zeros(), e1)), None);
+        let nan = Vec3::repeat(f64::NAN);
+        assert_eq!(Jaumann.slip_direction(&inputs(&k, nan, e1)), None);
+    }
+
+    /// `forward_direction`: when the end traction is parallel to `t*` (any
+    /// magnitude, either sense) the direction rate vanishes and `d = φ*`
+    /// (tolerance 2e-16 absolute). For the opposite sense (a reversal within the
+    /// step) `d = φ*` is 180° from `φ_tr`; the return mapping then uses `φ_tr`.
+    #[test]
+    fn slip_direction_is_phi_star_when_end_traction_is_parallel() {
+        let k = kin();
+        let (e1, e2) = tangent_basis(&k.n_new);
+        let t_star = 7.0 * e1 - 3.0 * e2;
+        let phi_star = t_star / t_star.norm();
+        for scale in [0.3, 1.0, 2.5, -1.0] {
+            let d = Jaumann
+                .slip_direction(&inputs(&k, t_star, scale * t_star))
+                .unwrap();
+            assert!(
+                (d - phi_star).norm() <= 2e-16,
+                "scale {scale}: {d} vs {phi_star}"
+            );
+        }
+    }
+
+    /// friction-math §4 (b): `d = φ* + (I - φ*⊗φ*)(t_end - t*)/|t*|`, checked in
+    /// an explicit tangent basis of `n_{n+1}`: `t* = a e1`, `t_end = b e1 + c e2`
+    /// gives `d = e1 + (c/a) e2` (tangent, not normalised). Tolerance 1e-15 relative.
+    #[test]
+    fn slip_direction_matches_closed_form_in_tangent_basis() {
+        let k = kin();
+        let (e1, e2) = tangent_basis(&k.n_new);
+        let (a, b, c) = (11.0, 10.5, 0.8);
+        let d = Jaumann
+            .slip_direction(&inputs(&k, a * e1, b * e1 + c * e2))
+            .unwrap();
+        let expected = e1 + (c / a) * e2;
+        assert!(
+            (d - expected).norm() <= 1e-15 * expected.norm(),
+            "{d} vs {expected}"
+        );
+        assert!(d.dot(&k.n_new).abs() <= 1e-15);
+    }
+
+    /// The direction reads only `t*`, `t_end` and `n_{n+1}` (objective data): the
+    /// spin enters through `t*`. Changing `t_n`, the pressures, the trial, `L`,
+    /// `n_n` or `Δt` leaves it bit-for-bit unchanged.
+    #[test]
+    fn slip_direction_reads_only_transported_and_end_tractions() {
+        let k = kin();
+        let (e1, e2) = tangent_basis(&k.n_new);
+        let (t_star, t_end) = (9.0 * e1 + 2.0 * e2, 8.0 * e1 + 4.5 * e2);
+        let d = Jaumann.slip_direction(&inputs(&k, t_star, t_end));
+        let mut other = k;
+        other.vel_grad = skew(&Vec3::new(-3.0, 2.0, 5.0));
+        other.n_old = Vec3::new(-0.4, 0.3, 1.0).normalize();
+        other.dt = 0.37;
+        let x = DirectionInputs {
+            kin: &other,
+            t_old: Vec3::new(-1.0, 5.0, 0.0),
+            p_old: 99.0,
+            t_star,
+            t_trial: -t_end,
+            t_end,
+            p_new: 1.0,
         };
-        let d = Jaumann.slip_direction(&x).unwrap();
-        assert!((d - t / 5.0).norm() <= 1e-15);
+        assert!(d.is_some());
+        assert_eq!(Jaumann.slip_direction(&x), d);
+    }
+
+    /// friction-math §4, "Objectivity": an observer rotated by `Q` sees `n' = Q n`,
+    /// `t*' = Q t*`, `t_end' = Q t_end` and must get `d' = Q d`. Tolerance 1e-14 relative.
+    #[test]
+    fn slip_direction_is_objective() {
+        let k = kin();
+        let (e1, e2) = tangent_basis(&k.n_new);
+        let (t_star, t_end) = (9.0 * e1 + 2.0 * e2, 8.0 * e1 + 4.5 * e2);
+        let d = Jaumann.slip_direction(&inputs(&k, t_star, t_end)).unwrap();
+        let q = cayley(&skew(&Vec3::new(0.9, -1.7, 0.4)));
+        let mut kq = k;
+        kq.n_old = q * k.n_old;
+        kq.n_new = q * k.n_new;
+        let dq = Jaumann
+            .slip_direction(&inputs(&kq, q * t_star, q * t_end))
+            .unwrap();
+        assert!((dq - q * d).norm() <= 1e-14 * d.norm(), "{dq} vs {}", q * d);
+    }
+
+    /// Accuracy of the forward estimate, independent of the slip per step: when the
+    /// traction turns by `α` at constant magnitude (`|t_end| = |t*|`), `d = φ* +
+    /// sin α e⊥` lies `α - atan(sin α) = α³/2 + O(α⁵)` from the end direction
+    /// (derived from the closed form). Checked at α = 1e-2, 2e-2: `err/α³ = 0.5`
+    /// within 1e-3.
+    #[test]
+    fn slip_direction_error_is_third_order_in_the_turn_angle() {
+        let k = kin();
+        let (e1, e2) = tangent_basis(&k.n_new);
+        let t_star = 12.0 * e1;
+        for alpha in [1e-2_f64, 2e-2] {
+            let t_end = 12.0 * (alpha.cos() * e1 + alpha.sin() * e2);
+            let d = Jaumann.slip_direction(&inputs(&k, t_star, t_end)).unwrap();
+            let err = alpha - d.dot(&e2).atan2(d.dot(&e1));
+            assert!(
+                (err / alpha.powi(3) - 0.5).abs() <= 1e-3,
+                "α = {alpha}: err {err:e}"
+            );
+        }
         assert_eq!(Jaumann.needs(), PointNeeds::SPIN);
         assert_eq!(build().name(), NAME);
     }

@@ -28,7 +28,7 @@ pub const SUMMARY: &str = "total Lagrangian: history pushed forward by F_{n+1} F
 /// evaluated in the frame of step `n+1` where this formulation's transported
 /// history `t*` lives (so that it uses objective quantities only and is exactly
 /// objective): `d = φ* + (I - φ*⊗φ*)(t_end - t*)/|t*|`
-/// ([`forward_direction`](plugins_api::kinematics::forward_direction): the
+/// ([`plugins_api::kinematics::forward_direction`]: the
 /// closed-form `φ̇` with `ṅ = 0` in the co-moving frame and `Δt Ṫ = t_end - t*`,
 /// `t_end = τ_c(ω_n) φ_tr` the radial-return traction, the `Δ²γ` term dropped).
 /// The deformation enters through `t* = P ΔF t_n`: the direction is advanced
@@ -73,8 +73,9 @@ pub fn build() -> Box<dyn KinematicFormulation> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use plugins_api::kinematics::{cayley, skew};
     use plugins_api::return_mapping::{PointState, StepInput, TangentMode, step};
-    use plugins_api::{CriticalShear, FrictionError, FrictionLaw, ShearInputs};
+    use plugins_api::{CriticalShear, FrictionError, FrictionLaw, Mat3, ShearInputs};
 
     struct Coulomb;
     impl FrictionLaw for Coulomb {
@@ -163,28 +164,125 @@ mod tests {
         assert!(Lagrangian.transport(&t, &k).iter().all(|v| v.is_nan()));
     }
 
-    /// With no history, or a singular `F`, the slip direction falls back to backward Euler.
+    /// Orthonormal tangent basis `(e1, e2)` of the unit normal `n`.
+    fn tangent_basis(n: &Vec3) -> (Vec3, Vec3) {
+        let v = Vec3::new(1.0, 0.3, -0.2);
+        let e1 = (v - n * n.dot(&v)).normalize();
+        (e1, n.cross(&e1))
+    }
+
+    /// Direction inputs with the given transported history and end traction;
+    /// the other fields are arbitrary (the direction must not read them).
+    fn inputs(k: &StepKinematics, t_star: Vec3, t_end: Vec3) -> DirectionInputs<'_> {
+        DirectionInputs {
+            kin: k,
+            t_old: tangent_history(k),
+            p_old: 10.0,
+            t_star,
+            t_trial: t_end * 3.0,
+            t_end,
+            p_new: 12.0,
+        }
+    }
+
+    /// friction-math §4 (lagrangian row, (b)): no transported history (`|t*| = 0`)
+    /// gives `None` (backward Euler); so does the NaN `t*` of a singular `F`
+    /// (the return mapping errors before asking, but the direction must not be NaN).
     #[test]
-    fn slip_direction_edge_cases() {
+    fn slip_direction_is_none_without_transported_history() {
         let mut k = kin();
-        let x = DirectionInputs {
-            kin: &k,
-            t_old: Vec3::zeros(),
-            p_old: 10.0,
-            t_trial: Vec3::x(),
-            p_new: 10.0,
-        };
-        assert_eq!(Lagrangian.slip_direction(&x), None);
+        let (e1, _) = tangent_basis(&k.n_new);
+        assert_eq!(
+            Lagrangian.slip_direction(&inputs(&k, Vec3::zeros(), e1)),
+            None
+        );
         k.f_new = Mat3::zeros();
-        let x = DirectionInputs {
-            kin: &k,
-            t_old: tangent_history(&k),
-            p_old: 10.0,
-            t_trial: Vec3::x(),
-            p_new: 10.0,
-        };
-        assert_eq!(Lagrangian.slip_direction(&x), None);
+        let t_star = Lagrangian.transport(&tangent_history(&k), &k);
+        assert!(t_star.iter().all(|v| v.is_nan()));
+        assert_eq!(Lagrangian.slip_direction(&inputs(&k, t_star, e1)), None);
         assert_eq!(Lagrangian.needs(), PointNeeds::DEFORMATION_GRADIENT);
         assert_eq!(build().name(), NAME);
+    }
+
+    /// `forward_direction`: an end traction parallel to `t*` (any magnitude or
+    /// sense) gives `d = φ*` (tolerance 2e-16 absolute); a general one gives
+    /// `d = e1 + (c/a) e2` for `t* = a e1`, `t_end = b e1 + c e2` (1e-15 relative).
+    #[test]
+    fn slip_direction_follows_the_closed_form() {
+        let k = kin();
+        let (e1, e2) = tangent_basis(&k.n_new);
+        let t_star = 7.0 * e1 - 3.0 * e2;
+        let phi_star = t_star / t_star.norm();
+        for scale in [0.3, 1.0, 2.5, -1.0] {
+            let d = Lagrangian
+                .slip_direction(&inputs(&k, t_star, scale * t_star))
+                .unwrap();
+            assert!(
+                (d - phi_star).norm() <= 2e-16,
+                "scale {scale}: {d} vs {phi_star}"
+            );
+        }
+        let (a, b, c) = (11.0, 10.5, 0.8);
+        let d = Lagrangian
+            .slip_direction(&inputs(&k, a * e1, b * e1 + c * e2))
+            .unwrap();
+        let expected = e1 + (c / a) * e2;
+        assert!(
+            (d - expected).norm() <= 1e-15 * expected.norm(),
+            "{d} vs {expected}"
+        );
+    }
+
+    /// The deformation enters the direction only through `t* = P ΔF t_n`: with the
+    /// same `t*` and `t_end`, different `F_n`, `F_{n+1}` (and `t_n`, pressures,
+    /// trial) give the bit-identical direction.
+    #[test]
+    fn slip_direction_reads_only_transported_and_end_tractions() {
+        let k = kin();
+        let (e1, e2) = tangent_basis(&k.n_new);
+        let (t_star, t_end) = (9.0 * e1 + 2.0 * e2, 8.0 * e1 + 4.5 * e2);
+        let d = Lagrangian.slip_direction(&inputs(&k, t_star, t_end));
+        let mut other = k;
+        other.f_old = Mat3::identity();
+        other.f_new = Mat3::new(1.3, 0.4, 0.0, 0.0, 0.8, 0.1, 0.2, 0.0, 1.1);
+        other.n_old = Vec3::new(-0.4, 0.3, 1.0).normalize();
+        let x = DirectionInputs {
+            kin: &other,
+            t_old: Vec3::new(-1.0, 5.0, 0.0),
+            p_old: 99.0,
+            t_star,
+            t_trial: -t_end,
+            t_end,
+            p_new: 1.0,
+        };
+        assert!(d.is_some());
+        assert_eq!(Lagrangian.slip_direction(&x), d);
+    }
+
+    /// friction-math §4, "Objectivity": with `F' = Q F` (both steps), `n' = Q n`,
+    /// the transported history is `Q t*` and the direction `Q d`. Tolerance 1e-14
+    /// relative on both.
+    #[test]
+    fn transport_and_slip_direction_are_objective() {
+        let k = kin();
+        let q = cayley(&skew(&Vec3::new(0.9, -1.7, 0.4)));
+        let mut kq = k;
+        kq.n_old = q * k.n_old;
+        kq.n_new = q * k.n_new;
+        kq.f_old = q * k.f_old;
+        kq.f_new = q * k.f_new;
+        let t = tangent_history(&k);
+        let t_star = Lagrangian.transport(&t, &k);
+        let t_star_q = Lagrangian.transport(&(q * t), &kq);
+        assert!((t_star_q - q * t_star).norm() <= 1e-14 * t_star.norm());
+        let (e1, e2) = tangent_basis(&k.n_new);
+        let t_end = 0.9 * t_star.norm() * (0.95 * e1 + 0.3 * e2);
+        let d = Lagrangian
+            .slip_direction(&inputs(&k, t_star, t_end))
+            .unwrap();
+        let dq = Lagrangian
+            .slip_direction(&inputs(&kq, t_star_q, q * t_end))
+            .unwrap();
+        assert!((dq - q * d).norm() <= 1e-14 * d.norm(), "{dq} vs {}", q * d);
     }
 }

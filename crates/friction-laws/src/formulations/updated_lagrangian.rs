@@ -29,7 +29,7 @@ pub const SUMMARY: &str = "updated Lagrangian: F = I at step n, history pushed f
 /// evaluated in the frame of step `n+1` where this formulation's transported
 /// history `t*` lives (so that it uses objective quantities only and is exactly
 /// objective): `d = φ* + (I - φ*⊗φ*)(t_end - t*)/|t*|`
-/// ([`forward_direction`](plugins_api::kinematics::forward_direction): the
+/// ([`plugins_api::kinematics::forward_direction`]: the
 /// closed-form `φ̇` with `ṅ = 0` in the co-moving frame and `Δt Ṫ = t_end - t*`,
 /// `t_end = τ_c(ω_n) φ_tr` the radial-return traction, the `Δ²γ` term dropped).
 /// The deformation enters through `t* = P cay(Δt L) t_n` (`Ḟ = L`, eqs.
@@ -84,7 +84,9 @@ pub fn build() -> Box<dyn KinematicFormulation> {
 mod tests {
     use super::*;
     use crate::formulations::Lagrangian;
-    use plugins_api::kinematics::cayley;
+    use plugins_api::kinematics::{cayley, skew};
+    use plugins_api::return_mapping::{PointState, StepInput, TangentMode, step};
+    use plugins_api::{CriticalShear, FrictionLaw, ShearInputs};
 
     fn kin() -> StepKinematics {
         let mut k = StepKinematics::simple(
@@ -153,15 +155,174 @@ mod tests {
                 .iter()
                 .all(|v| v.is_nan())
         );
-        let x = DirectionInputs {
-            kin: &k,
-            t_old: t,
-            p_old: 10.0,
-            t_trial: Vec3::x(),
-            p_new: 10.0,
-        };
-        assert_eq!(UpdatedLagrangian.slip_direction(&x), None);
+        let t_star = UpdatedLagrangian.transport(&t, &k);
+        assert_eq!(
+            UpdatedLagrangian.slip_direction(&inputs(&k, t_star, Vec3::x())),
+            None
+        );
         assert_eq!(UpdatedLagrangian.needs(), PointNeeds::VELOCITY_GRADIENT);
         assert_eq!(build().name(), NAME);
+    }
+
+    /// Orthonormal tangent basis `(e1, e2)` of the unit normal `n`.
+    fn tangent_basis(n: &Vec3) -> (Vec3, Vec3) {
+        let v = Vec3::new(1.0, 0.3, -0.2);
+        let e1 = (v - n * n.dot(&v)).normalize();
+        (e1, n.cross(&e1))
+    }
+
+    /// Direction inputs with the given transported history and end traction;
+    /// the other fields are arbitrary (the direction must not read them).
+    fn inputs(k: &StepKinematics, t_star: Vec3, t_end: Vec3) -> DirectionInputs<'_> {
+        DirectionInputs {
+            kin: k,
+            t_old: tangent_history(k),
+            p_old: 10.0,
+            t_star,
+            t_trial: t_end * 3.0,
+            t_end,
+            p_new: 12.0,
+        }
+    }
+
+    /// friction-math §4 (updated-lagrangian row, (b)): `None` without transported
+    /// history; `d = φ*` for an end traction parallel to `t*` (2e-16 absolute);
+    /// `d = e1 + (c/a) e2` for `t* = a e1`, `t_end = b e1 + c e2` (1e-15 relative);
+    /// and, with the same `t*` and `t_end`, `L` does not enter (bit-identical).
+    #[test]
+    fn slip_direction_follows_the_closed_form() {
+        let k = kin();
+        let (e1, e2) = tangent_basis(&k.n_new);
+        assert_eq!(
+            UpdatedLagrangian.slip_direction(&inputs(&k, Vec3::zeros(), e1)),
+            None
+        );
+        let t_star = 7.0 * e1 - 3.0 * e2;
+        let phi_star = t_star / t_star.norm();
+        for scale in [0.3, 1.0, 2.5, -1.0] {
+            let d = UpdatedLagrangian
+                .slip_direction(&inputs(&k, t_star, scale * t_star))
+                .unwrap();
+            assert!(
+                (d - phi_star).norm() <= 2e-16,
+                "scale {scale}: {d} vs {phi_star}"
+            );
+        }
+        let (a, b, c) = (11.0, 10.5, 0.8);
+        let d = UpdatedLagrangian.slip_direction(&inputs(&k, a * e1, b * e1 + c * e2));
+        let expected = e1 + (c / a) * e2;
+        assert!((d.unwrap() - expected).norm() <= 1e-15 * expected.norm());
+        let mut other = k;
+        other.vel_grad = Mat3::from_diagonal(&Vec3::new(-4.0, 1.0, 2.0));
+        assert_eq!(
+            UpdatedLagrangian.slip_direction(&inputs(&other, a * e1, b * e1 + c * e2)),
+            d
+        );
+    }
+
+    /// friction-math §4, "Objectivity": with `L' = Ω + Q L Qᵀ` (a rotation `Q`
+    /// spinning at rate `Ω`, so that `cay(Δt L') = Q_{n+1} cay(Δt L) Q_nᵀ`, built
+    /// here directly as the inverse Cayley of that product), `n' = Q n`: the
+    /// transported history is `Q_{n+1} t*` and the direction `Q_{n+1} d`.
+    /// Tolerance 1e-13 relative (the inverse Cayley map costs a few ulps).
+    #[test]
+    fn transport_and_slip_direction_are_objective() {
+        let k = kin();
+        let q0 = cayley(&skew(&Vec3::new(0.9, -1.7, 0.4)));
+        let q1 = cayley(&(k.dt * skew(&Vec3::new(2.0, 0.5, -1.0)))) * q0;
+        let id = Mat3::identity();
+        let df = q1 * cayley(&(k.dt * k.vel_grad)) * q0.transpose();
+        let mut kq = k;
+        kq.n_old = q0 * k.n_old;
+        kq.n_new = q1 * k.n_new;
+        kq.vel_grad = (2.0 / k.dt) * (df - id) * (df + id).try_inverse().unwrap();
+        let t = tangent_history(&k);
+        let t_star = UpdatedLagrangian.transport(&t, &k);
+        let t_star_q = UpdatedLagrangian.transport(&(q0 * t), &kq);
+        assert!(
+            (t_star_q - q1 * t_star).norm() <= 1e-13 * t_star.norm(),
+            "{t_star_q} vs {}",
+            q1 * t_star
+        );
+        let (e1, e2) = tangent_basis(&k.n_new);
+        let t_end = 0.9 * t_star.norm() * (0.95 * e1 + 0.3 * e2);
+        let d = UpdatedLagrangian
+            .slip_direction(&inputs(&k, t_star, t_end))
+            .unwrap();
+        let dq = UpdatedLagrangian
+            .slip_direction(&inputs(&kq, t_star_q, q1 * t_end))
+            .unwrap();
+        assert!(
+            (dq - q1 * d).norm() <= 1e-13 * d.norm(),
+            "{dq} vs {}",
+            q1 * d
+        );
+    }
+
+    /// friction-math §4: with `L` the exact mid-step gradient of the motion giving
+    /// `F` (`F_{n+1} = cay(Δt L) F_n`), `updated-lagrangian` and `lagrangian`
+    /// coincide step by step: same `t*`, so same trial, same `d`, same slip and
+    /// work. One slipping step of a work-dependent law through the shared return
+    /// mapping; traction, `ω` and the consistent tangent agree to 1e-12 relative.
+    #[test]
+    fn coincides_with_lagrangian_on_consistent_data() {
+        struct Work;
+        impl FrictionLaw for Work {
+            fn name(&self) -> &str {
+                "test-work"
+            }
+            fn stick_stiffness(&self) -> f64 {
+                1e5
+            }
+            fn work_dependent(&self) -> bool {
+                true
+            }
+            fn critical_shear(&self, x: &ShearInputs) -> CriticalShear {
+                let mu = 0.1448 - 8.757e-5 * x.omega;
+                CriticalShear {
+                    tau: mu * x.p,
+                    dtau_dp: mu,
+                    dtau_domega: -8.757e-5 * x.p,
+                    ..CriticalShear::default()
+                }
+            }
+        }
+        let mut k = kin();
+        k.f_old = Mat3::new(1.1, 0.2, 0.0, -0.1, 0.95, 0.05, 0.0, 0.1, 1.0);
+        k.f_new = cayley(&(k.dt * k.vel_grad)) * k.f_old;
+        let t = 10.0 * tangent_history(&k).normalize();
+        let state = PointState {
+            t,
+            p: 80.0,
+            omega: 50.0,
+        };
+        let (e1, e2) = tangent_basis(&k.n_new);
+        let input = StepInput::new(85.0, 2e-3 * e1 - 5e-4 * e2, k);
+        let (mut s_tl, mut s_ul) = (state, state);
+        let tl = step(
+            &Work,
+            &Lagrangian,
+            TangentMode::Consistent,
+            &mut s_tl,
+            &input,
+        )
+        .unwrap();
+        let ul = step(
+            &Work,
+            &UpdatedLagrangian,
+            TangentMode::Consistent,
+            &mut s_ul,
+            &input,
+        )
+        .unwrap();
+        assert!(!tl.stick && tl.dissipation > 0.0);
+        assert!(
+            (tl.t - ul.t).norm() <= 1e-12 * tl.t.norm(),
+            "{} vs {}",
+            tl.t,
+            ul.t
+        );
+        assert!((s_tl.omega - s_ul.omega).abs() <= 1e-12 * s_tl.omega);
+        assert!((tl.tangent - ul.tangent).norm() <= 1e-12 * tl.tangent.norm());
     }
 }

@@ -128,7 +128,7 @@ impl<'a> Driver<'a> {
         {
             return Err(Failure::Error(FrictionError::NonFiniteResult {
                 component: name(),
-                what: "critical shear stress or derivative",
+                what: "a non-finite critical shear stress or derivative",
                 value,
                 p: input.p,
             }));
@@ -136,7 +136,7 @@ impl<'a> Driver<'a> {
         if cs.tau < 0.0 {
             return Err(Failure::Error(FrictionError::NonFiniteResult {
                 component: name(),
-                what: "negative critical shear stress",
+                what: "a negative critical shear stress",
                 value: cs.tau,
                 p: input.p,
             }));

@@ -60,6 +60,9 @@ pub const CHECKS: [&str; 12] = [
     "parameter-validation",
 ];
 
+/// A law factory from parameter values, as the suite calls it.
+pub type BuildLaw<'a> = dyn Fn(&Params) -> Result<Box<dyn FrictionLaw>, FrictionError> + 'a;
+
 /// The law under test: how to build it, and from which parameters.
 pub struct Subject<'a> {
     /// Name for the report, e.g. `wvs` or `plugin exp-decay (libexp_decay.so)`.
@@ -72,7 +75,7 @@ pub struct Subject<'a> {
         clippy::type_complexity,
         reason = "the builder signature of the registry, spelled out for plugin authors"
     )]
-    pub build: &'a dyn Fn(&Params) -> Result<Box<dyn FrictionLaw>, FrictionError>,
+    pub build: &'a BuildLaw<'a>,
     /// A valid parameter set for the run (defaults fill the rest).
     pub base: Params,
 }

@@ -346,14 +346,17 @@ fn nan_law_fails_without_panicking() {
     );
 }
 
-/// §3 (`τ_c ≥ 0`): work softening without the clamp goes negative along the
-/// random histories and fails; the detail names the negative `τ_c`.
+/// §3 (`τ_c ≥ 0`): work softening without the clamp goes negative once the
+/// frictional work is large (the huge-slip edge case drives ω past
+/// `a0/|a1|`) and fails; the detail names the negative `τ_c`. (Along the
+/// ordinary random histories the backward-Euler solve keeps `τ_c(ω_{n+1}) ≥ 0`
+/// and those checks pass.)
 #[test]
 fn negative_critical_shear_fails() {
     let report = run(Kind::Unclamped, &SOFTENING_SPECS, Params::new());
     let failed = failed_checks(&report);
     assert!(
-        failed.contains(&"random-histories") && failed.contains(&"traction-bound"),
+        !report.passed() && failed.contains(&"edge-cases"),
         "{report}"
     );
     assert!(
