@@ -58,6 +58,17 @@ pub fn cayley(a: &Mat3) -> Mat3 {
     }
 }
 
+/// `cay([a]×) v` for the skew matrix of `a`, i.e. the Hughes–Winget rotation
+/// `(I - ½Δt W)⁻¹(I + ½Δt W) v` with `a = ½Δt w` (`w` the axial vector of `W`),
+/// in closed form (Gibbs–Rodrigues parameters): `v + 2 (a × v + a × (a × v))/(1 + a·a)`.
+/// Equal to [`cayley`] of the skew matrix, without a matrix inverse.
+#[inline]
+#[must_use]
+pub fn cayley_rotate(a: &Vec3, v: &Vec3) -> Vec3 {
+    let av = a.cross(v);
+    v + (av + a.cross(&av)) * (2.0 / (1.0 + a.norm_squared()))
+}
+
 /// Closed-form material rate of the traction direction `φ = t/|t|`, `t = (I - n⊗n) T`
 /// (friction-math §4): `ṫ = (I - n⊗n) Ṫ - (ṅ⊗n + n⊗ṅ) T`,
 /// `φ̇ = (I - φ⊗φ) ṫ / |t|`. Returns `None` when `|t| = 0` (no direction).
@@ -94,13 +105,18 @@ pub fn direction_rate(
 #[inline]
 #[must_use]
 pub fn forward_direction(t_star: &Vec3, t_end: &Vec3, n_new: &Vec3) -> Option<Vec3> {
-    let norm = t_star.norm();
+    // Both vectors are tangent to `n_new`, so `direction_rate` with `ṅ = 0`
+    // reduces to `φ̇ Δt = (I - φ*⊗φ*)(t_end - t*)/|t*|`; the projection onto the
+    // plane of `n_new` is kept for inputs that are not exactly tangent.
+    let t = t_star - n_new * n_new.dot(t_star);
+    let norm = t.norm();
     if norm == 0.0 || !norm.is_finite() {
         return None;
     }
-    let phi = t_star / norm;
-    let rate = direction_rate(t_star, &(t_end - t_star), n_new, &Vec3::zeros())?;
-    Some(phi + rate)
+    let inv = norm.recip();
+    let phi = t * inv;
+    let dt_rate = t_end - n_new * n_new.dot(t_end) - t;
+    Some(phi + (dt_rate - phi * phi.dot(&dt_rate)) * inv)
 }
 
 #[cfg(test)]
@@ -124,6 +140,35 @@ mod tests {
         let r = cayley(&skew(&Vec3::new(0.1, -0.4, 0.2)));
         assert!((r.transpose() * r - Mat3::identity()).norm() < 1e-14);
         assert!((r.determinant() - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn closed_form_cayley_rotation_equals_the_matrix_cayley_map() {
+        for w in [
+            Vec3::new(0.1, -0.4, 0.2),
+            Vec3::new(3.0, 1.0, -2.0),
+            Vec3::zeros(),
+        ] {
+            let v = Vec3::new(0.7, -1.3, 2.1);
+            let matrix = cayley(&skew(&w)) * v;
+            let closed = cayley_rotate(&(0.5 * w), &v);
+            assert!(
+                (matrix - closed).norm() <= 1e-14 * v.norm(),
+                "{matrix} vs {closed}"
+            );
+        }
+    }
+
+    #[test]
+    fn forward_direction_is_the_closed_form_rate_in_the_co_moving_frame() {
+        let n = Vec3::new(0.1, -0.2, 1.0).normalize();
+        let t_star = Vec3::new(3.0, 1.0, 0.0) - n * n.dot(&Vec3::new(3.0, 1.0, 0.0));
+        let t_end = Vec3::new(2.0, 2.5, 0.0) - n * n.dot(&Vec3::new(2.0, 2.5, 0.0));
+        let via_rate = t_star / t_star.norm()
+            + direction_rate(&t_star, &(t_end - t_star), &n, &Vec3::zeros()).unwrap();
+        let direct = forward_direction(&t_star, &t_end, &n).unwrap();
+        assert!((via_rate - direct).norm() < 1e-15, "{via_rate} vs {direct}");
+        assert_eq!(forward_direction(&Vec3::zeros(), &t_end, &n), None);
     }
 
     /// friction-math §4: the closed-form `φ̇` must agree with central finite

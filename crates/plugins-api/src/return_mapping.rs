@@ -102,6 +102,23 @@ pub struct StepOutput {
     pub clamped: bool,
 }
 
+impl StepOutput {
+    /// Set every field to its default in place (no temporary, no copy).
+    #[inline]
+    fn reset(&mut self) {
+        self.t.fill(0.0);
+        self.tau_c = 0.0;
+        self.open = false;
+        self.stick = false;
+        self.dgamma = 0.0;
+        self.slip.fill(0.0);
+        self.dissipation = 0.0;
+        self.tangent.fill(0.0);
+        self.dt_dp.fill(0.0);
+        self.clamped = false;
+    }
+}
+
 impl Default for StepOutput {
     fn default() -> Self {
         Self {
@@ -129,6 +146,45 @@ fn check_vec(field: &'static str, unit: &'static str, v: &Vec3) -> Result<(), Fr
         }),
         None => Ok(()),
     }
+}
+
+/// Fast validity test of a step's input: every value finite (`x · 0` is `0`
+/// for finite `x` and NaN otherwise, so the sum is `0` exactly when all are
+/// finite), pressure `≥ 0`, `Δt > 0`, unit normals. When it says no,
+/// [`check_input`] finds the culprit and words the error.
+#[inline]
+fn input_ok(input: &StepInput, needs: PointNeeds) -> bool {
+    let k = &input.kin;
+    let zero = |v: &[f64]| v.iter().fold(0.0, |acc, x| acc + x * 0.0);
+    let mut s = input.p * 0.0
+        + k.dt * 0.0
+        + zero(input.du.as_slice())
+        + zero(k.n_new.as_slice())
+        + zero(k.n_old.as_slice());
+    if (needs.0 & (PointNeeds::SPIN.0 | PointNeeds::VELOCITY_GRADIENT.0)) != 0 {
+        s += zero(k.vel_grad.as_slice());
+    }
+    if needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
+        s += zero(k.f_old.as_slice()) + zero(k.f_new.as_slice());
+    }
+    if needs.contains(PointNeeds::TOOL_ROTATION) {
+        s += zero(k.tool_rotation.as_slice());
+    }
+    if needs.contains(PointNeeds::FLOW_STRESS) {
+        s += input.flow_stress * 0.0;
+    }
+    if needs.contains(PointNeeds::TEMPERATURE) {
+        s += input.temperature * 0.0;
+    }
+    // |n| within 1e-6 of 1 ⇔ |n|² within about 2e-6 of 1 (kept slightly inside).
+    let unit = |n: &Vec3| (n.norm_squared() - 1.0).abs() <= 1.999e-6;
+    s == 0.0
+        && input.p >= 0.0
+        && k.dt > 0.0
+        && unit(&k.n_new)
+        && unit(&k.n_old)
+        && (!needs.contains(PointNeeds::FLOW_STRESS) || input.flow_stress > 0.0)
+        && (!needs.contains(PointNeeds::TEMPERATURE) || input.temperature > 0.0)
 }
 
 fn check_input(input: &StepInput, needs: PointNeeds) -> Result<(), FrictionError> {
@@ -225,6 +281,12 @@ fn evaluate<L: FrictionLaw + ?Sized>(
     x: &ShearInputs,
 ) -> Result<crate::CriticalShear, FrictionError> {
     let cs = law.critical_shear(x);
+    // Fast path: all four finite (`v · 0 = 0` only for finite `v`) and `τ_c ≥ 0`.
+    if cs.tau * 0.0 + cs.dtau_dp * 0.0 + cs.dtau_domega * 0.0 + cs.dtau_dspeed * 0.0 == 0.0
+        && cs.tau >= 0.0
+    {
+        return Ok(cs);
+    }
     let bad = [cs.tau, cs.dtau_dp, cs.dtau_domega, cs.dtau_dspeed]
         .into_iter()
         .find(|v| !v.is_finite());
@@ -264,19 +326,47 @@ where
     L: FrictionLaw + ?Sized,
     F: KinematicFormulation + ?Sized,
 {
-    let needs = law.needs().union(formulation.needs());
-    check_input(input, needs)?;
-    let kin = &input.kin;
-    let n = kin.n_new.normalize();
-    let p = input.p;
     let mut out = StepOutput::default();
+    step_into(law, formulation, tangent_mode, state, input, &mut out)?;
+    Ok(out)
+}
+
+/// [`step`], writing the result into `out` (no copy of the output: the form
+/// the batch loop uses). Every field of `out` is written; `tangent` and `dt_dp`
+/// are zero under [`TangentMode::None`]. On error `out` is unspecified.
+///
+/// # Errors
+/// As [`step`].
+#[inline]
+pub fn step_into<L, F>(
+    law: &L,
+    formulation: &F,
+    tangent_mode: TangentMode,
+    state: &mut PointState,
+    input: &StepInput,
+    out: &mut StepOutput,
+) -> Result<(), FrictionError>
+where
+    L: FrictionLaw + ?Sized,
+    F: KinematicFormulation + ?Sized,
+{
+    let needs = law.needs().union(formulation.needs());
+    if !input_ok(input, needs) {
+        check_input(input, needs)?;
+    }
+    let kin = &input.kin;
+    // |n| is within 1e-6 of 1 (checked above): one Newton step for 1/|n| around 1
+    // normalises to ~1e-12 without a square root or a division.
+    let n = kin.n_new * (1.5 - 0.5 * kin.n_new.norm_squared());
+    let p = input.p;
+    out.reset();
 
     if p == 0.0 {
         // Open contact: no traction, history cleared, internal variables kept.
         state.t = Vec3::zeros();
         state.p = 0.0;
         out.open = true;
-        return Ok(out);
+        return Ok(());
     }
 
     let k_t = law.stick_stiffness();
@@ -286,20 +376,19 @@ where
     } else {
         project(formulation.transport(&state.t, kin))
     };
-    check_vec("transported traction", "MPa", &t_star).map_err(|_| {
-        FrictionError::NonFiniteResult {
+    if !t_star.iter().all(|v| v.is_finite()) {
+        return Err(FrictionError::NonFiniteResult {
             component: formulation.name().to_string(),
             what: "a non-finite transported traction",
             value: f64::NAN,
             p,
-        }
-    })?;
+        });
+    }
     let du_t = project(input.du);
     let t_tr = t_star - du_t * k_t;
-    let norm_tr = t_tr.norm();
-    let du_norm = du_t.norm();
+    let norm2_tr = t_tr.norm_squared();
     let sliding_speed = if needs.contains(PointNeeds::SLIDING_VELOCITY) {
-        du_norm / kin.dt
+        du_t.norm() / kin.dt
     } else {
         f64::NAN
     };
@@ -312,7 +401,7 @@ where
     };
     let cs = evaluate(law, &x)?;
 
-    if norm_tr <= cs.tau || norm_tr == 0.0 {
+    if norm2_tr <= cs.tau * cs.tau || norm2_tr == 0.0 {
         out.t = t_tr;
         out.tau_c = cs.tau;
         out.stick = true;
@@ -322,11 +411,12 @@ where
         }
         state.t = t_tr;
         state.p = p;
-        return Ok(out);
+        return Ok(());
     }
 
     // Slip.
-    let phi = t_tr / norm_tr;
+    let norm_tr = norm2_tr.sqrt();
+    let phi = t_tr * norm_tr.recip();
     let frame = Frame {
         formulation,
         kin,
@@ -337,7 +427,7 @@ where
         k_t,
         needs,
     };
-    let (d, c, from_formulation) = frame.direction(law, input.du, x)?;
+    let (d, c, from_formulation) = frame.direction(t_tr, norm_tr, cs.tau, p);
 
     let (dgamma, tau, dissipation, cs_end) = if law.work_dependent() {
         solve_work_dependent(law, &mut x, state.omega, norm_tr, k_t, c, cs)?
@@ -370,6 +460,7 @@ where
             let pp = phi * phi.transpose();
             let mut tangent =
                 -k_t * ((tau / norm_tr) * (tangent_projector(&n) - pp) + dtau_dnorm * pp);
+            let du_norm = du_t.norm();
             if dtau_dv != 0.0 && du_norm > 0.0 {
                 tangent += phi * (du_t / (du_norm * kin.dt)).transpose() * dtau_dv;
             }
@@ -391,7 +482,7 @@ where
     state.t = out.t;
     state.p = p;
     state.omega += dissipation;
-    Ok(out)
+    Ok(())
 }
 
 /// The shear inputs at the start of the step (work `ω_n`).
@@ -417,24 +508,12 @@ struct Frame<'a, F: ?Sized> {
 
 impl<F: KinematicFormulation + ?Sized> Frame<'_, F> {
     /// Unit slip direction `d`, share `c = φ_tr·d`, and whether the formulation
-    /// chose `d` (rather than the backward-Euler fallback `φ_tr`), for slip
-    /// increment `du` and shear inputs `x` (pressure, `ω_n`, speed).
-    fn direction<L: FrictionLaw + ?Sized>(
-        &self,
-        law: &L,
-        du: Vec3,
-        x: ShearInputs,
-    ) -> Result<(Vec3, f64, bool), FrictionError> {
-        let du_t = du - self.n * self.n.dot(&du);
-        let t_tr = self.t_star - du_t * self.k_t;
-        let norm_tr = t_tr.norm();
-        let phi = t_tr / norm_tr;
-        let mut x = x;
-        if self.needs.contains(PointNeeds::SLIDING_VELOCITY) {
-            x.sliding_speed = du_t.norm() / self.kin.dt;
-        }
-        let cs = evaluate(law, &x)?;
-        let t_end = phi * cs.tau.min(norm_tr);
+    /// chose `d` (rather than the backward-Euler fallback `φ_tr`), for a trial
+    /// `t_tr` (norm `norm_tr > 0`), start-of-step `τ_c` and pressure `p`.
+    #[inline]
+    fn direction(&self, t_tr: Vec3, norm_tr: f64, tau_c: f64, p: f64) -> (Vec3, f64, bool) {
+        let phi = t_tr * norm_tr.recip();
+        let t_end = phi * tau_c.min(norm_tr);
         let chosen = self
             .formulation
             .slip_direction(&DirectionInputs {
@@ -444,18 +523,36 @@ impl<F: KinematicFormulation + ?Sized> Frame<'_, F> {
                 t_star: self.t_star,
                 t_trial: t_tr,
                 t_end,
-                p_new: x.p,
+                p_new: p,
             })
             .and_then(|d| {
                 let d = d - self.n * self.n.dot(&d);
                 let len = d.norm();
-                (len.is_finite() && len > 0.0).then(|| d / len)
+                (len.is_finite() && len > 0.0).then(|| d * len.recip())
             })
             .filter(|d| d.dot(&phi) > 0.0);
-        Ok(match chosen {
+        match chosen {
             Some(d) => (d, d.dot(&phi).clamp(0.0, 1.0), true),
             None => (phi, 1.0, false),
-        })
+        }
+    }
+
+    /// The share `c` for slip increment `du` and shear inputs `x` (pressure,
+    /// `ω_n`, speed): the trial and `τ_c` recomputed, for differentiation.
+    fn share<L: FrictionLaw + ?Sized>(
+        &self,
+        law: &L,
+        du: Vec3,
+        x: ShearInputs,
+    ) -> Result<f64, FrictionError> {
+        let du_t = du - self.n * self.n.dot(&du);
+        let t_tr = self.t_star - du_t * self.k_t;
+        let mut x = x;
+        if self.needs.contains(PointNeeds::SLIDING_VELOCITY) {
+            x.sliding_speed = du_t.norm() / self.kin.dt;
+        }
+        let cs = evaluate(law, &x)?;
+        Ok(self.direction(t_tr, t_tr.norm(), cs.tau, x.p).1)
     }
 
     /// `(∂c/∂Δu_T, ∂c/∂p)` by central differences.
@@ -471,13 +568,11 @@ impl<F: KinematicFormulation + ?Sized> Frame<'_, F> {
         for i in 0..3 {
             let mut e = Vec3::zeros();
             e[i] = h;
-            let (_, plus, _) = self.direction(law, du + e, x)?;
-            let (_, minus, _) = self.direction(law, du - e, x)?;
-            grad[i] = (plus - minus) / (2.0 * h);
+            grad[i] = (self.share(law, du + e, x)? - self.share(law, du - e, x)?) / (2.0 * h);
         }
         let hp = 1e-6 * x.p;
-        let (_, plus, _) = self.direction(law, du, ShearInputs { p: x.p + hp, ..x })?;
-        let (_, minus, _) = self.direction(law, du, ShearInputs { p: x.p - hp, ..x })?;
+        let plus = self.share(law, du, ShearInputs { p: x.p + hp, ..x })?;
+        let minus = self.share(law, du, ShearInputs { p: x.p - hp, ..x })?;
         Ok((grad, (plus - minus) / (2.0 * hp)))
     }
 }
@@ -499,17 +594,31 @@ fn solve_work_dependent<L: FrictionLaw + ?Sized>(
     c: f64,
     cs_n: crate::CriticalShear,
 ) -> Result<(f64, f64, f64, crate::CriticalShear), FrictionError> {
-    let work = |tau: f64| c * tau * ((norm_tr - tau) / k_t);
+    let c_over_k = c / k_t;
+    let work = |tau: f64| c_over_k * tau * (norm_tr - tau);
     let mut lo = 0.0;
     let mut hi = norm_tr;
-    // Start from the radial return with the old work.
-    let mut tau = cs_n.tau.clamp(lo, hi);
+    // Start from one Newton step off the radial return with the old work,
+    // linearised with the start-of-step evaluation (`g(τ0) ≈ -τ_ω ω'(τ0)`,
+    // exact to first order): for the usual mild work dependence the next
+    // evaluation is already converged.
+    let tau0 = cs_n.tau.clamp(lo, hi);
+    let g0 = -cs_n.dtau_domega * work(tau0);
+    let dg0 = 1.0 - cs_n.dtau_domega * c_over_k * (norm_tr - 2.0 * tau0);
+    let predicted = tau0 - g0 / dg0;
+    let mut tau = if predicted.is_finite() {
+        predicted.clamp(lo, hi)
+    } else {
+        tau0
+    };
     let mut cs = cs_n;
     for _ in 0..200 {
         x.omega = omega_n + work(tau);
         cs = evaluate(law, x)?;
         let g = tau - cs.tau;
-        if g == 0.0 {
+        // |g| at the level of round-off of τ: the traction is taken from this
+        // very evaluation, so no further one is needed.
+        if g.abs() <= 8.0 * f64::EPSILON * (tau + cs.tau) {
             break;
         }
         if g < 0.0 {
@@ -517,7 +626,7 @@ fn solve_work_dependent<L: FrictionLaw + ?Sized>(
         } else {
             hi = tau;
         }
-        let dg = 1.0 - cs.dtau_domega * c * (norm_tr - 2.0 * tau) / k_t;
+        let dg = 1.0 - cs.dtau_domega * c_over_k * (norm_tr - 2.0 * tau);
         let newton = tau - g / dg;
         let next = if dg.is_finite() && dg != 0.0 && newton > lo && newton < hi {
             newton
@@ -613,7 +722,14 @@ impl<L: FrictionLaw, F: KinematicFormulation> PointIntegrator for PairedIntegrat
         outputs: &mut [StepOutput],
     ) -> Result<(), FrictionError> {
         for ((state, input), output) in states.iter_mut().zip(inputs).zip(outputs.iter_mut()) {
-            *output = step(&self.law, &self.formulation, self.tangent, state, input)?;
+            step_into(
+                &self.law,
+                &self.formulation,
+                self.tangent,
+                state,
+                input,
+                output,
+            )?;
         }
         Ok(())
     }

@@ -1,6 +1,6 @@
 //! The `jaumann` formulation: co-rotational (Eulerian) transport with the blank spin (friction-math §4, thesis eqs. 2.42–2.43, 2.67).
 
-use plugins_api::kinematics::{cayley, forward_direction, rotate_minimal};
+use plugins_api::kinematics::{axial, cayley_rotate, forward_direction, rotate_minimal};
 use plugins_api::{DirectionInputs, KinematicFormulation, PointNeeds, StepKinematics, Vec3};
 
 /// Name as typed in scenes.
@@ -50,8 +50,10 @@ impl KinematicFormulation for Jaumann {
 
     #[inline]
     fn transport(&self, t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
-        let r_w = cayley(&(kin.dt * kin.spin()));
-        rotate_minimal(&(r_w * kin.n_old), &kin.n_new, &(r_w * t_old))
+        // R_W = cay(Δt W) applied in closed form: a = ½Δt w, w = axial(W).
+        let a = (0.5 * kin.dt) * axial(&kin.vel_grad);
+        let n_spun = cayley_rotate(&a, &kin.n_old);
+        rotate_minimal(&n_spun, &kin.n_new, &cayley_rotate(&a, t_old))
     }
 
     #[inline]
@@ -71,7 +73,7 @@ mod tests {
     use super::*;
     use crate::formulations::Convective;
     use plugins_api::Mat3;
-    use plugins_api::kinematics::skew;
+    use plugins_api::kinematics::{cayley, skew};
 
     fn kin() -> StepKinematics {
         let mut k = StepKinematics::simple(

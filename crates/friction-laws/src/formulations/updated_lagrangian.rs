@@ -3,7 +3,7 @@
 use plugins_api::kinematics::forward_direction;
 use plugins_api::{DirectionInputs, KinematicFormulation, Mat3, PointNeeds, StepKinematics, Vec3};
 
-use super::{admissible, not_transportable, tangent_part};
+use super::{not_transportable, tangent_part};
 
 /// Name as typed in scenes.
 pub const NAME: &str = "updated-lagrangian";
@@ -54,16 +54,15 @@ impl KinematicFormulation for UpdatedLagrangian {
 
     #[inline]
     fn transport(&self, t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
+        // ΔF t = (I - ½ΔtL)⁻¹ (I + ½ΔtL) t, with det ΔF = det(I + ½ΔtL)/det(I - ½ΔtL).
         let half = (0.5 * kin.dt) * kin.vel_grad;
-        match (Mat3::identity() - half).try_inverse() {
-            Some(inv) => {
-                let df = inv * (Mat3::identity() + half);
-                if admissible(&df) {
-                    tangent_part(&kin.n_new, &(df * t_old))
-                } else {
-                    not_transportable()
-                }
-            }
+        let minus = Mat3::identity() - half;
+        let plus = Mat3::identity() + half;
+        let (det_minus, det_plus) = (minus.determinant(), plus.determinant());
+        let admissible =
+            det_minus.is_finite() && det_plus.is_finite() && det_minus * det_plus > 0.0;
+        match minus.try_inverse().filter(|_| admissible) {
+            Some(inv) => tangent_part(&kin.n_new, &(inv * (plus * t_old))),
             None => not_transportable(),
         }
     }

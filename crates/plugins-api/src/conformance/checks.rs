@@ -725,8 +725,23 @@ impl<'a> Suite<'a> {
                 ));
             }
         }
+        // The law's own contract, probed directly rather than only where the
+        // return mapping happens to evaluate it: τ_c finite and ≥ 0 for every
+        // p ≥ 0, ω ≥ 0 and sliding speed ≥ 0 (trait `FrictionLaw`).
+        let mut probes = 0;
+        for p in [0.0, 1e-300, 1e-12, 1e-3, 1.0, 100.0, 1e4, 1e6] {
+            for omega in [0.0, 1.0, 1e2, 1e4, 1e6, 1e9] {
+                for du in [0.0, 1e-6, 1e-3, 1.0, 1e3] {
+                    let input = single(p, a * du, n);
+                    drv.critical_shear(&input, omega).map_err(|f| {
+                        format!("τ_c(p = {p:e} MPa, ω = {omega:e} N/mm, |Δu_T| = {du:e} mm): {f}")
+                    })?;
+                    probes += 1;
+                }
+            }
+        }
         Ok(format!(
-            "{} cases finite: |t_tr| = 0 sticks with a finite tangent; p = 0 opens, clears the history, keeps ω; p → 0⁺ (1e-300, 1e-12 MPa), Δu_T = 0, |Δu_T| = 1e6 mm, p = 1e6 MPa; max |t|/τ_c - 1 = {worst_excess:.1e}",
+            "{} cases finite: |t_tr| = 0 sticks with a finite tangent; p = 0 opens, clears the history, keeps ω; p → 0⁺ (1e-300, 1e-12 MPa), Δu_T = 0, |Δu_T| = 1e6 mm, p = 1e6 MPa; max |t|/τ_c - 1 = {worst_excess:.1e}; τ_c finite and ≥ 0 at {probes} probes of p ∈ [0, 1e6] MPa, ω ∈ [0, 1e9] N/mm, |Δu_T| ∈ [0, 1e3] mm",
             cases.len()
         ))
     }

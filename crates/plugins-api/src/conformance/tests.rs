@@ -347,10 +347,10 @@ fn nan_law_fails_without_panicking() {
 }
 
 /// §3 (`τ_c ≥ 0`): work softening without the clamp goes negative once the
-/// frictional work is large (the huge-slip edge case drives ω past
-/// `a0/|a1|`) and fails; the detail names the negative `τ_c`. (Along the
-/// ordinary random histories the backward-Euler solve keeps `τ_c(ω_{n+1}) ≥ 0`
-/// and those checks pass.)
+/// frictional work exceeds `a0/|a1|`. The backward-Euler solve never visits
+/// such a work along the histories (the traction falls to zero first), so the
+/// suite probes the law's contract directly in `edge-cases`, which fails and
+/// names the negative `τ_c`.
 #[test]
 fn negative_critical_shear_fails() {
     let report = run(Kind::Unclamped, &SOFTENING_SPECS, Params::new());
