@@ -24,13 +24,9 @@ pub const SUMMARY: &str = "co-rotational: history rotated by the blank spin (Hug
 /// it is bit-for-bit the transport of [`Convective`](super::Convective) on a
 /// fixed tool.
 ///
-/// (b) Slip direction: the forward estimate `d = φ_n + Δt φ̇_n` of §4,
-/// evaluated in the frame of step `n+1` where this formulation's transported
-/// history `t*` lives (so that it uses objective quantities only and is exactly
-/// objective): `d = φ* + (I - φ*⊗φ*)(t_end - t*)/|t*|`
-/// ([`plugins_api::kinematics::forward_direction`]: the
-/// closed-form `φ̇` with `ṅ = 0` in the co-moving frame and `Δt Ṫ = t_end - t*`,
-/// `t_end = τ_c(ω_n) φ_tr` the radial-return traction, the `Δ²γ` term dropped).
+/// (b) Slip direction: the forward estimate `d = φ* + Δt φ̇` in the frame of
+/// step `n+1` ([`plugins_api::kinematics::forward_direction`]; see the
+/// [module docs](super) for why that frame).
 /// The spin enters through `t*`: advancing the direction by the Jaumann rate
 /// `φ̇ - Wφ` is advancing the spun direction `R_W φ_n` by the material rate.
 /// `None` (backward Euler) when `|t*| = 0`.

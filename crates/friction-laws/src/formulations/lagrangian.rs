@@ -24,13 +24,9 @@ pub const SUMMARY: &str = "total Lagrangian: history pushed forward by F_{n+1} F
 /// return mapping reports as a `NonFiniteResult` error of this formulation
 /// (never a silent fallback to the old traction).
 ///
-/// (b) Slip direction: the forward estimate `d = φ_n + Δt φ̇_n` of §4,
-/// evaluated in the frame of step `n+1` where this formulation's transported
-/// history `t*` lives (so that it uses objective quantities only and is exactly
-/// objective): `d = φ* + (I - φ*⊗φ*)(t_end - t*)/|t*|`
-/// ([`plugins_api::kinematics::forward_direction`]: the
-/// closed-form `φ̇` with `ṅ = 0` in the co-moving frame and `Δt Ṫ = t_end - t*`,
-/// `t_end = τ_c(ω_n) φ_tr` the radial-return traction, the `Δ²γ` term dropped).
+/// (b) Slip direction: the forward estimate `d = φ* + Δt φ̇` in the frame of
+/// step `n+1` ([`plugins_api::kinematics::forward_direction`]; see the
+/// [module docs](super) for why that frame).
 /// The deformation enters through `t* = P ΔF t_n`: the direction is advanced
 /// by the convected (push-forward) rate, eqs. 2.57–2.60. `None` when `|t*| = 0`.
 ///

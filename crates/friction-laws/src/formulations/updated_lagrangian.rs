@@ -25,13 +25,9 @@ pub const SUMMARY: &str = "updated Lagrangian: F = I at step n, history pushed f
 /// deformation rate) the transport returns NaN, which the return mapping
 /// reports as an error.
 ///
-/// (b) Slip direction: the forward estimate `d = φ_n + Δt φ̇_n` of §4,
-/// evaluated in the frame of step `n+1` where this formulation's transported
-/// history `t*` lives (so that it uses objective quantities only and is exactly
-/// objective): `d = φ* + (I - φ*⊗φ*)(t_end - t*)/|t*|`
-/// ([`plugins_api::kinematics::forward_direction`]: the
-/// closed-form `φ̇` with `ṅ = 0` in the co-moving frame and `Δt Ṫ = t_end - t*`,
-/// `t_end = τ_c(ω_n) φ_tr` the radial-return traction, the `Δ²γ` term dropped).
+/// (b) Slip direction: the forward estimate `d = φ* + Δt φ̇` in the frame of
+/// step `n+1` ([`plugins_api::kinematics::forward_direction`]; see the
+/// [module docs](super) for why that frame).
 /// The deformation enters through `t* = P cay(Δt L) t_n` (`Ḟ = L`, eqs.
 /// 2.62–2.65). With `L` the exact mid-step gradient of the motion that also
 /// gives `F`, `cay(Δt L) = F_{n+1} F_n⁻¹` and this formulation coincides with
