@@ -1,7 +1,7 @@
 //! The `convective` formulation: parallel transport of the history with the tool surface (friction-math §4).
 
 use plugins_api::kinematics::rotate_minimal;
-use plugins_api::{DirectionInputs, KinematicFormulation, PointNeeds, StepKinematics, Vec3};
+use plugins_api::{DirectionInputs, KinematicFormulation, Mat3, PointNeeds, StepKinematics, Vec3};
 
 /// Name as typed in scenes.
 pub const NAME: &str = "convective";
@@ -41,6 +41,10 @@ impl KinematicFormulation for Convective {
     #[inline]
     fn transport(&self, t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
         let r = &kin.tool_rotation;
+        if *r == Mat3::identity() {
+            // A fixed tool (the common case): skip two matrix-vector products.
+            return rotate_minimal(&kin.n_old, &kin.n_new, t_old);
+        }
         rotate_minimal(&(r * kin.n_old), &kin.n_new, &(r * t_old))
     }
 
