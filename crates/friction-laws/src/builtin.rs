@@ -82,6 +82,9 @@ impl KinematicFormulation for BuiltinFormulation {
     fn slip_direction(&self, x: &DirectionInputs<'_>) -> Option<Vec3> {
         dispatch_formulation!(self, f => f.slip_direction(x))
     }
+    fn backward_euler(&self) -> bool {
+        dispatch_formulation!(self, f => f.backward_euler())
+    }
 }
 
 fn pair<L: FrictionLaw + 'static>(

@@ -87,6 +87,13 @@ pub trait KinematicFormulation: Send + Sync {
     /// returned direction is not finite or lies 90° or more from `φ_tr`
     /// (reversal within one step), so that `ΔD ≥ 0` always.
     fn slip_direction(&self, x: &DirectionInputs<'_>) -> Option<Vec3>;
+
+    /// Whether [`slip_direction`](Self::slip_direction) always returns `None`
+    /// (backward Euler, `d = φ_tr`). Lets the return mapping take its
+    /// branch-free path; the default `false` is always safe.
+    fn backward_euler(&self) -> bool {
+        false
+    }
 }
 
 impl<T: KinematicFormulation + ?Sized> KinematicFormulation for Box<T> {
@@ -103,5 +110,8 @@ impl<T: KinematicFormulation + ?Sized> KinematicFormulation for Box<T> {
     #[inline]
     fn slip_direction(&self, x: &DirectionInputs<'_>) -> Option<Vec3> {
         (**self).slip_direction(x)
+    }
+    fn backward_euler(&self) -> bool {
+        (**self).backward_euler()
     }
 }

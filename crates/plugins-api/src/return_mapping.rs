@@ -148,37 +148,55 @@ fn check_vec(field: &'static str, unit: &'static str, v: &Vec3) -> Result<(), Fr
     }
 }
 
-/// Fast validity test of a step's input: every value finite (`x · 0` is `0`
-/// for finite `x` and NaN otherwise, so the sum is `0` exactly when all are
-/// finite), pressure `≥ 0`, `Δt > 0`, unit normals. When it says no,
-/// [`check_input`] finds the culprit and words the error.
-#[inline]
+/// 1 in the top bit for every non-finite `x` (exponent bits all ones), else 0:
+/// `(bits & EXP) + 2^52` overflows into bit 63 exactly when the exponent is
+/// all ones. An integer OR over a fixed-size array is associative and unrolls.
+#[inline(always)]
+fn nonfinite_bits<const N: usize>(values: [f64; N]) -> u64 {
+    const EXP: u64 = 0x7FF0_0000_0000_0000;
+    const ONE: u64 = 0x0010_0000_0000_0000;
+    let mut acc = 0;
+    for x in values {
+        acc |= (x.to_bits() & EXP) + ONE;
+    }
+    acc
+}
+
+/// [`nonfinite_bits`] of the nine entries of a matrix.
+#[inline(always)]
+fn nonfinite_bits_mat(m: &Mat3) -> u64 {
+    let [a, b, c] = m.data.0;
+    nonfinite_bits([a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2]])
+}
+
+/// Fast validity test of a step's input: every read value finite, pressure
+/// `≥ 0`, `Δt > 0`, unit normals. When it says no, [`check_input`] finds the
+/// culprit and words the error.
+#[inline(always)]
 fn input_ok(input: &StepInput, needs: PointNeeds) -> bool {
     let k = &input.kin;
-    let zero = |v: &[f64]| v.iter().fold(0.0, |acc, x| acc + x * 0.0);
-    let mut s = input.p * 0.0
-        + k.dt * 0.0
-        + zero(input.du.as_slice())
-        + zero(k.n_new.as_slice())
-        + zero(k.n_old.as_slice());
-    if (needs.0 & (PointNeeds::SPIN.0 | PointNeeds::VELOCITY_GRADIENT.0)) != 0 {
-        s += zero(k.vel_grad.as_slice());
-    }
-    if needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
-        s += zero(k.f_old.as_slice()) + zero(k.f_new.as_slice());
-    }
-    if needs.contains(PointNeeds::TOOL_ROTATION) {
-        s += zero(k.tool_rotation.as_slice());
-    }
+    let mut bits = nonfinite_bits([
+        input.p, k.dt, input.du.x, input.du.y, input.du.z, k.n_new.x, k.n_new.y, k.n_new.z,
+        k.n_old.x, k.n_old.y, k.n_old.z,
+    ]);
     if needs.contains(PointNeeds::FLOW_STRESS) {
-        s += input.flow_stress * 0.0;
+        bits |= nonfinite_bits([input.flow_stress]);
     }
     if needs.contains(PointNeeds::TEMPERATURE) {
-        s += input.temperature * 0.0;
+        bits |= nonfinite_bits([input.temperature]);
+    }
+    if (needs.0 & (PointNeeds::SPIN.0 | PointNeeds::VELOCITY_GRADIENT.0)) != 0 {
+        bits |= nonfinite_bits_mat(&k.vel_grad);
+    }
+    if needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
+        bits |= nonfinite_bits_mat(&k.f_old) | nonfinite_bits_mat(&k.f_new);
+    }
+    if needs.contains(PointNeeds::TOOL_ROTATION) {
+        bits |= nonfinite_bits_mat(&k.tool_rotation);
     }
     // |n| within 1e-6 of 1 ⇔ |n|² within about 2e-6 of 1 (kept slightly inside).
     let unit = |n: &Vec3| (n.norm_squared() - 1.0).abs() <= 1.999e-6;
-    s == 0.0
+    (bits >> 63) == 0
         && input.p >= 0.0
         && k.dt > 0.0
         && unit(&k.n_new)
@@ -400,6 +418,29 @@ where
         temperature: input.temperature,
     };
     let cs = evaluate(law, &x)?;
+
+    if tangent_mode == TangentMode::None && !law.work_dependent() && formulation.backward_euler() {
+        // The explicit-dynamics hot path: radial return with selects instead of
+        // a stick/slip branch (random stick/slip patterns defeat the branch
+        // predictor). Bit for bit the same results as the general path below.
+        let slip = !(norm2_tr <= cs.tau * cs.tau || norm2_tr == 0.0);
+        let norm_tr = norm2_tr.sqrt();
+        let phi = t_tr * if slip { norm_tr.recip() } else { 0.0 };
+        let t = if slip { phi * cs.tau } else { t_tr };
+        let dgamma = if slip { (norm_tr - cs.tau) / k_t } else { 0.0 };
+        let dissipation = if slip { 1.0 * cs.tau * dgamma } else { 0.0 };
+        out.t = t;
+        out.tau_c = cs.tau;
+        out.stick = !slip;
+        out.dgamma = dgamma;
+        out.slip = if slip { -dgamma * phi } else { Vec3::zeros() };
+        out.dissipation = dissipation;
+        out.clamped = cs.clamped;
+        state.t = t;
+        state.p = p;
+        state.omega += dissipation;
+        return Ok(());
+    }
 
     if norm2_tr <= cs.tau * cs.tau || norm2_tr == 0.0 {
         out.t = t_tr;
@@ -732,5 +773,128 @@ impl<L: FrictionLaw, F: KinematicFormulation> PointIntegrator for PairedIntegrat
             )?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::rotate_minimal;
+    use rand::{Rng, SeedableRng};
+
+    struct Coulomb;
+    impl FrictionLaw for Coulomb {
+        fn name(&self) -> &str {
+            "coulomb"
+        }
+        fn stick_stiffness(&self) -> f64 {
+            1e5
+        }
+        fn critical_shear(&self, x: &ShearInputs) -> crate::CriticalShear {
+            crate::CriticalShear {
+                tau: 0.144 * x.p,
+                dtau_dp: 0.144,
+                ..Default::default()
+            }
+        }
+    }
+
+    /// Convective-like transport, declared (or not) as backward Euler.
+    struct Minimal(bool);
+    impl KinematicFormulation for Minimal {
+        fn name(&self) -> &str {
+            "minimal"
+        }
+        fn needs(&self) -> PointNeeds {
+            PointNeeds::NONE
+        }
+        fn transport(&self, t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
+            rotate_minimal(&kin.n_old, &kin.n_new, t_old)
+        }
+        fn slip_direction(&self, _x: &DirectionInputs<'_>) -> Option<Vec3> {
+            None
+        }
+        fn backward_euler(&self) -> bool {
+            self.0
+        }
+    }
+
+    /// The branch-free hot path (no tangent, work-independent law, backward
+    /// Euler) gives bit for bit the results of the general path, over a random
+    /// history with stick, slip and lift-off.
+    #[test]
+    fn branch_free_radial_return_equals_the_general_path_bitwise() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let (mut fast, mut general) = (PointState::default(), PointState::default());
+        let mut n = Vec3::z();
+        let (mut slips, mut sticks) = (0, 0);
+        for _ in 0..2000 {
+            let n_new = (n + Vec3::new(
+                rng.random_range(-0.01..0.01),
+                rng.random_range(-0.01..0.01),
+                0.0,
+            ))
+            .normalize();
+            let p = if rng.random_bool(0.05) {
+                0.0
+            } else {
+                rng.random_range(0.0..100.0)
+            };
+            let du = Vec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                0.0,
+            ) * 10f64.powf(rng.random_range(-7.0..-3.0));
+            let input = StepInput::new(p, du, StepKinematics::simple(1e-6, n, n_new));
+            let a = step(
+                &Coulomb,
+                &Minimal(true),
+                TangentMode::None,
+                &mut fast,
+                &input,
+            )
+            .unwrap();
+            let b = step(
+                &Coulomb,
+                &Minimal(false),
+                TangentMode::None,
+                &mut general,
+                &input,
+            )
+            .unwrap();
+            for (x, y) in [a.t, a.slip]
+                .iter()
+                .flat_map(|v| v.iter())
+                .zip([b.t, b.slip].iter().flat_map(|v| v.iter()))
+            {
+                assert_eq!(x.to_bits(), y.to_bits());
+            }
+            assert_eq!((a.stick, a.open, a.clamped), (b.stick, b.open, b.clamped));
+            for (x, y) in [
+                (a.dgamma, b.dgamma),
+                (a.dissipation, b.dissipation),
+                (a.tau_c, b.tau_c),
+            ] {
+                assert_eq!(x.to_bits(), y.to_bits());
+            }
+            assert_eq!(fast, general);
+            slips += usize::from(!a.stick && !a.open);
+            sticks += usize::from(a.stick);
+            n = n_new;
+        }
+        assert!(
+            slips > 100 && sticks > 100,
+            "{slips} slips, {sticks} sticks"
+        );
+    }
+
+    #[test]
+    fn nonfinite_bits_flags_exactly_nan_and_infinities() {
+        for x in [0.0, -0.0, 1.0, -1e308, f64::MAX, f64::MIN_POSITIVE, 5e-324] {
+            assert_eq!(nonfinite_bits([x]) >> 63, 0, "{x}");
+        }
+        for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -f64::NAN] {
+            assert_eq!(nonfinite_bits([1.0, x, 2.0]) >> 63, 1, "{x}");
+        }
     }
 }

@@ -1,7 +1,7 @@
 //! The `convective` formulation: parallel transport of the history with the tool surface (friction-math §4).
 
 use plugins_api::kinematics::rotate_minimal;
-use plugins_api::{DirectionInputs, KinematicFormulation, Mat3, PointNeeds, StepKinematics, Vec3};
+use plugins_api::{DirectionInputs, KinematicFormulation, PointNeeds, StepKinematics, Vec3};
 
 /// Name as typed in scenes.
 pub const NAME: &str = "convective";
@@ -41,7 +41,20 @@ impl KinematicFormulation for Convective {
     #[inline]
     fn transport(&self, t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
         let r = &kin.tool_rotation;
-        if *r == Mat3::identity() {
+        // Exactly the identity, tested on the bit patterns (an OR tree, no
+        // chain of floating-point adds on the critical path).
+        let one = 1f64.to_bits();
+        let [a, b, c] = r.data.0;
+        let off_identity = (a[0].to_bits() ^ one)
+            | a[1].to_bits()
+            | a[2].to_bits()
+            | b[0].to_bits()
+            | (b[1].to_bits() ^ one)
+            | b[2].to_bits()
+            | c[0].to_bits()
+            | c[1].to_bits()
+            | (c[2].to_bits() ^ one);
+        if off_identity == 0 {
             // A fixed tool (the common case): skip two matrix-vector products.
             return rotate_minimal(&kin.n_old, &kin.n_new, t_old);
         }
@@ -51,6 +64,11 @@ impl KinematicFormulation for Convective {
     #[inline]
     fn slip_direction(&self, _x: &DirectionInputs<'_>) -> Option<Vec3> {
         None
+    }
+
+    #[inline]
+    fn backward_euler(&self) -> bool {
+        true
     }
 }
 
