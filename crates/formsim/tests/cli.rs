@@ -225,61 +225,44 @@ fn bad_input_gives_one_clear_line_and_a_nonzero_exit() {
         ],
         &["unknown parameter `mux`"],
     );
+    // Malformed histories: (file text, law and parameter, expected words).
     let bad = dir.path().join("bad.csv");
-    std::fs::write(
-        &bad,
-        "t,p,du_x,du_y,du_z,n_x,n_y,n_z\n0.1,1,0,0,0,0,0,1\n0.2,inf,0,0,0,0,0,1\n",
-    )
-    .unwrap();
-    expect_error(
-        &[
-            "friction-point",
-            "--law",
-            "ac",
-            "--param",
-            "mu=0.1",
-            "--history",
-            bad.to_str().unwrap(),
-            "--out",
-            out,
-        ],
-        &["bad.csv:3", "`p`", "inf"],
-    );
-    std::fs::write(&bad, "t,p,du_x,du_y,du_z,n_x,n_y\n0.1,1,0,0,0,0,0\n").unwrap();
-    expect_error(
-        &[
-            "friction-point",
-            "--law",
-            "ac",
-            "--param",
-            "mu=0.1",
-            "--history",
-            bad.to_str().unwrap(),
-            "--out",
-            out,
-        ],
-        &["bad.csv:1", "`n_z`"],
-    );
-    // Levanov needs the flow stress; a history without it is refused with the column name.
-    std::fs::write(
-        &bad,
-        "t,p,du_x,du_y,du_z,n_x,n_y,n_z\n0.1,1,0.01,0,0,0,0,1\n",
-    )
-    .unwrap();
-    expect_error(
-        &[
-            "friction-point",
-            "--law",
-            "levanov",
-            "--param",
-            "m=0.2",
-            "--history",
-            bad.to_str().unwrap(),
-            "--out",
-            out,
-        ],
-        &["bad.csv:2", "sigma_y"],
-    );
+    let cases: [(&str, [&str; 2], &[&str]); 3] = [
+        (
+            "t,p,du_x,du_y,du_z,n_x,n_y,n_z\n0.1,1,0,0,0,0,0,1\n0.2,inf,0,0,0,0,0,1\n",
+            ["ac", "mu=0.1"],
+            &["bad.csv:3", "`p`", "inf"],
+        ),
+        (
+            "t,p,du_x,du_y,du_z,n_x,n_y\n0.1,1,0,0,0,0,0\n",
+            ["ac", "mu=0.1"],
+            &["bad.csv:1", "`n_z`"],
+        ),
+        // Levanov needs the flow stress: a history without it is refused, naming the column.
+        (
+            "t,p,du_x,du_y,du_z,n_x,n_y,n_z\n0.1,1,0.01,0,0,0,0,1\n",
+            ["levanov", "m=0.2"],
+            &["bad.csv:2", "sigma_y"],
+        ),
+    ];
+    for (text, [law, param], needles) in cases {
+        std::fs::write(&bad, text).unwrap();
+        let bad = bad.to_str().unwrap();
+        expect_error(
+            &[
+                "friction-point",
+                "--law",
+                law,
+                "--param",
+                param,
+                "--history",
+                bad,
+                "--out",
+                out,
+            ],
+            needles,
+        );
+    }
     expect_error(
         &[
             "friction-point",
