@@ -1,7 +1,7 @@
 //! Resolving user-named components (built-in law, linked plugin, plugin file,
 //! formulation) into point integrators and conformance subjects.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use friction_laws::builtin::{self, BuiltinFormulation, FORMULATION_NAMES};
 use plugins_api::loader::PluginLibrary;
@@ -14,14 +14,6 @@ pub enum LawSource {
     Named(String),
     /// A dynamic plugin, by the path of its shared library.
     Plugin(PathBuf),
-}
-
-/// Open a plugin library with a message that names the path.
-///
-/// # Errors
-/// Missing file, not a formsim plugin, ABI mismatch.
-pub fn open_plugin(path: &Path) -> Result<PluginLibrary, FrictionError> {
-    PluginLibrary::open(path)
 }
 
 /// A point integrator for `source` with `params`, paired with `formulation`.
@@ -38,7 +30,7 @@ pub fn point_integrator(
         LawSource::Named(name) => builtin::integrator(name, params, formulation, tangent),
         LawSource::Plugin(path) => {
             BuiltinFormulation::from_name(formulation)?;
-            let library = open_plugin(path)?;
+            let library = PluginLibrary::open(path)?;
             builtin::with_law(library.build(params)?, formulation, tangent)
         }
     }

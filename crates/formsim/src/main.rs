@@ -240,7 +240,7 @@ fn run_suite(
 }
 
 fn plugin_check(path: &Path, given: &Params) -> Result<ExitCode, String> {
-    let library = components::open_plugin(path).map_err(|e| e.to_string())?;
+    let library = plugins_api::loader::PluginLibrary::open(path).map_err(|e| e.to_string())?;
     println!(
         "plugin {} ({}): {}",
         library.name(),

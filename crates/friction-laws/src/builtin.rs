@@ -12,14 +12,21 @@ use plugins_api::{
     PointIntegrator, PointNeeds, StepKinematics, TangentMode, Vec3, registry,
 };
 
-use crate::formulations::{Convective, Jaumann, Lagrangian, UpdatedLagrangian};
+use crate::formulations::{
+    Convective, Jaumann, Lagrangian, UpdatedLagrangian, convective, jaumann, lagrangian,
+    updated_lagrangian,
+};
 use crate::laws::{Ac, Levanov, Wh, Wvs};
 
 /// Names of the built-in laws, in the thesis's order.
-pub const LAW_NAMES: [&str; 4] = ["ac", "wvs", "wh", "levanov"];
+pub const LAW_NAMES: [&str; 4] = [Ac::NAME, Wvs::NAME, Wh::NAME, Levanov::NAME];
 /// Names of the built-in formulations, in the thesis's order.
-pub const FORMULATION_NAMES: [&str; 4] =
-    ["convective", "jaumann", "lagrangian", "updated-lagrangian"];
+pub const FORMULATION_NAMES: [&str; 4] = [
+    convective::NAME,
+    jaumann::NAME,
+    lagrangian::NAME,
+    updated_lagrangian::NAME,
+];
 
 /// Any built-in formulation, dispatched by `match`.
 #[derive(Clone, Copy, Debug)]

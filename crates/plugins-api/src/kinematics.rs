@@ -10,6 +10,13 @@ pub fn tangent_projector(n: &Vec3) -> Mat3 {
     Mat3::identity() - n * n.transpose()
 }
 
+/// `v - n (n·v)`: the part of `v` in the tangent plane of the unit normal `n`.
+#[inline]
+#[must_use]
+pub fn tangent_part(n: &Vec3, v: &Vec3) -> Vec3 {
+    v - n * n.dot(v)
+}
+
 /// Skew matrix `[w]×` with `[w]× v = w × v`.
 #[inline]
 #[must_use]
@@ -80,14 +87,14 @@ pub fn direction_rate(
     n: &Vec3,
     n_rate: &Vec3,
 ) -> Option<Vec3> {
-    let t = traction - n * n.dot(traction);
+    let t = tangent_part(n, traction);
     let norm = t.norm();
     if norm == 0.0 || !norm.is_finite() {
         return None;
     }
     let phi = t / norm;
-    let t_rate = (traction_rate - n * n.dot(traction_rate))
-        - (n_rate * n.dot(traction) + n * n_rate.dot(traction));
+    let t_rate =
+        tangent_part(n, traction_rate) - (n_rate * n.dot(traction) + n * n_rate.dot(traction));
     Some((t_rate - phi * phi.dot(&t_rate)) / norm)
 }
 
@@ -108,14 +115,14 @@ pub fn forward_direction(t_star: &Vec3, t_end: &Vec3, n_new: &Vec3) -> Option<Ve
     // Both vectors are tangent to `n_new`, so `direction_rate` with `ṅ = 0`
     // reduces to `φ̇ Δt = (I - φ*⊗φ*)(t_end - t*)/|t*|`; the projection onto the
     // plane of `n_new` is kept for inputs that are not exactly tangent.
-    let t = t_star - n_new * n_new.dot(t_star);
+    let t = tangent_part(n_new, t_star);
     let norm = t.norm();
     if norm == 0.0 || !norm.is_finite() {
         return None;
     }
     let inv = norm.recip();
     let phi = t * inv;
-    let dt_rate = t_end - n_new * n_new.dot(t_end) - t;
+    let dt_rate = tangent_part(n_new, t_end) - t;
     Some(phi + (dt_rate - phi * phi.dot(&dt_rate)) * inv)
 }
 

@@ -36,6 +36,7 @@ use crate::abi::{
     STATUS_OK, STATUS_PANIC, StickStiffnessFn,
 };
 use crate::law::LawDescription;
+use crate::params::check_values;
 use crate::{
     ABI_VERSION, CriticalShear, FrictionError, FrictionLaw, ParamSpec, Params, PointNeeds,
     ShearInputs,
@@ -317,27 +318,7 @@ impl PluginLibrary {
     pub fn instantiate(&self, values: &[f64]) -> Result<DynamicLaw, FrictionError> {
         let name = self.name();
         let specs = self.params();
-        if values.len() != specs.len() {
-            return Err(FrictionError::InvalidParameters {
-                component: name.to_string(),
-                reason: format!(
-                    "{} values given, the schema has {}",
-                    values.len(),
-                    specs.len()
-                ),
-            });
-        }
-        for (spec, &value) in specs.iter().zip(values) {
-            if !spec.accepts(value) {
-                return Err(FrictionError::ParameterOutOfRange {
-                    component: name.to_string(),
-                    name: spec.name.to_string(),
-                    value,
-                    unit: spec.unit.to_string(),
-                    range: spec.range_text(),
-                });
-            }
-        }
+        check_values(name, specs, values)?;
         let shared = &self.shared;
         let mut handle: *mut c_void = std::ptr::null_mut();
         let mut buf = [0 as c_char; ERROR_BUFFER];

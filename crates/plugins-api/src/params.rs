@@ -91,6 +91,25 @@ impl ParamSpec {
         }
     }
 
+    /// `value` itself if it is finite and inside the range, else the error
+    /// naming the parameter of `component`, its value, unit and valid range.
+    ///
+    /// # Errors
+    /// [`FrictionError::ParameterOutOfRange`].
+    pub fn check(&self, component: &str, value: f64) -> Result<f64, FrictionError> {
+        if self.accepts(value) {
+            Ok(value)
+        } else {
+            Err(FrictionError::ParameterOutOfRange {
+                component: component.to_string(),
+                name: self.name.to_string(),
+                value,
+                unit: self.unit.to_string(),
+                range: self.range_text(),
+            })
+        }
+    }
+
     /// Whether `value` is finite and inside the range.
     #[must_use]
     pub fn accepts(&self, value: f64) -> bool {
@@ -174,20 +193,36 @@ impl Params {
                         });
                     }
                 };
-                if spec.accepts(value) {
-                    Ok(value)
-                } else {
-                    Err(FrictionError::ParameterOutOfRange {
-                        component: component.to_string(),
-                        name: spec.name.to_string(),
-                        value,
-                        unit: spec.unit.to_string(),
-                        range: spec.range_text(),
-                    })
-                }
+                spec.check(component, value)
             })
             .collect()
     }
+}
+
+/// Check `values` against `specs` (count, finiteness and range of each value),
+/// as [`Params::resolve`] does: for builders that receive values in schema
+/// order (typed law constructors, the plugin loader).
+///
+/// # Errors
+/// [`FrictionError::InvalidParameters`] for a wrong number of values;
+/// [`FrictionError::ParameterOutOfRange`] naming the first offending parameter,
+/// its value, unit and valid range.
+pub fn check_values(law: &str, specs: &[ParamSpec], values: &[f64]) -> Result<(), FrictionError> {
+    if values.len() != specs.len() {
+        return Err(FrictionError::InvalidParameters {
+            component: law.to_string(),
+            reason: format!(
+                "expected {} parameter values ({}), got {}",
+                specs.len(),
+                specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", "),
+                values.len()
+            ),
+        });
+    }
+    for (spec, &value) in specs.iter().zip(values) {
+        spec.check(law, value)?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@
 //! `[0, |t_tr|/k_T]` (where `f(0) > 0 ≥ f(|t_tr|/k_T)`). Here `c = φ_tr·d ∈ (0, 1]`
 //! is the share of the slip along the traction, so that `ΔD = t·(-Δu_sl) = c τ Δγ`.
 
-use crate::kinematics::tangent_projector;
+use crate::kinematics::{tangent_part, tangent_projector};
 use crate::{
     DirectionInputs, FrictionError, FrictionLaw, KinematicFormulation, Mat3, PointNeeds,
     ShearInputs, StepKinematics, Vec3,
@@ -298,33 +298,40 @@ fn evaluate<L: FrictionLaw + ?Sized>(
     law: &L,
     x: &ShearInputs,
 ) -> Result<crate::CriticalShear, FrictionError> {
-    let cs = law.critical_shear(x);
-    // Fast path: all four finite (`v · 0 = 0` only for finite `v`) and `τ_c ≥ 0`.
-    if cs.tau * 0.0 + cs.dtau_dp * 0.0 + cs.dtau_domega * 0.0 + cs.dtau_dspeed * 0.0 == 0.0
+    check_shear(law.critical_shear(x), x.p, || law.name().to_string())
+}
+
+/// A law's answer checked against its contract: `τ_c` and its derivatives
+/// finite, `τ_c ≥ 0`; otherwise an error naming the law (`name` is called only
+/// then) and the pressure `p`.
+#[inline]
+pub(crate) fn check_shear(
+    cs: crate::CriticalShear,
+    p: f64,
+    name: impl FnOnce() -> String,
+) -> Result<crate::CriticalShear, FrictionError> {
+    if nonfinite_bits([cs.tau, cs.dtau_dp, cs.dtau_domega, cs.dtau_dspeed]) >> 63 == 0
         && cs.tau >= 0.0
     {
         return Ok(cs);
     }
-    let bad = [cs.tau, cs.dtau_dp, cs.dtau_domega, cs.dtau_dspeed]
+    if let Some(value) = [cs.tau, cs.dtau_dp, cs.dtau_domega, cs.dtau_dspeed]
         .into_iter()
-        .find(|v| !v.is_finite());
-    if let Some(value) = bad {
+        .find(|v| !v.is_finite())
+    {
         return Err(FrictionError::NonFiniteResult {
-            component: law.name().to_string(),
+            component: name(),
             what: "a non-finite critical shear stress or derivative",
             value,
-            p: x.p,
+            p,
         });
     }
-    if cs.tau < 0.0 {
-        return Err(FrictionError::NonFiniteResult {
-            component: law.name().to_string(),
-            what: "a negative critical shear stress",
-            value: cs.tau,
-            p: x.p,
-        });
-    }
-    Ok(cs)
+    Err(FrictionError::NonFiniteResult {
+        component: name(),
+        what: "a negative critical shear stress",
+        value: cs.tau,
+        p,
+    })
 }
 
 /// Integrate one contact point over one step (friction-math §2) and update its state.
@@ -388,7 +395,7 @@ where
     }
 
     let k_t = law.stick_stiffness();
-    let project = |v: Vec3| v - n * n.dot(&v);
+    let project = |v: Vec3| tangent_part(&n, &v);
     let t_star = if state.t == Vec3::zeros() {
         Vec3::zeros()
     } else {
@@ -510,8 +517,15 @@ where
                 // formulation's slip direction: differentiate it numerically
                 // (central differences over the slip scale |t_tr|/k_T; only when a
                 // consistent tangent is asked for).
-                let (dc_du, dc_dp) =
-                    frame.share_gradient(law, input.du, x_start(&x, state.omega), norm_tr)?;
+                let (dc_du, dc_dp) = frame.share_gradient(
+                    law,
+                    input.du,
+                    ShearInputs {
+                        omega: state.omega,
+                        ..x
+                    },
+                    norm_tr,
+                )?;
                 tangent += phi * dc_du.transpose() * dtau_dc;
                 dtau_dp += dtau_dc * dc_dp;
             }
@@ -524,14 +538,6 @@ where
     state.p = p;
     state.omega += dissipation;
     Ok(())
-}
-
-/// The shear inputs at the start of the step (work `ω_n`).
-fn x_start(x: &ShearInputs, omega_n: f64) -> ShearInputs {
-    ShearInputs {
-        omega: omega_n,
-        ..*x
-    }
 }
 
 /// What the slip direction of a step depends on, so that it can be evaluated
@@ -567,7 +573,7 @@ impl<F: KinematicFormulation + ?Sized> Frame<'_, F> {
                 p_new: p,
             })
             .and_then(|d| {
-                let d = d - self.n * self.n.dot(&d);
+                let d = tangent_part(&self.n, &d);
                 let len = d.norm();
                 (len.is_finite() && len > 0.0).then(|| d * len.recip())
             })
@@ -586,7 +592,7 @@ impl<F: KinematicFormulation + ?Sized> Frame<'_, F> {
         du: Vec3,
         x: ShearInputs,
     ) -> Result<f64, FrictionError> {
-        let du_t = du - self.n * self.n.dot(&du);
+        let du_t = tangent_part(&self.n, &du);
         let t_tr = self.t_star - du_t * self.k_t;
         let mut x = x;
         if self.needs.contains(PointNeeds::SLIDING_VELOCITY) {

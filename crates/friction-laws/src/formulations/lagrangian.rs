@@ -1,9 +1,9 @@
 //! The `lagrangian` formulation: total-Lagrangian push-forward of the history with the blank's deformation (friction-math §4, thesis eqs. 2.57–2.60).
 
-use plugins_api::kinematics::forward_direction;
+use plugins_api::kinematics::{forward_direction, tangent_part};
 use plugins_api::{DirectionInputs, KinematicFormulation, PointNeeds, StepKinematics, Vec3};
 
-use super::{admissible, not_transportable, tangent_part};
+use super::{admissible, not_transportable};
 
 /// Name as typed in scenes.
 pub const NAME: &str = "lagrangian";

@@ -29,14 +29,6 @@ pub use updated_lagrangian::UpdatedLagrangian;
 
 use plugins_api::{Mat3, Vec3};
 
-/// Names of the formulations this module registers (referenced by `ensure_linked`).
-pub const REGISTERED: &[&str] = &[
-    convective::NAME,
-    jaumann::NAME,
-    lagrangian::NAME,
-    updated_lagrangian::NAME,
-];
-
 /// A vector whose components are all NaN: what a transport returns when the
 /// blank's deformation data cannot carry the history (singular or inverted
 /// deformation gradient), so that the return mapping reports an error instead
@@ -51,10 +43,4 @@ pub(crate) fn not_transportable() -> Vec3 {
 pub(crate) fn admissible(m: &Mat3) -> bool {
     let det = m.determinant();
     det.is_finite() && det > 0.0
-}
-
-/// `v - n (n·v)`: projection onto the tangent plane of the unit normal `n`.
-#[inline]
-pub(crate) fn tangent_part(n: &Vec3, v: &Vec3) -> Vec3 {
-    v - n * n.dot(v)
 }

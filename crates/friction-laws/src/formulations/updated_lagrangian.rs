@@ -1,9 +1,9 @@
 //! The `updated-lagrangian` formulation: push-forward with the step deformation gradient `cay(Δt L)` (friction-math §4, thesis eqs. 2.61–2.65).
 
-use plugins_api::kinematics::forward_direction;
+use plugins_api::kinematics::{forward_direction, tangent_part};
 use plugins_api::{DirectionInputs, KinematicFormulation, Mat3, PointNeeds, StepKinematics, Vec3};
 
-use super::{not_transportable, tangent_part};
+use super::not_transportable;
 
 /// Name as typed in scenes.
 pub const NAME: &str = "updated-lagrangian";

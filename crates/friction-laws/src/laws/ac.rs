@@ -3,7 +3,8 @@
 use plugins_api::law::LawDescription;
 use plugins_api::{CriticalShear, FrictionError, FrictionLaw, ParamSpec, ShearInputs};
 
-use super::{STICK_STIFFNESS, check_values};
+use super::STICK_STIFFNESS;
+use plugins_api::params::check_values;
 
 /// Amontons–Coulomb friction: `Φ = |t| - μ p` (eq. 2.13).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -4,7 +4,8 @@
 use plugins_api::law::LawDescription;
 use plugins_api::{CriticalShear, FrictionError, FrictionLaw, ParamSpec, PointNeeds, ShearInputs};
 
-use super::{STICK_STIFFNESS, check_values};
+use super::STICK_STIFFNESS;
+use plugins_api::params::check_values;
 
 /// `1/√3`.
 const INV_SQRT_3: f64 = 0.577_350_269_189_625_8;

@@ -7,8 +7,8 @@
 //! order), `DESCRIPTION`, `from_values` (values in `PARAMS` order, all
 //! validation), `build` (boxed) and a typed `new`.
 
+use plugins_api::ParamSpec;
 use plugins_api::law::LawDescription;
-use plugins_api::{FrictionError, ParamSpec};
 
 mod ac;
 mod levanov;
@@ -20,11 +20,8 @@ pub use levanov::Levanov;
 pub use wh::Wh;
 pub use wvs::Wvs;
 
-/// Names of the laws this module registers (referenced by `ensure_linked`).
-pub const REGISTERED: &[&str] = &[Ac::NAME, Wvs::NAME, Wh::NAME, Levanov::NAME];
-
 /// Descriptions (name, summary, parameter schema) of the four built-in laws,
-/// in the order of [`REGISTERED`].
+/// in the order of [`crate::builtin::LAW_NAMES`].
 pub const DESCRIPTIONS: &[LawDescription] = &[
     Ac::DESCRIPTION,
     Wvs::DESCRIPTION,
@@ -45,43 +42,6 @@ pub const STICK_STIFFNESS: ParamSpec = ParamSpec::optional(
     "tangential stiffness in stick k_T (MPa/mm), a penalty-like regularisation",
 )
 .exclusive_min();
-
-/// Check `values` against `specs` (count, finiteness and range of each value),
-/// as `Params::resolve` does, so that the typed constructors validate too.
-///
-/// # Errors
-/// [`FrictionError::InvalidParameters`] for a wrong number of values;
-/// [`FrictionError::ParameterOutOfRange`] naming the first offending parameter,
-/// its value, unit and valid range.
-pub(crate) fn check_values(
-    law: &str,
-    specs: &[ParamSpec],
-    values: &[f64],
-) -> Result<(), FrictionError> {
-    if values.len() != specs.len() {
-        return Err(FrictionError::InvalidParameters {
-            component: law.to_string(),
-            reason: format!(
-                "expected {} parameter values ({}), got {}",
-                specs.len(),
-                specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", "),
-                values.len()
-            ),
-        });
-    }
-    for (spec, &value) in specs.iter().zip(values) {
-        if !spec.accepts(value) {
-            return Err(FrictionError::ParameterOutOfRange {
-                component: law.to_string(),
-                name: spec.name.to_string(),
-                value,
-                unit: spec.unit.to_string(),
-                range: spec.range_text(),
-            });
-        }
-    }
-    Ok(())
-}
 
 /// Helpers shared by the laws' unit tests.
 #[cfg(test)]
@@ -160,8 +120,8 @@ mod tests {
     /// `k_t` last in its schema and the same `k_t` spec.
     #[test]
     fn registered_names_match_descriptions_and_share_stick_stiffness() {
-        assert_eq!(REGISTERED, &["ac", "wvs", "wh", "levanov"]);
-        for (name, d) in REGISTERED.iter().zip(DESCRIPTIONS) {
+        assert_eq!(crate::builtin::LAW_NAMES, ["ac", "wvs", "wh", "levanov"]);
+        for (name, d) in crate::builtin::LAW_NAMES.iter().zip(DESCRIPTIONS) {
             assert_eq!(*name, d.name);
             assert_eq!(d.params.last(), Some(&STICK_STIFFNESS), "{name}");
             assert!(!d.summary.is_empty());

@@ -5,7 +5,8 @@
 use plugins_api::law::LawDescription;
 use plugins_api::{CriticalShear, FrictionError, FrictionLaw, ParamSpec, ShearInputs};
 
-use super::{STICK_STIFFNESS, check_values};
+use super::STICK_STIFFNESS;
+use plugins_api::params::check_values;
 
 /// Work-dependent friction: `Φ = |t| - max(μ(ω), μ_min) p`,
 /// `μ(ω) = Σ_{i=0}^{5} a_i ω^i` (evaluated by Horner's rule).

@@ -5,7 +5,8 @@
 use plugins_api::law::LawDescription;
 use plugins_api::{CriticalShear, FrictionError, FrictionLaw, ParamSpec, ShearInputs};
 
-use super::{STICK_STIFFNESS, check_values};
+use super::STICK_STIFFNESS;
+use plugins_api::params::check_values;
 
 /// Wriggers–van der Ven–Stein friction: `Φ = |t| - α p^ν - β p` (eq. 2.15; the
 /// thesis's eq. 3.19, `|t| - α p^ν + β p`, is a typo), i.e. a pressure-dependent

@@ -3,7 +3,8 @@
 use std::fmt;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use crate::return_mapping::step;
+use crate::kinematics::tangent_part;
+use crate::return_mapping::{check_shear, step};
 use crate::{
     CriticalShear, FrictionError, FrictionLaw, KinematicFormulation, Mat3, PointNeeds, PointState,
     ShearInputs, StepInput, StepOutput, TangentMode,
@@ -109,7 +110,7 @@ impl<'a> Driver<'a> {
     pub fn critical_shear(&self, input: &StepInput, omega: f64) -> Result<CriticalShear, Failure> {
         let speed = if self.needs.contains(PointNeeds::SLIDING_VELOCITY) {
             let n = input.kin.n_new.normalize();
-            (input.du - n * n.dot(&input.du)).norm() / input.kin.dt
+            tangent_part(&n, &input.du).norm() / input.kin.dt
         } else {
             f64::NAN
         };
@@ -122,26 +123,7 @@ impl<'a> Driver<'a> {
         };
         let cs = guarded(|| self.law.critical_shear(&x)).map_err(Failure::Panic)?;
         let name = || guarded(|| self.law.name().to_string()).unwrap_or_else(|_| "law".to_string());
-        if let Some(value) = [cs.tau, cs.dtau_dp, cs.dtau_domega, cs.dtau_dspeed]
-            .into_iter()
-            .find(|v| !v.is_finite())
-        {
-            return Err(Failure::Error(FrictionError::NonFiniteResult {
-                component: name(),
-                what: "a non-finite critical shear stress or derivative",
-                value,
-                p: input.p,
-            }));
-        }
-        if cs.tau < 0.0 {
-            return Err(Failure::Error(FrictionError::NonFiniteResult {
-                component: name(),
-                what: "a negative critical shear stress",
-                value: cs.tau,
-                p: input.p,
-            }));
-        }
-        Ok(cs)
+        check_shear(cs, input.p, name).map_err(Failure::Error)
     }
 }
 
