@@ -8,9 +8,10 @@
 //! return mapping that serves every isotropic law ([`return_mapping`], §2),
 //! link-time registration ([`registry`]), loading of laws from shared libraries
 //! through a versioned C-ABI table ([`abi`], [`loader`]), and the conformance
-//! suite every law must pass ([`conformance`], §5).
+//! suite every law must pass ([`conformance`], §5), and the rigid-tool contract
+//! that contact queries ([`tool`]: closest point, normal, curvature, pose).
 //!
-//! It must not know about meshes, tools, scenes or any particular law: the
+//! It must not know about meshes, tool geometry, scenes or any particular law: the
 //! built-in laws live in `friction-laws`, which depends on this crate like any
 //! plugin does. A plugin author depends on this crate alone.
 //!
@@ -29,6 +30,7 @@ pub mod needs;
 pub mod params;
 pub mod registry;
 pub mod return_mapping;
+pub mod tool;
 
 pub use error::FrictionError;
 pub use formulation::{DirectionInputs, KinematicFormulation, StepKinematics};
@@ -37,6 +39,9 @@ pub use needs::PointNeeds;
 pub use params::{ParamSpec, Params, check_values};
 pub use return_mapping::{
     PairedIntegrator, PointIntegrator, PointState, StepInput, StepOutput, TangentMode,
+};
+pub use tool::{
+    Aabb, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface,
 };
 
 /// Re-export so that plugin authors need no direct nalgebra dependency.

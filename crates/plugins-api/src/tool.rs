@@ -1,0 +1,239 @@
+//! The rigid-tool contract: closest-point projection with curvature, pose and velocity.
+//!
+//! Contact (step 3 of an explicit step) asks a tool, for each candidate blank
+//! point, where the closest point of the tool surface is, on which side the
+//! point lies, and how the surface curves there (the formulations of
+//! friction-math §4 read the normal's rotation). The tool's geometry is fixed
+//! in its own reference frame; the press scheduler moves it rigidly with a
+//! [`RigidPose`] and a [`RigidVelocity`].
+//!
+//! Implementations (exact NURBS tools, faceted tools) live in `tools-nurbs`;
+//! the contact code knows tools only through [`ToolSurface`].
+
+use crate::{Mat3, Vec3};
+use thiserror::Error;
+
+/// A query a tool cannot answer.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ToolError {
+    /// The query point is NaN or infinite.
+    #[error("tool `{tool}`: query point ({x}, {y}, {z}) mm is not finite")]
+    NonFinitePoint {
+        /// Tool name.
+        tool: String,
+        /// x coordinate (mm).
+        x: f64,
+        /// y coordinate (mm).
+        y: f64,
+        /// z coordinate (mm).
+        z: f64,
+    },
+    /// Anything else an implementation must report (names the patch and the field).
+    #[error("tool `{tool}`: {message}")]
+    Other {
+        /// Tool name.
+        tool: String,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// An axis-aligned bounding box in the global frame (mm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    /// Smallest corner.
+    pub min: Vec3,
+    /// Largest corner.
+    pub max: Vec3,
+}
+
+impl Aabb {
+    /// The empty box (contains nothing; grows with [`Aabb::grow`]).
+    pub fn empty() -> Self {
+        Self {
+            min: Vec3::repeat(f64::INFINITY),
+            max: Vec3::repeat(f64::NEG_INFINITY),
+        }
+    }
+
+    /// Enlarge the box to contain `p`.
+    pub fn grow(&mut self, p: &Vec3) {
+        self.min = self.min.inf(p);
+        self.max = self.max.sup(p);
+    }
+
+    /// The box enlarged by `margin` (mm) on every side.
+    pub fn inflated(&self, margin: f64) -> Self {
+        Self {
+            min: self.min - Vec3::repeat(margin),
+            max: self.max + Vec3::repeat(margin),
+        }
+    }
+
+    /// Whether `p` lies inside or on the box.
+    pub fn contains(&self, p: &Vec3) -> bool {
+        (0..3).all(|i| p[i] >= self.min[i] && p[i] <= self.max[i])
+    }
+
+    /// Distance (mm) from `p` to the box; 0 inside.
+    pub fn distance(&self, p: &Vec3) -> f64 {
+        let d = (self.min - p).sup(&(p - self.max)).sup(&Vec3::zeros());
+        d.norm()
+    }
+}
+
+/// A rigid placement of a tool: `x_global = rotation · x_local + translation` (mm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidPose {
+    /// Translation of the tool's local origin (mm).
+    pub translation: Vec3,
+    /// Rotation from the tool's local frame to the global frame (proper orthogonal).
+    pub rotation: Mat3,
+}
+
+impl Default for RigidPose {
+    fn default() -> Self {
+        Self {
+            translation: Vec3::zeros(),
+            rotation: Mat3::identity(),
+        }
+    }
+}
+
+impl RigidPose {
+    /// Map a point from the tool's local frame to the global frame.
+    pub fn to_global(&self, x_local: &Vec3) -> Vec3 {
+        self.rotation * x_local + self.translation
+    }
+
+    /// Map a point from the global frame to the tool's local frame.
+    pub fn to_local(&self, x_global: &Vec3) -> Vec3 {
+        self.rotation.transpose() * (x_global - self.translation)
+    }
+}
+
+/// The rigid velocity of a tool: `v(x) = linear + angular × (x - pose.translation)`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RigidVelocity {
+    /// Velocity of the tool's local origin (mm/s).
+    pub linear: Vec3,
+    /// Angular velocity (rad/s), global frame.
+    pub angular: Vec3,
+}
+
+/// Where the previous projection of the same point landed, to warm-start the next.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProjectionHint {
+    /// Patch (or facet) index of the previous answer.
+    pub patch: u32,
+    /// Surface parameter `u` of the previous answer.
+    pub u: f64,
+    /// Surface parameter `v` of the previous answer.
+    pub v: f64,
+}
+
+/// The closest point of a tool surface to a query point, in the global frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Projection {
+    /// Closest point on the surface (mm).
+    pub point: Vec3,
+    /// Unit normal at the closest point, oriented towards the blank side.
+    pub normal: Vec3,
+    /// Signed distance (mm): positive on the blank side of the surface,
+    /// negative when the query point has penetrated.
+    pub distance: f64,
+    /// Curvature tensor `K = ∇_s n` (Weingarten map, 1/mm) as a symmetric
+    /// 3×3 tensor in the tangent plane (`K n = 0`), global frame. Positive
+    /// eigenvalues: the surface curves away from the blank side (convex
+    /// towards the blank, like a punch nose).
+    pub curvature: Mat3,
+    /// Principal curvatures `k1 ≥ k2` (1/mm), eigenvalues of `curvature` in the tangent plane.
+    pub k1: f64,
+    /// Second principal curvature (1/mm).
+    pub k2: f64,
+    /// Patch (or facet) index: pass back as a [`ProjectionHint`].
+    pub patch: u32,
+    /// Surface parameter `u` on that patch.
+    pub u: f64,
+    /// Surface parameter `v` on that patch.
+    pub v: f64,
+}
+
+impl Projection {
+    /// The hint that warm-starts the next projection of the same point.
+    pub fn hint(&self) -> ProjectionHint {
+        ProjectionHint {
+            patch: self.patch,
+            u: self.u,
+            v: self.v,
+        }
+    }
+}
+
+/// A rigid tool surface that contact can query.
+///
+/// Implementations must never fail to project a finite point: a point at
+/// NaN or infinity is the only error. Equidistant candidates are resolved
+/// deterministically (lowest patch index, then lowest `(u, v)`).
+pub trait ToolSurface: Send + Sync {
+    /// The tool's name as the scene gives it (`punch`, `die`, …).
+    fn name(&self) -> &str;
+
+    /// The current rigid pose.
+    fn pose(&self) -> RigidPose;
+
+    /// Place the tool (the press scheduler calls this once per step).
+    fn set_pose(&mut self, pose: RigidPose, velocity: RigidVelocity);
+
+    /// The current rigid velocity.
+    fn velocity(&self) -> RigidVelocity;
+
+    /// Velocity (mm/s) of the tool's material point at global position `x`.
+    fn velocity_at(&self, x: &Vec3) -> Vec3 {
+        let v = self.velocity();
+        v.linear + v.angular.cross(&(x - self.pose().translation))
+    }
+
+    /// Bounding box of the surface at its current pose (mm).
+    fn bounding_box(&self) -> Aabb;
+
+    /// Closest point of the surface to `x` (global frame), warm-started from
+    /// `hint` when given. Errors only for a non-finite `x`.
+    fn project(&self, x: &Vec3, hint: Option<ProjectionHint>) -> Result<Projection, ToolError>;
+
+    /// Project many points; `hints[i]` is read as the warm start of
+    /// `points[i]` and `out[i]` receives its answer. The default loops over
+    /// [`ToolSurface::project`]; implementations may parallelise.
+    fn project_batch(
+        &self,
+        points: &[Vec3],
+        hints: &[Option<ProjectionHint>],
+        out: &mut [Projection],
+    ) -> Result<(), ToolError> {
+        for ((x, h), o) in points.iter().zip(hints).zip(out.iter_mut()) {
+            *o = self.project(x, *h)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pose_round_trip_and_box_distance() {
+        let c = std::f64::consts::FRAC_1_SQRT_2;
+        let pose = RigidPose {
+            translation: Vec3::new(1.0, 2.0, 3.0),
+            rotation: Mat3::new(c, -c, 0.0, c, c, 0.0, 0.0, 0.0, 1.0),
+        };
+        let x = Vec3::new(0.3, -4.0, 7.5);
+        assert!((pose.to_local(&pose.to_global(&x)) - x).norm() < 1e-14);
+        let mut b = Aabb::empty();
+        b.grow(&Vec3::zeros());
+        b.grow(&Vec3::new(1.0, 1.0, 1.0));
+        assert_eq!(b.distance(&Vec3::new(0.5, 0.5, 0.5)), 0.0);
+        assert!((b.distance(&Vec3::new(4.0, 5.0, 0.5)) - 5.0).abs() < 1e-14);
+    }
+}
