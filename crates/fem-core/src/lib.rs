@@ -1,0 +1,1 @@
+//! # fem-core: the explicit engine (skeleton; issue 4).

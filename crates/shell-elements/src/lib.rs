@@ -1,0 +1,1 @@
+//! # shell-elements: Belytschko–Tsay family shells and plane-stress J2 plasticity (skeleton; issue 4).

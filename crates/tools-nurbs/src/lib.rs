@@ -1,0 +1,1 @@
+//! # tools-nurbs: rigid NURBS and faceted tools (skeleton; issue 3).
