@@ -1,0 +1,426 @@
+//! The blank as contact sees it: quad connectivity, nodal areas, normals, and the
+//! nodal velocity and deformation gradients that some formulations read.
+//!
+//! Only what the active friction components declare ([`plugins_api::PointNeeds`],
+//! friction-math §6) is computed: [`BlankGeometry::update`] takes the union of
+//! the needs and skips the gradients nobody reads.
+
+use plugins_api::{Mat3, PointNeeds, Vec3};
+
+use crate::ContactError;
+
+/// The blank's nodal data for one contact step (global frame).
+#[derive(Clone, Copy, Debug)]
+pub struct BlankView<'a> {
+    /// Initial nodal positions (mm).
+    pub x0: &'a [Vec3],
+    /// Nodal positions at `t_{n+1}` (mm).
+    pub x: &'a [Vec3],
+    /// Nodal velocities at `t_{n+1/2}` (mm/s).
+    pub v: &'a [Vec3],
+    /// Lumped nodal masses (tonne), for normal damping.
+    pub mass: &'a [f64],
+    /// Current nodal shell thickness (mm).
+    pub thickness: &'a [f64],
+    /// Flow stress at the top fibre (side of `+n_blank`) and the bottom fibre, per
+    /// node (MPa); needed only by laws that declare [`PointNeeds::FLOW_STRESS`].
+    pub flow_stress: Option<(&'a [f64], &'a [f64])>,
+}
+
+/// Quad connectivity with node → quad adjacency, and per-step nodal geometry.
+#[derive(Clone, Debug)]
+pub struct BlankGeometry {
+    quads: Vec<[u32; 4]>,
+    /// CSR offsets of the quads around each node.
+    offsets: Vec<u32>,
+    /// Quads around each node.
+    around: Vec<u32>,
+    /// Current nodal (tributary) area, mm².
+    pub area: Vec<f64>,
+    /// Current nodal unit normal (area-weighted mean of the quads' normals).
+    pub normal: Vec<Vec3>,
+    /// Nodal velocity gradient at mid-step (1/s), when needed.
+    pub vel_grad: Vec<Mat3>,
+    /// Nodal deformation gradient at `t_n`, when needed.
+    pub f_old: Vec<Mat3>,
+    /// Nodal deformation gradient at `t_{n+1}`, when needed.
+    pub f_new: Vec<Mat3>,
+    /// How many times the velocity gradients were evaluated (for tests and reports).
+    pub vel_grad_evaluations: u64,
+    /// How many times the deformation gradients were evaluated.
+    pub def_grad_evaluations: u64,
+    // Per-quad scratch.
+    quad_area: Vec<f64>,
+    quad_normal: Vec<Vec3>,
+    quad_l: Vec<Mat3>,
+    quad_f_old: Vec<Mat3>,
+    quad_f_new: Vec<Mat3>,
+}
+
+/// Shape-function derivatives of the bilinear quad at its centre: `∂N/∂ξ`, `∂N/∂η`.
+const DN_DXI: [f64; 4] = [-0.25, 0.25, 0.25, -0.25];
+const DN_DETA: [f64; 4] = [-0.25, -0.25, 0.25, 0.25];
+
+/// Surface-gradient basis at the quad centre: covariant tangents and the
+/// contravariant (dual) vectors, the unit normal and the area (mm²).
+#[derive(Clone, Copy, Debug)]
+struct CentreFrame {
+    dual1: Vec3,
+    dual2: Vec3,
+    normal: Vec3,
+    area: f64,
+}
+
+fn centre_frame(x: [Vec3; 4]) -> Option<CentreFrame> {
+    let mut g1 = Vec3::zeros();
+    let mut g2 = Vec3::zeros();
+    for a in 0..4 {
+        g1 += x[a] * DN_DXI[a];
+        g2 += x[a] * DN_DETA[a];
+    }
+    let c = g1.cross(&g2);
+    let j = c.norm();
+    if j <= 0.0 || !j.is_finite() {
+        return None;
+    }
+    let normal = c / j;
+    // Dual basis: g^1 = g2 × n / j, g^2 = n × g1 / j.
+    let dual1 = g2.cross(&normal) / j;
+    let dual2 = normal.cross(&g1) / j;
+    // The quad's area: exact for a planar parallelogram, the centre-point rule otherwise.
+    Some(CentreFrame {
+        dual1,
+        dual2,
+        normal,
+        area: 4.0 * j,
+    })
+}
+
+/// `Σ_a w_a ⊗ ∇_s N_a` at the quad centre.
+fn surface_gradient(w: [Vec3; 4], f: &CentreFrame) -> Mat3 {
+    let mut g = Mat3::zeros();
+    for a in 0..4 {
+        let grad_n = f.dual1 * DN_DXI[a] + f.dual2 * DN_DETA[a];
+        g += w[a] * grad_n.transpose();
+    }
+    g
+}
+
+impl BlankGeometry {
+    /// Build the adjacency of `quads` over `n_nodes` nodes.
+    ///
+    /// # Errors
+    /// A quad referring to a node index `≥ n_nodes`.
+    pub fn new(n_nodes: usize, quads: &[[u32; 4]]) -> Result<Self, ContactError> {
+        let mut count = vec![0u32; n_nodes + 1];
+        for (e, q) in quads.iter().enumerate() {
+            for &a in q {
+                if a as usize >= n_nodes {
+                    return Err(ContactError::Mesh(format!(
+                        "element {e} refers to node {a}, but the blank has {n_nodes} nodes"
+                    )));
+                }
+                count[a as usize + 1] += 1;
+            }
+        }
+        for i in 0..n_nodes {
+            count[i + 1] += count[i];
+        }
+        let offsets = count;
+        let mut fill = offsets.clone();
+        let mut around = vec![0u32; offsets[n_nodes] as usize];
+        for (e, q) in quads.iter().enumerate() {
+            for &a in q {
+                around[fill[a as usize] as usize] = e as u32;
+                fill[a as usize] += 1;
+            }
+        }
+        let nq = quads.len();
+        Ok(Self {
+            quads: quads.to_vec(),
+            offsets,
+            around,
+            area: vec![0.0; n_nodes],
+            normal: vec![Vec3::z(); n_nodes],
+            vel_grad: Vec::new(),
+            f_old: Vec::new(),
+            f_new: Vec::new(),
+            vel_grad_evaluations: 0,
+            def_grad_evaluations: 0,
+            quad_area: vec![0.0; nq],
+            quad_normal: vec![Vec3::z(); nq],
+            quad_l: Vec::new(),
+            quad_f_old: Vec::new(),
+            quad_f_new: Vec::new(),
+        })
+    }
+
+    /// Number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.area.len()
+    }
+
+    /// The quads.
+    pub fn quads(&self) -> &[[u32; 4]] {
+        &self.quads
+    }
+
+    /// The quads around node `i`.
+    pub fn quads_around(&self, i: usize) -> &[u32] {
+        &self.around[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+    }
+
+    /// Nodal areas and normals of the configuration `x` (no allocation).
+    pub fn update_areas(&mut self, x: &[Vec3]) {
+        for (e, q) in self.quads.iter().enumerate() {
+            let xs = q.map(|a| x[a as usize]);
+            if let Some(f) = centre_frame(xs) {
+                self.quad_area[e] = f.area;
+                self.quad_normal[e] = f.normal;
+            } else {
+                self.quad_area[e] = 0.0;
+            }
+        }
+        for i in 0..self.area.len() {
+            let mut a = 0.0;
+            let mut n = Vec3::zeros();
+            for &e in self.quads_around(i) {
+                let ea = self.quad_area[e as usize];
+                a += 0.25 * ea;
+                n += self.quad_normal[e as usize] * ea;
+            }
+            self.area[i] = a;
+            let nn = n.norm();
+            if nn > 0.0 {
+                self.normal[i] = n / nn;
+            }
+        }
+    }
+
+    /// Everything the step needs for `needs`: areas and normals always; the
+    /// mid-step velocity gradient only for [`PointNeeds::SPIN`] or
+    /// [`PointNeeds::VELOCITY_GRADIENT`]; the deformation gradients at `n`
+    /// and `n+1` only for [`PointNeeds::DEFORMATION_GRADIENT`].
+    pub fn update(&mut self, blank: &BlankView<'_>, dt: f64, needs: PointNeeds) {
+        self.update_areas(blank.x);
+        let nq = self.quads.len();
+        let nn = self.area.len();
+        if needs.contains(PointNeeds::SPIN) || needs.contains(PointNeeds::VELOCITY_GRADIENT) {
+            self.vel_grad_evaluations += 1;
+            if self.quad_l.len() != nq {
+                self.quad_l = vec![Mat3::zeros(); nq];
+                self.vel_grad = vec![Mat3::zeros(); nn];
+            }
+            for (e, q) in self.quads.iter().enumerate() {
+                // Geometry at mid-step x_{n+1/2} = x_{n+1} - ½Δt v_{n+1/2}.
+                let xm = q.map(|a| blank.x[a as usize] - blank.v[a as usize] * (0.5 * dt));
+                let vs = q.map(|a| blank.v[a as usize]);
+                self.quad_l[e] = match centre_frame(xm) {
+                    Some(f) => {
+                        // L = G - (Gᵀn)⊗n: the in-plane gradient plus the rate of
+                        // the material normal, ṅ = -Gᵀn (exact for rigid motion).
+                        let g = surface_gradient(vs, &f);
+                        g - (g.transpose() * f.normal) * f.normal.transpose()
+                    }
+                    None => Mat3::zeros(),
+                };
+            }
+            Self::average(
+                &self.offsets,
+                &self.around,
+                &self.quad_area,
+                &self.quad_l,
+                &mut self.vel_grad,
+            );
+        }
+        if needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
+            self.def_grad_evaluations += 1;
+            if self.quad_f_new.len() != nq {
+                self.quad_f_old = vec![Mat3::identity(); nq];
+                self.quad_f_new = vec![Mat3::identity(); nq];
+                self.f_old = vec![Mat3::identity(); nn];
+                self.f_new = vec![Mat3::identity(); nn];
+            }
+            for (e, q) in self.quads.iter().enumerate() {
+                let x0 = q.map(|a| blank.x0[a as usize]);
+                let Some(f0) = centre_frame(x0) else {
+                    continue;
+                };
+                let xn = q.map(|a| blank.x[a as usize] - blank.v[a as usize] * dt);
+                let x1 = q.map(|a| blank.x[a as usize]);
+                self.quad_f_old[e] = deformation_gradient(xn, &f0);
+                self.quad_f_new[e] = deformation_gradient(x1, &f0);
+            }
+            Self::average(
+                &self.offsets,
+                &self.around,
+                &self.quad_area,
+                &self.quad_f_old,
+                &mut self.f_old,
+            );
+            Self::average(
+                &self.offsets,
+                &self.around,
+                &self.quad_area,
+                &self.quad_f_new,
+                &mut self.f_new,
+            );
+        }
+    }
+
+    fn average(
+        offsets: &[u32],
+        around: &[u32],
+        weight: &[f64],
+        per_quad: &[Mat3],
+        out: &mut [Mat3],
+    ) {
+        for (i, o) in out.iter_mut().enumerate() {
+            let mut m = Mat3::zeros();
+            let mut w = 0.0;
+            for &e in &around[offsets[i] as usize..offsets[i + 1] as usize] {
+                let we = weight[e as usize];
+                m += per_quad[e as usize] * we;
+                w += we;
+            }
+            if w > 0.0 {
+                *o = m / w;
+            }
+        }
+    }
+}
+
+/// `F = Σ x_a ⊗ ∇₀N_a + n ⊗ n₀` at the quad centre (the membrane part of the
+/// shell's deformation gradient, completed by the rotation of the normal; the
+/// thickness stretch is not included).
+fn deformation_gradient(x: [Vec3; 4], f0: &CentreFrame) -> Mat3 {
+    let g = surface_gradient(x, f0);
+    match centre_frame(x) {
+        Some(f) => g + f.normal * f0.normal.transpose(),
+        None => Mat3::identity(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use plugins_api::kinematics::skew;
+
+    fn square() -> (Vec<Vec3>, Vec<[u32; 4]>) {
+        // 2×2 quads on [0,2]×[0,2], slightly distorted interior node.
+        let mut x = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                x.push(Vec3::new(i as f64, j as f64, 0.0));
+            }
+        }
+        x[4] = Vec3::new(1.1, 0.93, 0.0);
+        let q = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+        (x, q)
+    }
+
+    /// Rigid rotation: L must be the spin matrix exactly and F the rotation
+    /// (kinematic identities; tolerance 1e-12).
+    #[test]
+    fn rigid_rotation_gives_spin_and_rotation() {
+        let (x0, quads) = square();
+        let mut g = BlankGeometry::new(x0.len(), &quads).unwrap();
+        let w = Vec3::new(0.3, -0.2, 0.7);
+        let big_w = skew(&w);
+        let dt = 1e-3;
+        // Positions at n+1 after a rotation R about the origin; velocities of the rotation.
+        let r = nalgebra::Rotation3::from_scaled_axis(w * 0.5).into_inner();
+        let x: Vec<Vec3> = x0.iter().map(|p| r * p).collect();
+        // v at mid-step such that x_{n+1/2} = x - ½ dt v: use v = W x_{n+1/2} with
+        // x_{n+1/2} = x exactly is not possible for finite dt; any rigid v field
+        // v = W y on the mid-step positions y reproduces W exactly.
+        let y: Vec<Vec3> = x.clone();
+        let v: Vec<Vec3> = y.iter().map(|p| big_w * p).collect();
+        let x_shift: Vec<Vec3> = y
+            .iter()
+            .zip(&v)
+            .map(|(p, vv)| p + vv * (0.5 * dt))
+            .collect();
+        let mass = vec![1.0; x0.len()];
+        let thick = vec![1.0; x0.len()];
+        let view = BlankView {
+            x0: &x0,
+            x: &x_shift,
+            v: &v,
+            mass: &mass,
+            thickness: &thick,
+            flow_stress: None,
+        };
+        g.update(
+            &view,
+            dt,
+            PointNeeds::VELOCITY_GRADIENT | PointNeeds::DEFORMATION_GRADIENT,
+        );
+        for l in &g.vel_grad {
+            assert!((l - big_w).norm() < 1e-12, "{l}");
+        }
+        // F at n+1 of positions x_shift = R x0 + rigid shift: the rotation R'
+        // mapping x0 to x_shift is affine but not rigid, so test F at x instead.
+        let view2 = BlankView {
+            x: &x,
+            v: &vec![Vec3::zeros(); x0.len()],
+            ..view
+        };
+        g.update(&view2, dt, PointNeeds::DEFORMATION_GRADIENT);
+        for f in &g.f_new {
+            assert!((f - r).norm() < 1e-12, "{f}");
+        }
+        assert_eq!(g.vel_grad_evaluations, 1);
+        assert_eq!(g.def_grad_evaluations, 2);
+    }
+
+    /// Uniform stretch of a flat sheet: area and F (tolerance 1e-12).
+    #[test]
+    fn uniform_stretch_area_and_gradient() {
+        let (x0, quads) = square();
+        let mut g = BlankGeometry::new(x0.len(), &quads).unwrap();
+        let s = nalgebra::Matrix3::new(1.2, 0.1, 0.0, 0.0, 0.9, 0.0, 0.0, 0.0, 1.0);
+        let x: Vec<Vec3> = x0.iter().map(|p| s * p).collect();
+        let zero = vec![Vec3::zeros(); x0.len()];
+        let mass = vec![1.0; x0.len()];
+        let view = BlankView {
+            x0: &x0,
+            x: &x,
+            v: &zero,
+            mass: &mass,
+            thickness: &mass,
+            flow_stress: None,
+        };
+        g.update(&view, 1e-3, PointNeeds::DEFORMATION_GRADIENT);
+        let total: f64 = g.area.iter().sum();
+        assert!((total - 4.0 * s.determinant()).abs() < 1e-12);
+        for f in &g.f_new {
+            assert!((f - s).norm() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn convective_needs_compute_no_gradients() {
+        let (x0, quads) = square();
+        let mut g = BlankGeometry::new(x0.len(), &quads).unwrap();
+        let zero = vec![Vec3::zeros(); x0.len()];
+        let one = vec![1.0; x0.len()];
+        let view = BlankView {
+            x0: &x0,
+            x: &x0,
+            v: &zero,
+            mass: &one,
+            thickness: &one,
+            flow_stress: None,
+        };
+        g.update(&view, 1e-3, PointNeeds::NONE);
+        assert_eq!((g.vel_grad_evaluations, g.def_grad_evaluations), (0, 0));
+        assert!(g.vel_grad.is_empty() && g.f_new.is_empty());
+    }
+
+    #[test]
+    fn bad_node_index_is_named() {
+        let e = BlankGeometry::new(3, &[[0, 1, 2, 3]]).unwrap_err();
+        assert!(e.to_string().contains("element 0 refers to node 3"), "{e}");
+    }
+}
