@@ -22,11 +22,13 @@
 //! elements (it reads nodal thickness and flow stress as slices) or about scenes.
 
 mod blank;
+mod effect;
 mod error;
 mod pair;
 pub mod penalty;
 
 pub use blank::{BlankGeometry, BlankView};
+pub use effect::ContactEffect;
 pub use error::ContactError;
 pub use pair::{ContactEnergy, ContactPair, PairSpec, PointStatus, Reaction};
 pub use penalty::PenaltySettings;

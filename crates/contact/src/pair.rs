@@ -458,6 +458,39 @@ impl ContactPair {
         Ok(())
     }
 
+    /// The stable time step of the contact springs of the touching points:
+    /// `2 √(m / (k_N + k_T A))` per node (central difference on a mass between
+    /// the penalty and the stick spring, the two added as if in one direction),
+    /// with the node that limits it. `None` when nothing touches.
+    pub fn stable_dt(&self, mass: &[f64], area: &[f64]) -> Option<(f64, usize)> {
+        let k_t = self.integrator.stick_stiffness();
+        let mut best: Option<(f64, usize)> = None;
+        for (k, &node) in self.nodes.iter().enumerate() {
+            if self.status[k] == PointStatus::Open {
+                continue;
+            }
+            let i = node as usize;
+            let stiff = self.stiffness[k] + k_t * area[i];
+            if stiff > 0.0 && mass[i] > 0.0 {
+                let dt = 2.0 * (mass[i] / stiff).sqrt();
+                if best.is_none_or(|(b, _)| dt < b) {
+                    best = Some((dt, i));
+                }
+            }
+        }
+        best
+    }
+
+    /// Open every point (the pair is inactive in the current press step).
+    pub fn release(&mut self) {
+        for k in 0..self.nodes.len() {
+            self.open(k);
+            self.force[k] = Vec3::zeros();
+        }
+        self.reaction = Reaction::default();
+        self.energy.stored = 0.0;
+    }
+
     /// Mark pair point `k` open: no pressure, no traction, history cleared.
     fn open(&mut self, k: usize) {
         if self.status[k] != PointStatus::Open {

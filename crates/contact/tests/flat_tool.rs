@@ -1,63 +1,14 @@
 //! Contact against an analytic flat tool: penalty pressure, Coulomb sliding, reactions,
 //! the energy identity of a pair, and that only declared point data is computed.
 
+mod common;
+use common::Plane;
 use contact::{BlankGeometry, BlankView, ContactPair, PairSpec, PointStatus};
 use friction_laws::builtin;
 use plugins_api::{
-    Aabb, Mat3, Params, PointNeeds, Projection, ProjectionHint, RigidPose, RigidVelocity,
-    TangentMode, ToolError, ToolSurface, Vec3,
+    Aabb, Params, PointNeeds, Projection, ProjectionHint, RigidPose, RigidVelocity, TangentMode,
+    ToolError, ToolSurface, Vec3,
 };
-
-/// The plane `z = pose.translation.z`, normal +z (the blank lies above it).
-struct Plane {
-    pose: RigidPose,
-    vel: RigidVelocity,
-}
-
-impl ToolSurface for Plane {
-    fn name(&self) -> &str {
-        "plane"
-    }
-    fn pose(&self) -> RigidPose {
-        self.pose
-    }
-    fn set_pose(&mut self, pose: RigidPose, velocity: RigidVelocity) {
-        self.pose = pose;
-        self.vel = velocity;
-    }
-    fn velocity(&self) -> RigidVelocity {
-        self.vel
-    }
-    fn bounding_box(&self) -> Aabb {
-        let z = self.pose.translation.z;
-        Aabb {
-            min: Vec3::new(-1e3, -1e3, z),
-            max: Vec3::new(1e3, 1e3, z),
-        }
-    }
-    fn project(&self, x: &Vec3, _hint: Option<ProjectionHint>) -> Result<Projection, ToolError> {
-        if !x.iter().all(|c| c.is_finite()) {
-            return Err(ToolError::NonFinitePoint {
-                tool: "plane".into(),
-                x: x.x,
-                y: x.y,
-                z: x.z,
-            });
-        }
-        let z = self.pose.translation.z;
-        Ok(Projection {
-            point: Vec3::new(x.x, x.y, z),
-            normal: Vec3::z(),
-            distance: x.z - z,
-            curvature: Mat3::zeros(),
-            k1: 0.0,
-            k2: 0.0,
-            patch: 0,
-            u: x.x,
-            v: x.y,
-        })
-    }
-}
 
 /// A 4×4-quad blank on [0,4]×[0,4] at height `z`.
 fn blank(z: f64) -> (Vec<Vec3>, Vec<[u32; 4]>) {

@@ -1,0 +1,229 @@
+//! Contact as an engine effect: the tools, the press that moves them, the pairs,
+//! and the blank's nodal thickness and flow stress that the pairs read.
+
+use fem_core::{Effect, EnergyTally, FemError, Forces, NodalState, Press, StableDt, StepContext};
+use plugins_api::{PointNeeds, ToolSurface, Vec3};
+
+use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair};
+
+/// Tools, press and contact pairs over one blank, as a [`fem_core::Effect`].
+///
+/// Per step: the press (when there is one) places the tools at `t_{n+1}`; the
+/// blank's nodal geometry is updated for what the active pairs read; each pair
+/// active in the current press step adds its forces; the reactions are summed
+/// per tool (force-controlled tools read them next step). The blank's nodal
+/// thickness and flow stress come from whoever owns the shells, through
+/// [`ContactEffect::thickness_mut`] and [`ContactEffect::flow_stress_mut`];
+/// they default to the initial thickness and no flow stress.
+///
+/// At the initial force computation (`Δt = 0`) contact adds nothing: a scene
+/// starts with its tools clear of the blank or just touching it.
+pub struct ContactEffect {
+    tools: Vec<Box<dyn ToolSurface>>,
+    press: Option<Press>,
+    pairs: Vec<ContactPair>,
+    geometry: BlankGeometry,
+    needs: PointNeeds,
+    thickness: Vec<f64>,
+    flow_stress: Option<(Vec<f64>, Vec<f64>)>,
+    reactions: Vec<Vec3>,
+    /// Accumulated energies of pairs, including those of earlier press steps.
+    energy: ContactEnergy,
+}
+
+impl std::fmt::Debug for ContactEffect {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ContactEffect")
+            .field(
+                "tools",
+                &self
+                    .tools
+                    .iter()
+                    .map(|t| t.name().to_string())
+                    .collect::<Vec<_>>(),
+            )
+            .field("pairs", &self.pairs)
+            .finish()
+    }
+}
+
+impl ContactEffect {
+    /// Contact of `pairs` against `tools` over the blank `geometry` of initial
+    /// thickness `thickness` (mm, per node), moved by `press` if given.
+    ///
+    /// # Errors
+    /// A pair referring to a missing tool; a thickness list of the wrong length.
+    pub fn new(
+        tools: Vec<Box<dyn ToolSurface>>,
+        press: Option<Press>,
+        pairs: Vec<ContactPair>,
+        geometry: BlankGeometry,
+        thickness: Vec<f64>,
+    ) -> Result<Self, crate::ContactError> {
+        for p in &pairs {
+            if p.tool() >= tools.len() {
+                return Err(crate::ContactError::NoSuchTool {
+                    pair: p.name().into(),
+                    tool: p.tool(),
+                    count: tools.len(),
+                });
+            }
+        }
+        if thickness.len() != geometry.node_count() {
+            return Err(crate::ContactError::Mesh(format!(
+                "{} nodal thicknesses for {} nodes",
+                thickness.len(),
+                geometry.node_count()
+            )));
+        }
+        let needs = pairs.iter().fold(PointNeeds::NONE, |a, p| a | p.needs());
+        let n = geometry.node_count();
+        let flow_stress = needs
+            .contains(PointNeeds::FLOW_STRESS)
+            .then(|| (vec![0.0; n], vec![0.0; n]));
+        Ok(Self {
+            reactions: vec![Vec3::zeros(); tools.len()],
+            tools,
+            press,
+            pairs,
+            geometry,
+            needs,
+            thickness,
+            flow_stress,
+            energy: ContactEnergy::default(),
+        })
+    }
+
+    /// What the pairs read, united (friction-math §6).
+    pub fn needs(&self) -> PointNeeds {
+        self.needs
+    }
+
+    /// Nodal thickness (mm) the pairs read; the shell owner keeps it current.
+    pub fn thickness_mut(&mut self) -> &mut [f64] {
+        &mut self.thickness
+    }
+
+    /// Top- and bottom-fibre flow stress per node (MPa), present only when a
+    /// pair's law declares [`PointNeeds::FLOW_STRESS`].
+    pub fn flow_stress_mut(&mut self) -> Option<(&mut [f64], &mut [f64])> {
+        self.flow_stress
+            .as_mut()
+            .map(|(a, b)| (a.as_mut_slice(), b.as_mut_slice()))
+    }
+
+    /// The tools.
+    pub fn tools(&self) -> &[Box<dyn ToolSurface>] {
+        &self.tools
+    }
+
+    /// The press, if any.
+    pub fn press(&self) -> Option<&Press> {
+        self.press.as_ref()
+    }
+
+    /// The pairs.
+    pub fn pairs(&self) -> &[ContactPair] {
+        &self.pairs
+    }
+
+    /// The blank's nodal geometry as of the last step.
+    pub fn geometry(&self) -> &BlankGeometry {
+        &self.geometry
+    }
+
+    /// Force the blank exerted on each tool in the last step (N).
+    pub fn reactions(&self) -> &[Vec3] {
+        &self.reactions
+    }
+
+    /// Energies of all pairs together (N·mm).
+    pub fn energy(&self) -> ContactEnergy {
+        let mut e = self.energy;
+        e.stored = self.pairs.iter().map(|p| p.energy.stored).sum();
+        e
+    }
+}
+
+impl Effect for ContactEffect {
+    fn name(&self) -> &str {
+        "contact"
+    }
+
+    fn add_forces(
+        &mut self,
+        ctx: &StepContext,
+        state: &NodalState,
+        forces: &mut Forces,
+    ) -> Result<(), FemError> {
+        if ctx.dt <= 0.0 {
+            return Ok(());
+        }
+        if let Some(press) = &mut self.press {
+            press.advance(ctx.time, ctx.dt, &self.reactions)?;
+            for (i, tool) in self.tools.iter_mut().enumerate() {
+                tool.set_pose(press.pose(i), press.velocity(i));
+            }
+        }
+        let view = BlankView {
+            x0: &state.x0,
+            x: &state.x,
+            v: &state.v,
+            mass: &state.mass,
+            thickness: &self.thickness,
+            flow_stress: self
+                .flow_stress
+                .as_ref()
+                .map(|(a, b)| (a.as_slice(), b.as_slice())),
+        };
+        self.geometry.update(&view, ctx.dt, self.needs);
+        self.reactions.iter_mut().for_each(|r| *r = Vec3::zeros());
+        let mut friction = 0.0;
+        let mut tool_work = 0.0;
+        let mut blank_work = 0.0;
+        for (k, pair) in self.pairs.iter_mut().enumerate() {
+            let active = self.press.as_ref().is_none_or(|p| p.pair_active(k));
+            let before = pair.energy;
+            if active {
+                let tool = self.tools[pair.tool()].as_ref();
+                pair.step(tool, &self.geometry, &view, ctx.dt, &mut forces.f)
+                    .map_err(|e| FemError::Effect {
+                        effect: "contact".into(),
+                        message: e.to_string(),
+                    })?;
+                self.reactions[pair.tool()] += pair.reaction.force;
+            } else {
+                pair.release();
+            }
+            friction += pair.energy.friction - before.friction;
+            tool_work += pair.energy.tool_work - before.tool_work;
+            blank_work += pair.energy.blank_work - before.blank_work;
+        }
+        self.energy.friction += friction;
+        self.energy.tool_work += tool_work;
+        self.energy.blank_work += blank_work;
+        Ok(())
+    }
+
+    fn stable_dt(&self, state: &NodalState) -> Option<StableDt> {
+        self.pairs
+            .iter()
+            .filter_map(|p| p.stable_dt(&state.mass, &self.geometry.area))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(dt, node)| StableDt {
+                dt,
+                element: node,
+                what: "contact springs (penalty + stick) at a blank node (element = node index)",
+            })
+    }
+
+    fn energies(&self) -> EnergyTally {
+        let e = self.energy();
+        EnergyTally {
+            contact: e.contact(),
+            friction: e.friction,
+            external: e.tool_work,
+            ..EnergyTally::default()
+        }
+    }
+}

@@ -1,0 +1,136 @@
+//! Time amplitudes that scale prescribed motions and loads: constant, linear ramp, C² smooth step, table.
+
+use crate::FemError;
+
+/// A dimensionless time function `A(t)` that multiplies a load or a prescribed motion.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Amplitude {
+    /// `A(t) = 1`.
+    #[default]
+    Constant,
+    /// 0 before `t0`, linear from 0 at `t0` to 1 at `t1`, 1 after.
+    Linear {
+        /// Start time (s).
+        t0: f64,
+        /// End time (s), `> t0`.
+        t1: f64,
+    },
+    /// 0 before `t0`, `6ξ⁵ − 15ξ⁴ + 10ξ³` with `ξ = (t − t0)/(t1 − t0)`, 1
+    /// after `t1`: C² (zero velocity and acceleration at both ends).
+    SmoothStep {
+        /// Start time (s).
+        t0: f64,
+        /// End time (s), `> t0`.
+        t1: f64,
+    },
+    /// Piecewise linear through `(t, A)` points with strictly increasing `t`;
+    /// held constant outside the table.
+    Table(Vec<(f64, f64)>),
+}
+
+impl Amplitude {
+    /// Check the parameters (finite times, `t1 > t0`, a non-empty strictly increasing table).
+    pub fn validate(&self) -> Result<(), FemError> {
+        let bad = |field: &str, value: f64, range: &'static str| FemError::InvalidParameter {
+            field: field.to_string(),
+            value,
+            unit: "s",
+            range,
+        };
+        match self {
+            Amplitude::Constant => Ok(()),
+            Amplitude::Linear { t0, t1 } | Amplitude::SmoothStep { t0, t1 } => {
+                if !t0.is_finite() {
+                    return Err(bad("amplitude.t0", *t0, "finite"));
+                }
+                if !(t1.is_finite() && t1 > t0) {
+                    return Err(bad("amplitude.t1", *t1, "finite and > t0"));
+                }
+                Ok(())
+            }
+            Amplitude::Table(points) => {
+                if points.is_empty() {
+                    return Err(FemError::InvalidSetup(
+                        "amplitude table is empty: give at least one (t, A) point".into(),
+                    ));
+                }
+                for (k, &(t, a)) in points.iter().enumerate() {
+                    if !t.is_finite() {
+                        return Err(bad(&format!("amplitude.table[{k}].t"), t, "finite"));
+                    }
+                    if !a.is_finite() {
+                        return Err(FemError::InvalidParameter {
+                            field: format!("amplitude.table[{k}].A"),
+                            value: a,
+                            unit: "-",
+                            range: "finite",
+                        });
+                    }
+                    if k > 0 && t <= points[k - 1].0 {
+                        return Err(bad(
+                            &format!("amplitude.table[{k}].t"),
+                            t,
+                            "strictly greater than the previous time",
+                        ));
+                    }
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// `A(t)`.
+    pub fn value(&self, t: f64) -> f64 {
+        match self {
+            Amplitude::Constant => 1.0,
+            Amplitude::Linear { t0, t1 } => ((t - t0) / (t1 - t0)).clamp(0.0, 1.0),
+            Amplitude::SmoothStep { t0, t1 } => {
+                let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
+                s * s * s * (s * (6.0 * s - 15.0) + 10.0)
+            }
+            Amplitude::Table(p) => {
+                let Some(first) = p.first() else { return 0.0 };
+                if t <= first.0 {
+                    return first.1;
+                }
+                let last = p[p.len() - 1];
+                if t >= last.0 {
+                    return last.1;
+                }
+                // First point with time > t (exists, since t < last.0).
+                let k = p.partition_point(|q| q.0 <= t);
+                let (a, b) = (p[k - 1], p[k]);
+                a.1 + (b.1 - a.1) * (t - a.0) / (b.0 - a.0)
+            }
+        }
+    }
+
+    /// `dA/dt` (1/s); for a table, the slope of the segment holding `t`.
+    pub fn rate(&self, t: f64) -> f64 {
+        match self {
+            Amplitude::Constant => 0.0,
+            Amplitude::Linear { t0, t1 } => {
+                if t >= *t0 && t <= *t1 {
+                    1.0 / (t1 - t0)
+                } else {
+                    0.0
+                }
+            }
+            Amplitude::SmoothStep { t0, t1 } => {
+                let s = (t - t0) / (t1 - t0);
+                if !(0.0..=1.0).contains(&s) {
+                    return 0.0;
+                }
+                30.0 * s * s * (s - 1.0) * (s - 1.0) / (t1 - t0)
+            }
+            Amplitude::Table(p) => {
+                if p.len() < 2 || t < p[0].0 || t >= p[p.len() - 1].0 {
+                    return 0.0;
+                }
+                let k = p.partition_point(|q| q.0 <= t);
+                let (a, b) = (p[k - 1], p[k]);
+                (b.1 - a.1) / (b.0 - a.0)
+            }
+        }
+    }
+}

@@ -1,0 +1,112 @@
+//! The `Effect` trait: anything that adds nodal forces (element families, contact, springs), with its masses, time step and energies.
+
+use crate::{FemError, Forces, NodalState, StepContext};
+use std::any::Any;
+
+/// The stable time step an effect imposes, and which of its elements limits it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StableDt {
+    /// Stable time step without safety factor (s).
+    pub dt: f64,
+    /// Index of the limiting element within the effect.
+    pub element: usize,
+    /// What limits it (e.g. `element length / wave speed`, `negative area`).
+    pub what: &'static str,
+}
+
+/// Cumulative energies an effect accounts for (mJ = N·mm).
+///
+/// `internal` excludes `hourglass` and includes plastic work; `plastic` is the
+/// dissipated part of `internal`, reported separately and never added twice.
+/// `contact` is stored (penalty) energy; `friction` is dissipated energy;
+/// `external` is work done on the model by agents the effect owns (rigid
+/// tools moved by the press, pushing the blank through contact).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EnergyTally {
+    /// Internal (strain) energy, elastic + plastic, hourglass excluded (mJ).
+    pub internal: f64,
+    /// Hourglass-control energy (mJ).
+    pub hourglass: f64,
+    /// Plastic dissipation, included in `internal` (mJ).
+    pub plastic: f64,
+    /// Contact (penalty) energy (mJ).
+    pub contact: f64,
+    /// Frictional dissipation (mJ).
+    pub friction: f64,
+    /// Work done on the model by the effect's external agents (mJ).
+    pub external: f64,
+}
+
+impl EnergyTally {
+    /// Component-wise sum.
+    pub fn add(&mut self, o: &EnergyTally) {
+        self.internal += o.internal;
+        self.hourglass += o.hourglass;
+        self.plastic += o.plastic;
+        self.contact += o.contact;
+        self.friction += o.friction;
+        self.external += o.external;
+    }
+}
+
+/// A contribution to the nodal forces: an element family, a contact pair, a spring set.
+///
+/// The solver calls, per step and per effect, [`Effect::add_forces`] once and
+/// then [`Effect::stable_dt`] once with the same state; an effect may compute
+/// its stable time step inside `add_forces` and return the cached value.
+/// Effects are called in the order they were added, one after the other.
+/// `Any` lets [`Solver::effect`](crate::Solver::effect) hand an effect back
+/// as its concrete type (to read element results after a run).
+pub trait Effect: Any + Send {
+    /// Name used in reports and errors (e.g. `bt-shell`).
+    fn name(&self) -> &str;
+
+    /// Called once before the run: add lumped masses (tonne) and rotational
+    /// inertias (tonne·mm²) computed from `state.x0`.
+    fn add_lumped_mass(&self, state: &NodalState, mass: &mut [f64], inertia: &mut [f64]) {
+        let _ = (state, mass, inertia);
+    }
+
+    /// The stable time step of this effect (without safety factor) and which
+    /// element limits it, for the configuration in `state` (masses included);
+    /// `None` if it imposes none.
+    fn stable_dt(&self, state: &NodalState) -> Option<StableDt> {
+        let _ = state;
+        None
+    }
+
+    /// Fixed-time-step mass scaling: add mass/inertia so that every element's
+    /// stable time step (without safety factor) is `>= target_dt`; return the
+    /// added translational mass (tonne). `mass`/`inertia` hold the current
+    /// lumped values (the solver swaps them in afterwards; `state.mass` still
+    /// holds the old ones during the call). Called at set-up, after
+    /// [`Effect::add_lumped_mass`] and before the first
+    /// [`Effect::add_forces`], and during the run (after `add_forces`)
+    /// whenever `safety × stable dt` falls below the target.
+    fn scale_mass(
+        &mut self,
+        state: &NodalState,
+        target_dt: f64,
+        mass: &mut [f64],
+        inertia: &mut [f64],
+    ) -> f64 {
+        let _ = (state, target_dt, mass, inertia);
+        0.0
+    }
+
+    /// Add forces/moments for the configuration in `state` (`x` at `t_{n+1}`,
+    /// `v`/`w` at `t_{n+1/2}`), as forces acting on the nodes; update internal
+    /// state (stresses) and energies.
+    fn add_forces(
+        &mut self,
+        ctx: &StepContext,
+        state: &NodalState,
+        forces: &mut Forces,
+    ) -> Result<(), FemError>;
+
+    /// Cumulative energies this effect accounts for, at the configuration of
+    /// the last `add_forces` call (mJ).
+    fn energies(&self) -> EnergyTally {
+        EnergyTally::default()
+    }
+}

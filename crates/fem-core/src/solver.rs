@@ -1,0 +1,1211 @@
+//! The explicit solver: set-up (masses, mass scaling, initial forces), the central-difference step, run loop and output hook.
+//!
+//! # One step (`t_n → t_{n+1}`)
+//!
+//! With `Δt = Δt_{n+1/2}` (chosen at the end of the previous step) and
+//! `Δt̄ = (Δt_{n-1/2} + Δt_{n+1/2})/2`:
+//!
+//! 1. `a_n = M⁻¹ f_n`; `v_{n+1/2} = [(1 − c Δt̄/2) v_{n-1/2} + Δt̄ a_n] / (1 + c Δt̄/2)`
+//!    (`c` the dynamic-relaxation damping, 0 by default); the same for `w`
+//!    with the scalar inertia.
+//! 2. Constrained DOFs overwrite their velocity: fixed → 0, prescribed
+//!    velocity → `value · A(t_{n+1/2})`, prescribed displacement →
+//!    `(value · A(t_{n+1}) − u_n)/Δt` (so the displacement is met exactly).
+//! 3. Energy ledger at `t_n` (see [`crate::energy`]).
+//! 4. `x_{n+1} = x_n + Δt v_{n+1/2}`; `t_{n+1} = t_n + Δt`.
+//! 5. Forces at `t_{n+1}`: zero, add nodal loads `value · A(t_{n+1})`, then each effect.
+//! 6. `Δt_{n+3/2} = min(safety × min_effects stable dt, dt_max)`, with mass
+//!    scaling if configured; a collapse stops the run with an error.
+//!
+//! Nodes with zero mass (zero inertia) do not move (do not rotate): they are
+//! counted in [`SetupReport::massless_nodes`].
+
+use crate::{
+    Amplitude, BoundaryCondition, Dof, Dofs, Effect, EnergyLedger, EnergyTally, FemError, Forces,
+    Mesh, MotionKind, NodalLoad, NodalState, SolverSettings, StableDt, StepContext, Vec3,
+};
+use std::any::Any;
+use std::collections::BTreeMap;
+
+/// Handle of an effect added to a [`Solver`] (its index, in order of addition).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct EffectId(pub usize);
+
+/// The effect and element that limit the time step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DtLimit {
+    /// Index of the effect (see [`Solver::effect_name`]).
+    pub effect: usize,
+    /// Its stable time step (without safety factor) and limiting element.
+    pub stable: StableDt,
+}
+
+/// What [`Solver::initialize`] found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SetupReport {
+    /// Translational mass from the effects and point masses (tonne).
+    pub physical_mass: f64,
+    /// Mass added by mass scaling at set-up (tonne).
+    pub added_mass: f64,
+    /// `100 × added_mass / physical_mass` (%).
+    pub added_mass_percent: f64,
+    /// The first time step `Δt_{1/2}` (s), safety factor included.
+    pub dt_initial: f64,
+    /// What limits it (`None` when only `dt_max` does).
+    pub limit: Option<DtLimit>,
+    /// Nodes without translational mass (they do not move).
+    pub massless_nodes: usize,
+}
+
+/// What one step did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepReport {
+    /// Step number `n + 1` of the state now held.
+    pub step: u64,
+    /// Time of the state now held, `t_{n+1}` (s).
+    pub time: f64,
+    /// Time step just taken, `Δt_{n+1/2}` (s).
+    pub dt: f64,
+    /// Time step the next step will take, `Δt_{n+3/2}` (s).
+    pub dt_next: f64,
+    /// What limits `dt_next` (`None` when only `dt_max` does).
+    pub limit: Option<DtLimit>,
+    /// Cumulative mass added by mass scaling so far (tonne).
+    pub added_mass: f64,
+    /// Energies at `t_n` (`energy.time`), one step behind `time`.
+    pub energy: EnergyLedger,
+}
+
+/// Returned by the run-loop callback.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Control {
+    /// Go on.
+    Continue,
+    /// Stop after this step.
+    Stop,
+}
+
+/// How a [`Solver::run_until`] ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunSummary {
+    /// Steps taken by this call.
+    pub steps: u64,
+    /// Whether the callback asked to stop before `t_end`.
+    pub stopped_by_callback: bool,
+    /// Report of the last step taken (`None` if none was).
+    pub last: Option<StepReport>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum ConstraintKind {
+    Fixed,
+    /// Index into `Solver::motions`.
+    Prescribed(u32),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Constraint {
+    node: u32,
+    dof: u8,
+    kind: ConstraintKind,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct Motion {
+    kind: MotionKind,
+    value: f64,
+    amplitude: u32,
+    /// Displacement (rotation) reached so far (mm or rad).
+    done: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct LoadEntry {
+    node: u32,
+    dof: u8,
+    value: f64,
+    amplitude: u32,
+}
+
+/// Running sums of the work terms, split at the step boundaries (see `energy`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct WorkSums {
+    mass_scaling: f64,
+    loads: f64,
+    loads_pending: f64,
+    prescribed: f64,
+    prescribed_pending: f64,
+    damping_work: f64,
+    damping_pending: f64,
+}
+
+/// Energy sums of one nodal update (index 0: translations, 1: rotations).
+#[derive(Debug, Clone, Copy, Default)]
+struct Sums {
+    /// Product form `½ m v_{n-1/2}·v_{n+1/2}`.
+    ke_prod: [f64; 2],
+    /// Mid-step form `½ m |v̄_n|²`.
+    ke_mid: [f64; 2],
+    damp_cur: f64,
+    damp_pend: f64,
+    presc_cur: f64,
+    presc_pend: f64,
+}
+
+impl Sums {
+    /// Replace a constrained DOF's free contribution (velocity `vfree`) by the
+    /// constrained one (`vn`) and add the reaction's work; `f` is the nodal force.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn constrained(
+        &mut self,
+        m: f64,
+        vo: f64,
+        vfree: f64,
+        vn: f64,
+        f: f64,
+        r: usize,
+        c: f64,
+        hb: f64,
+    ) -> f64 {
+        if m > 0.0 {
+            self.ke_prod[r] += 0.5 * m * vo * (vn - vfree);
+            self.ke_mid[r] += 0.125 * m * ((vo + vn).powi(2) - (vo + vfree).powi(2));
+            if c > 0.0 {
+                let dh = -0.5 * c * m * hb * (vo + vfree);
+                self.damp_cur -= 0.5 * dh * vo;
+                self.damp_pend -= 0.5 * dh * vfree;
+            }
+        }
+        let hr = m * (vn - vo) - hb * f;
+        self.presc_cur += 0.5 * hr * vo;
+        self.presc_pend += 0.5 * hr * vn;
+        hr / hb
+    }
+}
+
+/// One node's values before its constraints are applied.
+struct Node {
+    m: f64,
+    j: f64,
+    vo: Vec3,
+    wo: Vec3,
+    f: Vec3,
+    mt: Vec3,
+}
+
+/// Apply the constraints of node `i` (starting at `k` in the node-sorted
+/// list) to its velocities; returns the index after its last constraint.
+#[allow(clippy::too_many_arguments)]
+#[cold]
+#[inline(never)]
+fn apply_constraints(
+    i: usize,
+    mut k: usize,
+    node: &Node,
+    v: &mut Vec3,
+    w: &mut Vec3,
+    constraints: &[Constraint],
+    reactions: &mut [f64],
+    motions: &mut [Motion],
+    amplitudes: &[Amplitude],
+    (t_half, t_next, dt, c, hb): (f64, f64, f64, f64, f64),
+    sums: &mut Sums,
+) -> usize {
+    while let Some(con) = constraints.get(k).filter(|con| con.node as usize == i) {
+        k += 1;
+        let axis = (con.dof % 3) as usize;
+        let rot = con.dof >= 3;
+        let (m, vo, vfree, f) = if rot {
+            (node.j, node.wo[axis], w[axis], node.mt[axis])
+        } else {
+            (node.m, node.vo[axis], v[axis], node.f[axis])
+        };
+        let vn = match con.kind {
+            ConstraintKind::Fixed => 0.0,
+            ConstraintKind::Prescribed(p) => {
+                let mo = &mut motions[p as usize];
+                let a = &amplitudes[mo.amplitude as usize];
+                let vn = match mo.kind {
+                    MotionKind::Velocity => mo.value * a.value(t_half),
+                    MotionKind::Displacement => (mo.value * a.value(t_next) - mo.done) / dt,
+                };
+                mo.done += vn * dt;
+                vn
+            }
+        };
+        if rot {
+            w[axis] = vn;
+        } else {
+            v[axis] = vn;
+        }
+        reactions[k - 1] = sums.constrained(m, vo, vfree, vn, f, rot as usize, c, hb);
+    }
+    k
+}
+
+/// The explicit solver: nodal state, effects, boundary conditions, loads and settings.
+///
+/// Build with [`Solver::new`], add effects ([`Solver::add_effect`]),
+/// boundary conditions and loads, optionally [`Solver::initialize`] (else the
+/// first step does it), then [`Solver::step`] or [`Solver::run_until`]. After
+/// an error the solver still holds the state computed so far.
+pub struct Solver {
+    settings: SolverSettings,
+    state: NodalState,
+    forces: Forces,
+    v_old: Vec<Vec3>,
+    w_old: Vec<Vec3>,
+    scratch_mass: Vec<f64>,
+    scratch_inertia: Vec<f64>,
+    node_sets: BTreeMap<String, Vec<u32>>,
+    effects: Vec<Box<dyn Effect>>,
+    point_masses: Vec<(u32, f64, f64)>,
+    constraints: Vec<Constraint>,
+    /// Reaction (N or N·mm) of each constraint at the ledger time `t_n`.
+    reactions: Vec<f64>,
+    /// Per node, bit `Dof::index` set when that DOF is constrained.
+    constrained: Vec<u8>,
+    /// Per node, bit set when that DOF is fixed.
+    fixed: Vec<u8>,
+    motions: Vec<Motion>,
+    loads: Vec<LoadEntry>,
+    amplitudes: Vec<Amplitude>,
+    amp_values: Vec<f64>,
+    time: f64,
+    step: u64,
+    dt_prev: f64,
+    dt_next: f64,
+    dt_floor: f64,
+    limit: Option<DtLimit>,
+    initialized: bool,
+    setup: Option<SetupReport>,
+    tally: EnergyTally,
+    work: WorkSums,
+    total0: f64,
+    ledger: EnergyLedger,
+    physical_mass: f64,
+    added_mass: f64,
+    land_at: Option<f64>,
+}
+
+impl Solver {
+    /// A solver at rest in the mesh's configuration (the mesh is validated).
+    pub fn new(mesh: &Mesh, settings: SolverSettings) -> Result<Self, FemError> {
+        mesh.validate()?;
+        Self::from_nodes(&mesh.nodes, mesh.node_sets.clone(), settings)
+    }
+
+    /// A solver over bare nodes and node sets (no quads; e.g. spring models).
+    pub fn from_nodes(
+        nodes: &[Vec3],
+        node_sets: BTreeMap<String, Vec<u32>>,
+        settings: SolverSettings,
+    ) -> Result<Self, FemError> {
+        settings.validate()?;
+        for (i, p) in nodes.iter().enumerate() {
+            for (axis, value) in ["x", "y", "z"].into_iter().zip(p.iter()) {
+                if !value.is_finite() {
+                    return Err(FemError::NonFiniteCoordinate {
+                        node: i,
+                        axis,
+                        value: *value,
+                    });
+                }
+            }
+        }
+        for (name, set) in &node_sets {
+            if let Some(&i) = set.iter().find(|&&i| i as usize >= nodes.len()) {
+                return Err(FemError::SetOutOfRange {
+                    kind: "node set",
+                    name: name.clone(),
+                    index: i as u64,
+                    len: nodes.len(),
+                });
+            }
+        }
+        let n = nodes.len();
+        Ok(Self {
+            settings,
+            state: NodalState::at_rest(nodes),
+            forces: Forces::zeros(n),
+            v_old: vec![Vec3::zeros(); n],
+            w_old: vec![Vec3::zeros(); n],
+            scratch_mass: vec![0.0; n],
+            scratch_inertia: vec![0.0; n],
+            node_sets,
+            effects: Vec::new(),
+            point_masses: Vec::new(),
+            constraints: Vec::new(),
+            reactions: Vec::new(),
+            constrained: vec![0; n],
+            fixed: vec![0; n],
+            motions: Vec::new(),
+            loads: Vec::new(),
+            amplitudes: Vec::new(),
+            amp_values: Vec::new(),
+            time: 0.0,
+            step: 0,
+            dt_prev: 0.0,
+            dt_next: 0.0,
+            dt_floor: 0.0,
+            limit: None,
+            initialized: false,
+            setup: None,
+            tally: EnergyTally::default(),
+            work: WorkSums::default(),
+            total0: 0.0,
+            ledger: EnergyLedger::default(),
+            physical_mass: 0.0,
+            added_mass: 0.0,
+            land_at: None,
+        })
+    }
+
+    // ----- building ---------------------------------------------------------
+
+    /// Add an effect; effects are called in the order they were added.
+    pub fn add_effect<E: Effect>(&mut self, effect: E) -> EffectId {
+        self.add_boxed_effect(Box::new(effect))
+    }
+
+    /// Add a boxed effect.
+    pub fn add_boxed_effect(&mut self, effect: Box<dyn Effect>) -> EffectId {
+        self.effects.push(effect);
+        EffectId(self.effects.len() - 1)
+    }
+
+    /// The effect `id` as its concrete type (`None` if it is another type).
+    pub fn effect<E: Effect>(&self, id: EffectId) -> Option<&E> {
+        let e: &dyn Any = self.effects.get(id.0)?.as_ref();
+        e.downcast_ref::<E>()
+    }
+
+    /// The effect `id` as its concrete type, mutable.
+    pub fn effect_mut<E: Effect>(&mut self, id: EffectId) -> Option<&mut E> {
+        let e: &mut dyn Any = self.effects.get_mut(id.0)?.as_mut();
+        e.downcast_mut::<E>()
+    }
+
+    /// Name of the effect with index `index`.
+    pub fn effect_name(&self, index: usize) -> &str {
+        self.effects.get(index).map_or("?", |e| e.name())
+    }
+
+    /// Add a point mass (tonne) and rotational inertia (tonne·mm²) to every node of `set`.
+    pub fn add_point_mass(&mut self, set: &str, mass: f64, inertia: f64) -> Result<(), FemError> {
+        for (field, value, unit) in [("mass", mass, "tonne"), ("inertia", inertia, "tonne·mm²")] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(FemError::InvalidParameter {
+                    field: format!("point mass on `{set}`: {field}"),
+                    value,
+                    unit,
+                    range: "finite and >= 0",
+                });
+            }
+        }
+        let nodes = self.set(set)?.to_vec();
+        self.point_masses
+            .extend(nodes.into_iter().map(|i| (i, mass, inertia)));
+        Ok(())
+    }
+
+    /// Set the initial velocity (mm/s) of every node of `set` (before the first step).
+    pub fn set_initial_velocity(&mut self, set: &str, v: Vec3) -> Result<(), FemError> {
+        self.require_not_initialized("set_initial_velocity")?;
+        let nodes = self.set(set)?.to_vec();
+        for i in nodes {
+            self.state.v[i as usize] = v;
+        }
+        Ok(())
+    }
+
+    /// Add a boundary condition (before the first step).
+    pub fn add_boundary_condition(&mut self, bc: &BoundaryCondition) -> Result<(), FemError> {
+        self.require_not_initialized("add_boundary_condition")?;
+        match bc {
+            BoundaryCondition::Fixed { set, dofs } => self.fix(set, *dofs),
+            BoundaryCondition::Symmetry { set, axis } => self.symmetry(set, *axis),
+            BoundaryCondition::Prescribed {
+                set,
+                dof,
+                kind,
+                value,
+                amplitude,
+            } => self.prescribe(set, *dof, *kind, *value, amplitude.clone()),
+        }
+    }
+
+    /// Fix `dofs` (zero velocity) of every node of `set`.
+    pub fn fix(&mut self, set: &str, dofs: Dofs) -> Result<(), FemError> {
+        self.require_not_initialized("fix")?;
+        let nodes = self.set(set)?.to_vec();
+        for node in nodes {
+            for dof in Dof::ALL.into_iter().filter(|d| dofs.contains(*d)) {
+                self.add_constraint(node, dof, ConstraintKind::Fixed)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// A symmetry plane through the nodes of `set` with normal along global
+    /// `axis` (0 = x, 1 = y, 2 = z): fixes the normal translation and the two
+    /// in-plane rotations (plane `x = const`: `ux`, `ry`, `rz`).
+    pub fn symmetry(&mut self, set: &str, axis: usize) -> Result<(), FemError> {
+        if axis > 2 {
+            return Err(FemError::InvalidParameter {
+                field: format!("symmetry plane on `{set}`: axis"),
+                value: axis as f64,
+                unit: "-",
+                range: "0 (x), 1 (y) or 2 (z)",
+            });
+        }
+        self.fix(set, Dofs::symmetry(axis))
+    }
+
+    /// Prescribe the motion of `dof` of every node of `set`: velocity or
+    /// displacement `value · A(t)`.
+    pub fn prescribe(
+        &mut self,
+        set: &str,
+        dof: Dof,
+        kind: MotionKind,
+        value: f64,
+        amplitude: Amplitude,
+    ) -> Result<(), FemError> {
+        self.require_not_initialized("prescribe")?;
+        if !value.is_finite() {
+            return Err(FemError::InvalidParameter {
+                field: format!("prescribed {} on `{set}`", dof.name()),
+                value,
+                unit: if dof.is_rotation() {
+                    "rad or rad/s"
+                } else {
+                    "mm or mm/s"
+                },
+                range: "finite",
+            });
+        }
+        let nodes = self.set(set)?.to_vec();
+        let amp = self.add_amplitude(amplitude)?;
+        for node in nodes {
+            self.motions.push(Motion {
+                kind,
+                value,
+                amplitude: amp,
+                done: 0.0,
+            });
+            let m = (self.motions.len() - 1) as u32;
+            self.add_constraint(node, dof, ConstraintKind::Prescribed(m))?;
+        }
+        Ok(())
+    }
+
+    /// Add a nodal load (force or moment per node, fixed global direction).
+    pub fn add_load(&mut self, load: &NodalLoad) -> Result<(), FemError> {
+        self.require_not_initialized("add_load")?;
+        if !load.value.is_finite() {
+            return Err(FemError::InvalidParameter {
+                field: format!("load {} on `{}`", load.dof.name(), load.set),
+                value: load.value,
+                unit: if load.dof.is_rotation() { "N·mm" } else { "N" },
+                range: "finite",
+            });
+        }
+        let nodes = self.set(&load.set)?.to_vec();
+        let amp = self.add_amplitude(load.amplitude.clone())?;
+        self.loads.extend(nodes.into_iter().map(|node| LoadEntry {
+            node,
+            dof: load.dof as u8,
+            value: load.value,
+            amplitude: amp,
+        }));
+        Ok(())
+    }
+
+    fn add_amplitude(&mut self, a: Amplitude) -> Result<u32, FemError> {
+        a.validate()?;
+        if let Some(k) = self.amplitudes.iter().position(|b| *b == a) {
+            return Ok(k as u32);
+        }
+        self.amplitudes.push(a);
+        self.amp_values.push(0.0);
+        Ok((self.amplitudes.len() - 1) as u32)
+    }
+
+    fn add_constraint(
+        &mut self,
+        node: u32,
+        dof: Dof,
+        kind: ConstraintKind,
+    ) -> Result<(), FemError> {
+        let d = dof as u8;
+        let bit = 1u8 << d;
+        let fixed = matches!(kind, ConstraintKind::Fixed);
+        let (c, f) = (
+            &mut self.constrained[node as usize],
+            &mut self.fixed[node as usize],
+        );
+        if *c & bit != 0 {
+            return if fixed && *f & bit != 0 {
+                Ok(())
+            } else {
+                Err(FemError::InvalidSetup(format!(
+                    "node {node}: DOF {} is constrained twice (fixed/prescribed conflict)",
+                    dof.name()
+                )))
+            };
+        }
+        *c |= bit;
+        if fixed {
+            *f |= bit;
+        }
+        self.constraints.push(Constraint { node, dof: d, kind });
+        Ok(())
+    }
+
+    fn set(&self, name: &str) -> Result<&[u32], FemError> {
+        self.node_sets
+            .get(name)
+            .map(Vec::as_slice)
+            .ok_or_else(|| FemError::UnknownSet {
+                kind: "node set",
+                name: name.to_string(),
+                known: self
+                    .node_sets
+                    .keys()
+                    .cloned()
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
+    }
+
+    fn require_not_initialized(&self, what: &str) -> Result<(), FemError> {
+        if self.initialized {
+            Err(FemError::InvalidSetup(format!(
+                "`{what}` must be called before the first step (the solver is already initialized)"
+            )))
+        } else {
+            Ok(())
+        }
+    }
+
+    // ----- access -----------------------------------------------------------
+
+    /// The nodal state (`x` at [`Solver::time`], `v`/`w` half a step behind).
+    pub fn state(&self) -> &NodalState {
+        &self.state
+    }
+
+    /// Mutable nodal state, e.g. to set initial positions or velocities before the first step.
+    pub fn state_mut(&mut self) -> &mut NodalState {
+        &mut self.state
+    }
+
+    /// Forces and moments at [`Solver::time`] (loads + effects, before constraints).
+    pub fn forces(&self) -> &Forces {
+        &self.forces
+    }
+
+    /// Time of the state (s).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.step
+    }
+
+    /// The time step the next step will take (s); 0 before initialization.
+    pub fn dt_next(&self) -> f64 {
+        self.dt_next
+    }
+
+    /// The latest energy ledger (at `t_n`, one step behind the state).
+    pub fn ledger(&self) -> &EnergyLedger {
+        &self.ledger
+    }
+
+    /// Sum of the reactions at the constrained DOFs of the nodes of `set`:
+    /// (force (N), moment (N·mm)) at the ledger time `t_n` (one step behind
+    /// the state). The reaction is the force the constraint applies to the
+    /// node, `m Δv/Δt̄ − f` per DOF; free DOFs contribute nothing.
+    pub fn reaction(&self, set: &str) -> Result<(Vec3, Vec3), FemError> {
+        let nodes = self.set(set)?;
+        let (mut f, mut m) = (Vec3::zeros(), Vec3::zeros());
+        for &node in nodes {
+            let k0 = self.constraints.partition_point(|c| c.node < node);
+            for (c, r) in self.constraints[k0..].iter().zip(&self.reactions[k0..]) {
+                if c.node != node {
+                    break;
+                }
+                if c.dof < 3 {
+                    f[c.dof as usize] += r;
+                } else {
+                    m[(c.dof - 3) as usize] += r;
+                }
+            }
+        }
+        Ok((f, m))
+    }
+
+    /// Set-up report (`None` before initialization).
+    pub fn setup_report(&self) -> Option<&SetupReport> {
+        self.setup.as_ref()
+    }
+
+    /// Mass added by mass scaling so far (tonne), and in % of the physical mass.
+    pub fn added_mass(&self) -> (f64, f64) {
+        (
+            self.added_mass,
+            100.0 * self.added_mass / self.physical_mass.max(f64::MIN_POSITIVE),
+        )
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &SolverSettings {
+        &self.settings
+    }
+
+    // ----- set-up -----------------------------------------------------------
+
+    /// Masses, mass scaling, forces at `t = 0` and the first time step.
+    /// Called by the first [`Solver::step`] if not called before; calling it
+    /// again does nothing.
+    pub fn initialize(&mut self) -> Result<SetupReport, FemError> {
+        if let Some(s) = self.setup {
+            return Ok(s);
+        }
+        self.initialized = true;
+        self.constraints.sort_by_key(|c| (c.node, c.dof));
+        self.reactions = vec![0.0; self.constraints.len()];
+        let n = self.state.len();
+        self.state.mass.iter_mut().for_each(|m| *m = 0.0);
+        self.state.inertia.iter_mut().for_each(|m| *m = 0.0);
+        {
+            let (state, mass, inertia) = (
+                &self.state,
+                &mut self.scratch_mass,
+                &mut self.scratch_inertia,
+            );
+            mass.iter_mut().for_each(|m| *m = 0.0);
+            inertia.iter_mut().for_each(|m| *m = 0.0);
+            for e in &self.effects {
+                e.add_lumped_mass(state, mass, inertia);
+            }
+        }
+        std::mem::swap(&mut self.state.mass, &mut self.scratch_mass);
+        std::mem::swap(&mut self.state.inertia, &mut self.scratch_inertia);
+        for &(i, m, j) in &self.point_masses {
+            self.state.mass[i as usize] += m;
+            self.state.inertia[i as usize] += j;
+        }
+        for (i, (&m, &j)) in self.state.mass.iter().zip(&self.state.inertia).enumerate() {
+            if !(m.is_finite() && m >= 0.0) {
+                return Err(mass_error(i, "mass (tonne)", m));
+            }
+            if !(j.is_finite() && j >= 0.0) {
+                return Err(mass_error(i, "rotational inertia (tonne·mm²)", j));
+            }
+        }
+        self.physical_mass = self.state.mass.iter().sum();
+        if let Some(target) = self.settings.mass_scaling_dt {
+            self.added_mass += self.scale_mass(target);
+        }
+        let added_setup = self.added_mass;
+        let massless_nodes = self.state.mass.iter().filter(|&&m| m == 0.0).count();
+
+        // Initial constrained velocities.
+        self.eval_amplitudes(0.0);
+        for c in &self.constraints {
+            let v = match c.kind {
+                ConstraintKind::Fixed => 0.0,
+                ConstraintKind::Prescribed(k) => {
+                    let m = &self.motions[k as usize];
+                    let a = &self.amplitudes[m.amplitude as usize];
+                    match m.kind {
+                        MotionKind::Velocity => m.value * a.value(0.0),
+                        MotionKind::Displacement => m.value * a.rate(0.0),
+                    }
+                }
+            };
+            set_dof(&mut self.state.v, &mut self.state.w, c.node, c.dof, v);
+        }
+
+        self.compute_forces(0.0, 0.0, 0)?;
+        let (dt, limit) = self.next_dt()?;
+        if !(dt.is_finite() && dt > 0.0) {
+            let (effect, element, what) = match limit {
+                Some(l) => (
+                    self.effect_name(l.effect).to_string(),
+                    l.stable.element,
+                    l.stable.what,
+                ),
+                None => ("dt_max".to_string(), 0, "settings"),
+            };
+            return Err(FemError::TimeStepCollapse {
+                time: 0.0,
+                step: 0,
+                dt,
+                floor: 0.0,
+                effect,
+                element,
+                what,
+            });
+        }
+        self.dt_next = dt;
+        self.dt_floor = self.settings.dt_floor_ratio * dt;
+        self.dt_prev = dt;
+        self.limit = limit;
+
+        // Virtual v_{-1/2} = v_0 − Δt_{1/2}/2 · a_0 for the free DOFs, so that
+        // every step, the first included, uses Δt̄ = (Δt_{n-1/2} + Δt_{n+1/2})/2.
+        for i in 0..n {
+            let (m, j) = (self.state.mass[i], self.state.inertia[i]);
+            if m > 0.0 {
+                self.state.v[i] -= self.forces.f[i] * (0.5 * dt / m);
+            }
+            if j > 0.0 {
+                self.state.w[i] -= self.forces.m[i] * (0.5 * dt / j);
+            }
+        }
+        // Constrained DOFs keep their prescribed initial velocity.
+        for c in &self.constraints {
+            let i = c.node as usize;
+            let (m, j) = (self.state.mass[i], self.state.inertia[i]);
+            let axis = (c.dof % 3) as usize;
+            if c.dof < 3 && m > 0.0 {
+                self.state.v[i][axis] += self.forces.f[i][axis] * (0.5 * dt / m);
+            } else if c.dof >= 3 && j > 0.0 {
+                self.state.w[i][axis] += self.forces.m[i][axis] * (0.5 * dt / j);
+            }
+        }
+        let report = SetupReport {
+            physical_mass: self.physical_mass,
+            added_mass: added_setup,
+            added_mass_percent: 100.0 * added_setup / self.physical_mass.max(f64::MIN_POSITIVE),
+            dt_initial: dt,
+            limit,
+            massless_nodes,
+        };
+        self.setup = Some(report);
+        Ok(report)
+    }
+
+    /// Ask every effect to add mass so that its stable dt is `>= target / safety`; returns the added mass.
+    fn scale_mass(&mut self, target: f64) -> f64 {
+        let goal = target / self.settings.safety_factor;
+        self.scratch_mass.copy_from_slice(&self.state.mass);
+        self.scratch_inertia.copy_from_slice(&self.state.inertia);
+        let mut added = 0.0;
+        for e in &mut self.effects {
+            added += e.scale_mass(
+                &self.state,
+                goal,
+                &mut self.scratch_mass,
+                &mut self.scratch_inertia,
+            );
+        }
+        std::mem::swap(&mut self.state.mass, &mut self.scratch_mass);
+        std::mem::swap(&mut self.state.inertia, &mut self.scratch_inertia);
+        added
+    }
+
+    fn eval_amplitudes(&mut self, t: f64) {
+        for (v, a) in self.amp_values.iter_mut().zip(&self.amplitudes) {
+            *v = a.value(t);
+        }
+    }
+
+    /// Zero the accumulators, add the loads at `time` and every effect's forces.
+    fn compute_forces(&mut self, time: f64, dt: f64, step: u64) -> Result<(), FemError> {
+        self.forces.clear();
+        self.eval_amplitudes(time);
+        for l in &self.loads {
+            let p = l.value * self.amp_values[l.amplitude as usize];
+            let axis = (l.dof % 3) as usize;
+            if l.dof < 3 {
+                self.forces.f[l.node as usize][axis] += p;
+            } else {
+                self.forces.m[l.node as usize][axis] += p;
+            }
+        }
+        let ctx = StepContext { time, dt, step };
+        let mut tally = EnergyTally::default();
+        for e in &mut self.effects {
+            e.add_forces(&ctx, &self.state, &mut self.forces)?;
+            tally.add(&e.energies());
+        }
+        self.tally = tally;
+        let sum: f64 = self
+            .forces
+            .f
+            .iter()
+            .zip(&self.forces.m)
+            .map(|(f, m)| f.x + f.y + f.z + m.x + m.y + m.z)
+            .sum();
+        if !sum.is_finite() {
+            let bad = |v: &Vec3| !(v.x.is_finite() && v.y.is_finite() && v.z.is_finite());
+            if let Some(i) = self.forces.f.iter().position(bad) {
+                return Err(FemError::NonFiniteState {
+                    node: i,
+                    field: "force (N)",
+                    time,
+                    step,
+                });
+            }
+            if let Some(i) = self.forces.m.iter().position(bad) {
+                return Err(FemError::NonFiniteState {
+                    node: i,
+                    field: "moment (N·mm)",
+                    time,
+                    step,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The smallest stable dt over the effects.
+    fn stable_dt(&self) -> Option<DtLimit> {
+        let mut best: Option<DtLimit> = None;
+        for (k, e) in self.effects.iter().enumerate() {
+            if let Some(s) = e.stable_dt(&self.state) {
+                // NaN compares false: a NaN dt replaces anything so that it is reported.
+                if best.is_none_or(|b| s.dt.is_nan() || s.dt < b.stable.dt) {
+                    best = Some(DtLimit {
+                        effect: k,
+                        stable: s,
+                    });
+                }
+            }
+        }
+        best
+    }
+
+    /// Next time step (safety, dt_max, mass scaling), before the collapse check.
+    fn next_dt(&mut self) -> Result<(f64, Option<DtLimit>), FemError> {
+        let sf = self.settings.safety_factor;
+        let mut limit = self.stable_dt();
+        let mut dt = limit.map_or(f64::INFINITY, |l| sf * l.stable.dt);
+        if dt.is_nan() {
+            return Ok((dt, limit));
+        }
+        if let Some(target) = self.settings.mass_scaling_dt
+            && dt < target * (1.0 - 1e-9)
+            && self.initialized
+            && self.setup.is_some()
+        {
+            self.added_mass += self.scale_mass(target);
+            // Mass added to moving nodes changes the kinetic energy by
+            // ½ Δm |v_{n+1/2}|² (exact for the product form): book it as work.
+            let st = &self.state;
+            let mut e = 0.0;
+            for i in 0..st.len() {
+                e += 0.5 * (st.mass[i] - self.scratch_mass[i]) * st.v[i].norm_squared();
+                e += 0.5 * (st.inertia[i] - self.scratch_inertia[i]) * st.w[i].norm_squared();
+            }
+            self.work.mass_scaling += e;
+            limit = self.stable_dt();
+            dt = limit.map_or(f64::INFINITY, |l| sf * l.stable.dt);
+        }
+        if let Some(target) = self.settings.mass_scaling_dt {
+            dt = dt.min(target);
+        }
+        if let Some(m) = self.settings.dt_max
+            && dt > m
+        {
+            dt = m;
+            limit = None;
+        }
+        if dt == f64::INFINITY {
+            return Err(FemError::InvalidSetup(
+                "no effect imposes a stable time step: set `dt_max` or `mass_scaling_dt`".into(),
+            ));
+        }
+        Ok((dt, limit))
+    }
+
+    // ----- stepping ---------------------------------------------------------
+
+    /// Advance one step `t_n → t_{n+1}` (initializing first if needed).
+    pub fn step(&mut self) -> Result<StepReport, FemError> {
+        self.initialize()?;
+        let first = self.step == 0;
+        let dt = self.dt_next;
+        let t_n = self.time;
+        let hb = 0.5 * (self.dt_prev + dt);
+        let c = self.settings.damping;
+        let (d1, d2) = (1.0 - 0.5 * c * hb, 1.0 / (1.0 + 0.5 * c * hb));
+
+        let t_half = t_n + 0.5 * dt;
+        let t_next = self.land_at.unwrap_or(t_n + dt);
+
+        // 1.–2. and 4., fused in one pass over the nodes: free update of every
+        // DOF, constraints (sorted by node) overwrite theirs, positions.
+        // Hot accumulators as locals (kept in registers); the constrained
+        // nodes' corrections go to `sums` on the cold path.
+        let (mut kp0, mut kp1, mut km0, mut km1) = (0.0, 0.0, 0.0, 0.0);
+        let (mut dcur, mut dpend) = (0.0, 0.0);
+        let mut sums = Sums::default();
+        let Self {
+            state: st,
+            forces,
+            v_old,
+            w_old,
+            constraints,
+            reactions,
+            constrained,
+            motions,
+            amplitudes,
+            ..
+        } = self;
+        let n = st.x.len();
+        let NodalState {
+            x: xs,
+            v: vs,
+            w: ws,
+            mass: ms,
+            inertia: js,
+            ..
+        } = st;
+        let (xs, vs, ws) = (&mut xs[..n], &mut vs[..n], &mut ws[..n]);
+        let (ms, js, cm) = (&ms[..n], &js[..n], &constrained[..n]);
+        let (fs, mts) = (&forces.f[..n], &forces.m[..n]);
+        let (vos, wos) = (&mut v_old[..n], &mut w_old[..n]);
+        let mut k = 0;
+        for i in 0..n {
+            let m = ms[i];
+            let vo = vs[i];
+            vos[i] = vo;
+            if m > 0.0 {
+                let g = hb / m;
+                let f = &fs[i];
+                let vn = Vec3::new(
+                    (vo.x * d1 + f.x * g) * d2,
+                    (vo.y * d1 + f.y * g) * d2,
+                    (vo.z * d1 + f.z * g) * d2,
+                );
+                vs[i] = vn;
+                let s = (vo.x + vn.x, vo.y + vn.y, vo.z + vn.z);
+                kp0 += m * (vo.x * vn.x + vo.y * vn.y + vo.z * vn.z);
+                km0 += m * (s.0 * s.0 + s.1 * s.1 + s.2 * s.2);
+                if c > 0.0 {
+                    dcur += m * (s.0 * vo.x + s.1 * vo.y + s.2 * vo.z);
+                    dpend += m * (s.0 * vn.x + s.1 * vn.y + s.2 * vn.z);
+                }
+            }
+            let j = js[i];
+            let wo = ws[i];
+            wos[i] = wo;
+            if j > 0.0 {
+                let g = hb / j;
+                let f = &mts[i];
+                let wn = Vec3::new(
+                    (wo.x * d1 + f.x * g) * d2,
+                    (wo.y * d1 + f.y * g) * d2,
+                    (wo.z * d1 + f.z * g) * d2,
+                );
+                ws[i] = wn;
+                let s = (wo.x + wn.x, wo.y + wn.y, wo.z + wn.z);
+                kp1 += j * (wo.x * wn.x + wo.y * wn.y + wo.z * wn.z);
+                km1 += j * (s.0 * s.0 + s.1 * s.1 + s.2 * s.2);
+                if c > 0.0 {
+                    dcur += j * (s.0 * wo.x + s.1 * wo.y + s.2 * wo.z);
+                    dpend += j * (s.0 * wn.x + s.1 * wn.y + s.2 * wn.z);
+                }
+            }
+            if cm[i] != 0 {
+                let node = Node {
+                    m,
+                    j,
+                    vo,
+                    wo,
+                    f: fs[i],
+                    mt: mts[i],
+                };
+                let times = (t_half, t_next, dt, c, hb);
+                k = apply_constraints(
+                    i,
+                    k,
+                    &node,
+                    &mut vs[i],
+                    &mut ws[i],
+                    constraints,
+                    reactions,
+                    motions,
+                    amplitudes,
+                    times,
+                    &mut sums,
+                );
+            }
+            let v = vs[i];
+            let x = &mut xs[i];
+            x.x += v.x * dt;
+            x.y += v.y * dt;
+            x.z += v.z * dt;
+        }
+
+        // Free sums: ½ m vo·vn, ⅛ m |vo+vn|², and the damping work halves
+        // ½ Δt̄ D·v with Δt̄ D = −½ c m Δt̄ (vo + vn).
+        sums.ke_prod[0] += 0.5 * kp0;
+        sums.ke_prod[1] += 0.5 * kp1;
+        sums.ke_mid[0] += 0.125 * km0;
+        sums.ke_mid[1] += 0.125 * km1;
+        sums.damp_cur += -0.25 * c * hb * dcur;
+        sums.damp_pend += -0.25 * c * hb * dpend;
+
+        // 3. Load work and the ledger at t_n.
+        let mut loads_cur = 0.0;
+        let mut loads_pend = 0.0;
+        for l in &self.loads {
+            let p = l.value * self.amp_values[l.amplitude as usize];
+            let (i, axis) = (l.node as usize, (l.dof % 3) as usize);
+            let (vo, vn) = if l.dof >= 3 {
+                (self.w_old[i][axis], self.state.w[i][axis])
+            } else {
+                (self.v_old[i][axis], self.state.v[i][axis])
+            };
+            loads_cur += 0.5 * hb * p * vo;
+            loads_pend += 0.5 * hb * p * vn;
+        }
+        let w = &mut self.work;
+        if first {
+            *w = WorkSums::default();
+        } else {
+            // (mass_scaling is booked directly when mass is added.)
+            w.loads += w.loads_pending + loads_cur;
+            w.prescribed += w.prescribed_pending + sums.presc_cur;
+            w.damping_work += w.damping_pending + sums.damp_cur;
+        }
+        w.loads_pending = loads_pend;
+        w.prescribed_pending = sums.presc_pend;
+        w.damping_pending = sums.damp_pend;
+        let (ke_prod, ke_mid) = (sums.ke_prod, sums.ke_mid);
+        let mut ledger = EnergyLedger {
+            time: t_n,
+            kinetic: ke_mid[0] + ke_mid[1],
+            kinetic_rotational: ke_mid[1],
+            integration: (ke_prod[0] + ke_prod[1]) - (ke_mid[0] + ke_mid[1]),
+            internal: self.tally.internal,
+            hourglass: self.tally.hourglass,
+            plastic: self.tally.plastic,
+            contact: self.tally.contact,
+            friction: self.tally.friction,
+            damping: -w.damping_work,
+            external_loads: w.loads,
+            external_prescribed: w.prescribed,
+            external_mass_scaling: w.mass_scaling,
+            external_tools: self.tally.external,
+            ..Default::default()
+        };
+        if first {
+            self.total0 = ledger.total();
+        }
+        ledger.close(self.total0);
+        self.ledger = ledger;
+        self.time = t_next;
+        self.land_at = None;
+        self.step += 1;
+        self.dt_prev = dt;
+
+        // 5. Forces at t_{n+1}; 6. next time step.
+        self.compute_forces(self.time, dt, self.step)?;
+        let (dt_next, limit) = self.next_dt()?;
+        self.limit = limit;
+        if !dt_next.is_finite() || dt_next < self.dt_floor {
+            let (effect, element, what) = match limit {
+                Some(l) => (
+                    self.effect_name(l.effect).to_string(),
+                    l.stable.element,
+                    l.stable.what,
+                ),
+                None => ("dt_max".to_string(), 0, "settings"),
+            };
+            return Err(FemError::TimeStepCollapse {
+                time: self.time,
+                step: self.step,
+                dt: dt_next,
+                floor: self.dt_floor,
+                effect,
+                element,
+                what,
+            });
+        }
+        self.dt_next = dt_next;
+        Ok(StepReport {
+            step: self.step,
+            time: self.time,
+            dt,
+            dt_next,
+            limit,
+            added_mass: self.added_mass,
+            energy: ledger,
+        })
+    }
+
+    /// Step until `t_end` (the last steps are shortened evenly to land on it
+    /// exactly; prefer one call with output in the callback over many short
+    /// calls),
+    /// calling `callback` after every step; stops early when it returns
+    /// [`Control::Stop`]. On error the solver keeps the state computed so far.
+    pub fn run_until<F>(&mut self, t_end: f64, callback: &mut F) -> Result<RunSummary, FemError>
+    where
+        F: FnMut(&Solver, &StepReport) -> Control,
+    {
+        if !t_end.is_finite() {
+            return Err(FemError::InvalidParameter {
+                field: "t_end".into(),
+                value: t_end,
+                unit: "s",
+                range: "finite",
+            });
+        }
+        self.initialize()?;
+        let mut summary = RunSummary {
+            steps: 0,
+            stopped_by_callback: false,
+            last: None,
+        };
+        while self.time < t_end {
+            let remaining = t_end - self.time;
+            // Land on t_end: over the last (at most) 32 steps, use equal steps
+            // remaining / N, so that Δt changes by at most ~3 % once (a sudden
+            // change of Δt disturbs the energy balance; see `energy`).
+            if self.dt_next * 32.0 >= remaining {
+                let steps = (remaining / self.dt_next * (1.0 - 1e-12)).ceil().max(1.0);
+                self.dt_next = remaining / steps;
+                if steps == 1.0 {
+                    self.land_at = Some(t_end);
+                }
+            }
+            let report = self.step()?;
+            summary.steps += 1;
+            summary.last = Some(report);
+            if callback(self, &report) == Control::Stop {
+                summary.stopped_by_callback = true;
+                break;
+            }
+        }
+        Ok(summary)
+    }
+}
+
+fn mass_error(node: usize, field: &str, value: f64) -> FemError {
+    FemError::InvalidParameter {
+        field: format!("node {node}: lumped {field}"),
+        value,
+        unit: "-",
+        range: "finite and >= 0",
+    }
+}
+
+fn set_dof(v: &mut [Vec3], w: &mut [Vec3], node: u32, dof: u8, value: f64) {
+    let axis = (dof % 3) as usize;
+    if dof < 3 {
+        v[node as usize][axis] = value;
+    } else {
+        w[node as usize][axis] = value;
+    }
+}
