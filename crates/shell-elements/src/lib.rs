@@ -1,1 +1,38 @@
-//! # shell-elements: Belytschko–Tsay family shells and plane-stress J2 plasticity (skeleton; issue 4).
+//! # shell-elements: Belytschko–Tsay family shells and plane-stress J2 plasticity
+//!
+//! Place in the pipeline: step 2 of an explicit step (design.md) — from the
+//! nodal velocities to stresses (plane-stress J2 with Swift or tabulated
+//! hardening at each through-thickness point), then to nodal forces and
+//! moments, hourglass forces, the stable time step and the element energies.
+//! It owns the element formulations ([`BelytschkoTsay`], [`FullyIntegrated`]),
+//! the [`Material`] trait and [`J2PlaneStress`], through-thickness rules and
+//! sections ([`Section`]), per-element outputs ([`ShellElementOutput`]) and
+//! [`ShellSet`], which plugs a set of shells into `fem-core`'s solver as an
+//! [`Effect`](fem_core::Effect).
+//!
+//! It must not know about tools, contact, friction or scenes; it sees the
+//! engine only through `fem-core`'s `Effect`, `NodalState` and `Forces`.
+//! Formulations, equations and verification: `docs/shells.md`.
+
+// Kernels index several fixed-size arrays with one node index.
+#![allow(clippy::needless_range_loop)]
+
+pub mod belytschko_tsay;
+pub mod error;
+pub mod formulation;
+pub mod fully_integrated;
+mod geometry;
+pub mod material;
+pub mod outputs;
+pub mod section;
+pub mod shell_set;
+
+pub use belytschko_tsay::BelytschkoTsay;
+pub use error::ShellError;
+pub use formulation::{ElementResult, ElementState, ShellFormulation};
+pub use fully_integrated::FullyIntegrated;
+pub use geometry::{V3, corotational_basis};
+pub use material::{Hardening, J2History, J2PlaneStress, Material, PointUpdate, von_mises};
+pub use outputs::{LogStrain, ShellElementOutput};
+pub use section::{RuleKind, Section, ThroughThickness};
+pub use shell_set::ShellSet;

@@ -1,0 +1,136 @@
+//! Cost of the shell element loop per element per cycle (issue 4: BT with 5
+//! points in plastic flow, aim ≤ 0.25 µs single core) and the fully
+//! integrated shell; plus the 1- vs 2-thread element loop on a 2,500- and a
+//! 10,000-element blank.
+//!
+//! Each iteration is one `ShellSet::add_forces` call (gather, stress update at
+//! every point, forces, hourglass, energies, serial scatter) on a flat blank
+//! of 1 mm steel squares driven by a biaxial stretch-and-bend velocity field;
+//! the set is pre-strained so that every point is in plastic flow.
+//! Run: `cargo bench -p shell-elements --bench element_loop`.
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use fem_core::{Effect, Forces, NodalState, StepContext, Vec3, rectangle};
+use shell_elements::{
+    BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, Section, ShellFormulation, ShellSet,
+};
+
+struct Blank<F: ShellFormulation> {
+    set: ShellSet<F, J2PlaneStress>,
+    state: NodalState,
+    forces: Forces,
+    ctx: StepContext,
+}
+
+fn blank<F: ShellFormulation>(form: F, n: usize, parallel_min: usize) -> Blank<F> {
+    let mesh = rectangle(n as f64, n as f64, n, n).unwrap();
+    let mat = J2PlaneStress::new(
+        206_000.0,
+        0.3,
+        7.85e-9,
+        Hardening::swift(565.32, 0.007117, 0.2589).unwrap(),
+    )
+    .unwrap();
+    let set = ShellSet::from_mesh(
+        "blank",
+        &mesh,
+        "all",
+        Section::new(0.78).unwrap(),
+        form,
+        mat,
+    )
+    .unwrap()
+    .with_parallel_min(parallel_min);
+    let mut state = NodalState::at_rest(&mesh.nodes);
+    let l = n as f64;
+    for (i, p) in mesh.nodes.iter().enumerate() {
+        // Strain rate 1 /s biaxial (1 : 0.5) plus a bending rotation rate.
+        state.v[i] = Vec3::new(p.x - 0.5 * l, 0.5 * (p.y - 0.5 * l), 0.0);
+        state.w[i] = Vec3::new(0.0, -2.0 * (p.x - 0.5 * l) / l, 0.0);
+    }
+    let forces = Forces::zeros(mesh.nodes.len());
+    // Δt = 2e-5 s: membrane strain increments of 2e-5 per cycle.
+    let ctx = StepContext {
+        time: 0.0,
+        dt: 2e-5,
+        step: 1,
+    };
+    let mut b = Blank {
+        set,
+        state,
+        forces,
+        ctx,
+    };
+    for _ in 0..300 {
+        b.cycle();
+    }
+    b
+}
+
+impl<F: ShellFormulation> Blank<F> {
+    fn cycle(&mut self) {
+        self.forces.clear();
+        self.set
+            .add_forces(&self.ctx, &self.state, &mut self.forces)
+            .unwrap();
+    }
+    fn plastic_fraction(&self) -> f64 {
+        let np = self.set.points_per_element();
+        let ipp = F::IN_PLANE_POINTS;
+        let n5 = np / ipp;
+        let mut plastic = 0;
+        for e in 0..self.set.len() {
+            for p in 0..ipp {
+                for k in 0..n5 {
+                    plastic += (self.set.plastic_strain(e, p, k) > 0.0) as usize;
+                }
+            }
+        }
+        plastic as f64 / (self.set.len() * np) as f64
+    }
+}
+
+fn single_thread(c: &mut Criterion) {
+    let mut g = c.benchmark_group("element_loop_1thread");
+    let mut bt = blank(BelytschkoTsay::default(), 50, usize::MAX);
+    eprintln!(
+        "BT plastic fraction of points: {:.3}",
+        bt.plastic_fraction()
+    );
+    g.throughput(Throughput::Elements(2500));
+    g.bench_function("bt_5pt_plastic_2500", |b| b.iter(|| bt.cycle()));
+    let mut fi = blank(FullyIntegrated::default(), 50, usize::MAX);
+    eprintln!(
+        "FI plastic fraction of points: {:.3}",
+        fi.plastic_fraction()
+    );
+    g.bench_function("fully_integrated_5pt_plastic_2500", |b| {
+        b.iter(|| fi.cycle())
+    });
+    g.finish();
+}
+
+fn threads(c: &mut Criterion) {
+    let mut g = c.benchmark_group("element_loop_threads");
+    for n in [50usize, 100] {
+        g.throughput(Throughput::Elements((n * n) as u64));
+        for threads in [1usize, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut bt = blank(BelytschkoTsay::default(), n, 0);
+            g.bench_function(format!("bt_{}_elements_{threads}_threads", n * n), |b| {
+                pool.install(|| b.iter(|| bt.cycle()))
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3)).warm_up_time(std::time::Duration::from_secs(1));
+    targets = single_thread, threads
+}
+criterion_main!(benches);

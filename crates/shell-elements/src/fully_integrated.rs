@@ -1,0 +1,138 @@
+//! `FullyIntegrated`: the 4-node shell with 2×2 in-plane Gauss points and Bathe–Dvorkin (MITC4) transverse shear.
+//!
+//! Same co-rotational flat frame and Mindlin kinematics as
+//! [`BelytschkoTsay`](crate::BelytschkoTsay), but the membrane and bending
+//! rates are evaluated with the exact bilinear B-matrix at each of the 2×2
+//! Gauss points (each with its own through-thickness stack), and the
+//! transverse shear is the edge-tied assumed field interpolated to each point.
+//! No zero-energy modes, so no hourglass control. One thickness per element:
+//! the 2×2 average of the thickness-strain increments updates it.
+
+use crate::formulation::{
+    ElementResult, ElementState, ShellFormulation, integrate_section, local_velocities,
+    new_thickness,
+};
+use crate::geometry::{Frame, V3, assumed_shear, b_matrix};
+use crate::material::Material;
+use crate::section::Section;
+
+/// The fully integrated shell and its options.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FullyIntegrated {
+    /// Warping (twist) correction of the curvature, as in [`BelytschkoTsay`](crate::BelytschkoTsay); default off.
+    pub warping_correction: bool,
+}
+
+const G: f64 = 0.577_350_269_189_625_8;
+const GP: [(f64, f64); 4] = [(-G, -G), (G, -G), (G, G), (-G, G)];
+
+impl ShellFormulation for FullyIntegrated {
+    const NAME: &'static str = "fully-integrated";
+    const IN_PLANE_POINTS: usize = 4;
+    const HOURGLASS_VARS: usize = 0;
+
+    #[inline]
+    fn compute<M: Material>(
+        &self,
+        mat: &M,
+        sec: &Section,
+        x: &[V3; 4],
+        v: &[V3; 4],
+        w: &[V3; 4],
+        dt: f64,
+        st: ElementState<'_, M::History>,
+    ) -> ElementResult {
+        let fr = Frame::new(x);
+        if fr.area.is_nan() || fr.area <= 0.0 {
+            return ElementResult {
+                length: fr.area,
+                ..Default::default()
+            };
+        }
+        let (vl, wl) = local_velocities(&fr, v, w);
+        let c = if self.warping_correction {
+            fr.twist()
+        } else {
+            0.0
+        };
+        let t = *st.thickness;
+        let np = sec.rule.n;
+        let g = mat.shear_modulus();
+        let ks = sec.shear_factor;
+        let mut fl = [[0.0f64; 3]; 4];
+        let mut ml = [[0.0f64; 2]; 4];
+        let mut out = ElementResult::default();
+        let mut dzz = 0.0;
+        for (p, &(xi, eta)) in GP.iter().enumerate() {
+            let (b1, b2, det) = b_matrix(&fr, xi, eta);
+            if det.is_nan() || det <= 0.0 {
+                return ElementResult {
+                    length: -1.0,
+                    ..Default::default()
+                };
+            }
+            let (mut dxx, mut dyy, mut gxy, mut kxx, mut kyy, mut kxy) =
+                (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+            for i in 0..4 {
+                dxx += b1[i] * vl[i][0];
+                dyy += b2[i] * vl[i][1];
+                gxy += b2[i] * vl[i][0] + b1[i] * vl[i][1];
+                kxx += b1[i] * wl[i][1];
+                kyy -= b2[i] * wl[i][0];
+                kxy += b2[i] * wl[i][1] - b1[i] * wl[i][0];
+            }
+            kxx += 0.5 * c * gxy;
+            kyy += 0.5 * c * gxy;
+            kxy += c * (dxx + dyy);
+            let sb = assumed_shear(&fr, xi, eta);
+            let (mut gxz, mut gyz) = (0.0, 0.0);
+            for i in 0..4 {
+                gxz += sb.xz[0][i] * vl[i][2] + sb.xz[1][i] * wl[i][0] + sb.xz[2][i] * wl[i][1];
+                gyz += sb.yz[0][i] * vl[i][2] + sb.yz[1][i] * wl[i][0] + sb.yz[2][i] * wl[i][1];
+            }
+            let sr = integrate_section(
+                mat,
+                &sec.rule,
+                t,
+                [dxx * dt, dyy * dt, gxy * dt],
+                [kxx * dt, kyy * dt, kxy * dt],
+                &mut st.stress[p * np..(p + 1) * np],
+                &mut st.history[p * np..(p + 1) * np],
+            );
+            let tau_old = st.shear[p];
+            let tau = [
+                tau_old[0] + ks * g * gxz * dt,
+                tau_old[1] + ks * g * gyz * dt,
+            ];
+            st.shear[p] = tau;
+            let shear_work =
+                t * 0.5 * ((tau_old[0] + tau[0]) * gxz + (tau_old[1] + tau[1]) * gyz) * dt;
+            out.d_internal += det * (sr.work + shear_work);
+            out.d_plastic += det * sr.dissipation;
+            dzz += 0.25 * sr.deps_zz;
+            let (nr, mr) = (sr.n, sr.m);
+            let (qx, qy) = (t * tau[0], t * tau[1]);
+            let msum = 0.5 * (mr[0] + mr[1]);
+            for i in 0..4 {
+                fl[i][0] +=
+                    det * (nr[0] * b1[i] + nr[2] * b2[i] + c * (msum * b2[i] + mr[2] * b1[i]));
+                fl[i][1] +=
+                    det * (nr[1] * b2[i] + nr[2] * b1[i] + c * (msum * b1[i] + mr[2] * b2[i]));
+                fl[i][2] += det * (qx * sb.xz[0][i] + qy * sb.yz[0][i]);
+                ml[i][0] +=
+                    det * (-mr[1] * b2[i] - mr[2] * b1[i] + qx * sb.xz[1][i] + qy * sb.yz[1][i]);
+                ml[i][1] +=
+                    det * (mr[0] * b1[i] + mr[2] * b2[i] + qx * sb.xz[2][i] + qy * sb.yz[2][i]);
+            }
+        }
+        for i in 0..4 {
+            let fg = fr.global(fl[i]);
+            let mg = fr.global([ml[i][0], ml[i][1], 0.0]);
+            out.f[i] = [-fg[0], -fg[1], -fg[2]];
+            out.m[i] = [-mg[0], -mg[1], -mg[2]];
+        }
+        out.length = fr.char_length();
+        *st.thickness = new_thickness(t, dzz);
+        out
+    }
+}

@@ -1,0 +1,68 @@
+//! The `Material` trait (plane-stress update at one integration point) and the built-in materials.
+//!
+//! A material is a parameter object shared by every point of a shell set; each
+//! point's state (stress in the element's co-rotational frame and the
+//! material's own history) is owned by the caller and passed in by reference,
+//! so the element loop stays monomorphised and allocation-free.
+
+mod hardening;
+mod j2_plane_stress;
+
+pub use hardening::Hardening;
+pub use j2_plane_stress::{J2History, J2PlaneStress};
+
+/// What a stress update reports besides the new stress.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PointUpdate {
+    /// Increment of the through-thickness (normal) strain that keeps σ_zz = 0 (-).
+    pub deps_zz: f64,
+    /// Plastic dissipation increment per unit volume (MPa = mJ/mm³).
+    pub dissipation: f64,
+}
+
+/// A plane-stress constitutive model, evaluated in the element's co-rotational frame.
+///
+/// Stresses are `[σ_xx, σ_yy, σ_xy]` (MPa, tensor shear); strain increments
+/// are `[Δε_xx, Δε_yy, Δγ_xy]` (engineering shear). Implementations keep
+/// `σ_zz = 0` exactly (to the tolerance of their local iteration) and return
+/// the thickness-strain increment that goes with it.
+pub trait Material: Clone + Send + Sync + 'static {
+    /// The state a point carries between steps (plastic strain, back stress, …).
+    type History: Copy + Send + Sync + std::fmt::Debug + 'static;
+
+    /// Short name used in reports (e.g. `j2-swift`).
+    fn name(&self) -> &'static str;
+    /// Mass density (tonne/mm³).
+    fn density(&self) -> f64;
+    /// Young's modulus E (MPa), used for wave speeds and hourglass stiffness.
+    fn young(&self) -> f64;
+    /// Poisson's ratio ν (-).
+    fn poisson(&self) -> f64;
+    /// Shear modulus G = E / (2(1+ν)) (MPa).
+    fn shear_modulus(&self) -> f64 {
+        self.young() / (2.0 * (1.0 + self.poisson()))
+    }
+    /// The history of a virgin point.
+    fn initial_history(&self) -> Self::History;
+    /// Update `stress` and `history` for the strain increment `deps`.
+    fn update(
+        &self,
+        stress: &mut [f64; 3],
+        history: &mut Self::History,
+        deps: [f64; 3],
+    ) -> PointUpdate;
+    /// Equivalent plastic strain of a point (-).
+    fn plastic_strain(&self, history: &Self::History) -> f64;
+    /// Current flow (yield) stress of a point (MPa).
+    fn flow_stress(&self, history: &Self::History) -> f64;
+    /// Equivalent (von Mises or the model's own) stress of a plane-stress state (MPa).
+    fn equivalent_stress(&self, stress: &[f64; 3]) -> f64 {
+        von_mises(stress)
+    }
+}
+
+/// Von Mises stress of a plane-stress state `[σ_xx, σ_yy, σ_xy]` (MPa).
+#[inline]
+pub fn von_mises(s: &[f64; 3]) -> f64 {
+    (s[0] * s[0] + s[1] * s[1] - s[0] * s[1] + 3.0 * s[2] * s[2]).sqrt()
+}
