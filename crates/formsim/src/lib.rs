@@ -4,7 +4,8 @@
 //! components named by the user (built-in laws, formulations, dynamic plugins)
 //! into monomorphised point integrators ([`components`]), reading prescribed
 //! contact-point histories ([`history`]) and integrating them
-//! ([`point_driver`]), and plotting ([`plot`]). Scenes, forming runs and reports
+//! ([`point_driver`]), and plotting ([`plot`]), and the rigid-tool commands ([`tools_cli`]: export,
+//! projection of points). Scenes, forming runs and reports
 //! join as the engine crates arrive. It must not re-implement physics: every
 //! friction number comes from `plugins-api`'s return mapping and the laws.
 
@@ -12,3 +13,4 @@ pub mod components;
 pub mod history;
 pub mod plot;
 pub mod point_driver;
+pub mod tools_cli;

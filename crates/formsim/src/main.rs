@@ -29,6 +29,37 @@ enum Command {
     },
     /// Integrate one contact point along a prescribed history (CSV in, CSV and PNG out).
     FrictionPoint(FrictionPointArgs),
+    /// Rigid tools of a scene's tools section: export (VTU, OBJ) or project points.
+    Tools {
+        #[command(subcommand)]
+        action: ToolsAction,
+    },
+}
+
+#[derive(Subcommand, Debug)]
+enum ToolsAction {
+    /// Write every tool of SPEC as DIR/NAME.vtu (ParaView) and DIR/NAME.obj.
+    Export {
+        /// Tools spec (TOML with [tools.NAME] tables; docs/tools.md).
+        spec: PathBuf,
+        /// Output directory.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+    },
+    /// Project the points of a CSV (columns x,y,z in mm) on one tool.
+    Project {
+        /// Tools spec (TOML).
+        spec: PathBuf,
+        /// Tool name (the NAME of [tools.NAME]).
+        #[arg(long, value_name = "NAME")]
+        tool: String,
+        /// Input CSV with columns x,y,z.
+        #[arg(long, value_name = "IN.csv")]
+        points: PathBuf,
+        /// Output CSV: px,py,pz,nx,ny,nz,distance,k1,k2,patch,u,v.
+        #[arg(long, value_name = "OUT.csv")]
+        out: PathBuf,
+    },
 }
 
 #[derive(Args, Debug)]
@@ -111,6 +142,7 @@ fn main() -> ExitCode {
             action: PluginAction::Check { path, params },
         } => plugin_check(&path, &to_params(&params)),
         Command::FrictionPoint(args) => friction_point(&args),
+        Command::Tools { action } => tools(&action),
     };
     match result {
         Ok(code) => code,
@@ -119,6 +151,26 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+fn tools(action: &ToolsAction) -> Result<ExitCode, String> {
+    match action {
+        ToolsAction::Export { spec, out } => {
+            for f in formsim::tools_cli::export(spec, out)? {
+                println!("wrote {f}");
+            }
+        }
+        ToolsAction::Project {
+            spec,
+            tool,
+            points,
+            out,
+        } => {
+            let n = formsim::tools_cli::project(spec, tool, points, out)?;
+            println!("projected {n} points on `{tool}`; wrote {}", out.display());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 fn format_default(spec: &ParamSpec) -> String {

@@ -174,7 +174,9 @@ impl Projection {
 ///
 /// Implementations must never fail to project a finite point: a point at
 /// NaN or infinity is the only error. Equidistant candidates are resolved
-/// deterministically (lowest patch index, then lowest `(u, v)`).
+/// deterministically: a cold search (no hint) takes the lowest patch index; a
+/// warm start keeps its hinted patch when the answer lies inside it, so that a
+/// point does not flip between patches from step to step.
 pub trait ToolSurface: Send + Sync {
     /// The tool's name as the scene gives it (`punch`, `die`, …).
     fn name(&self) -> &str;

@@ -1,0 +1,144 @@
+//! Closest point on one patch: bound-constrained Newton on `(u, v)` with a line search.
+//!
+//! Minimises `f(u, v) = ½ |S(u, v) - x|²` over the patch's parameter box. The
+//! Hessian is the exact one (`S_a·S_b + (S - x)·S_ab`) while it is positive
+//! definite and the Gauss–Newton one (`S_a·S_b`) otherwise. A variable sitting
+//! on its bound with the step pushing outwards is frozen and the other one is
+//! solved alone (1-D Newton along the edge); other steps are projected onto the
+//! box; a halving line search keeps `f` from increasing. The iteration stops
+//! when the physical step `|S_u δu + S_v δv|` falls below [`STEP_TOL`], and
+//! returns the last evaluated point with its derivatives (so the caller has the
+//! second derivatives for the curvature without another evaluation).
+
+use crate::surface::{Derivs, NurbsSurface};
+use plugins_api::Vec3;
+
+/// Newton stops when the physical step is below this length (mm).
+pub const STEP_TOL: f64 = 1e-11;
+const MAX_ITER: usize = 40;
+
+/// A local closest point on one patch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PatchHit {
+    /// Parameter u.
+    pub u: f64,
+    /// Parameter v.
+    pub v: f64,
+    /// Surface derivatives at `(u, v)`.
+    pub d: Derivs,
+    /// Squared distance (mm²) from the query point.
+    pub dist2: f64,
+    /// Whether the answer sits on the patch boundary with the distance still
+    /// decreasing outwards (the true closest point may be on a neighbour).
+    pub on_edge: bool,
+}
+
+/// Parameter box of a patch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamBox {
+    /// `[u_min, u_max]`.
+    pub u: [f64; 2],
+    /// `[v_min, v_max]`.
+    pub v: [f64; 2],
+}
+
+#[inline]
+fn pushes_out(t: f64, step: f64, b: [f64; 2]) -> bool {
+    (t <= b[0] && step < 0.0) || (t >= b[1] && step > 0.0)
+}
+
+/// Local closest point of `surf` to `x` starting from `(u0, v0)`.
+#[inline]
+pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -> PatchHit {
+    let mut u = u0.clamp(dom.u[0], dom.u[1]);
+    let mut v = v0.clamp(dom.v[0], dom.v[1]);
+    let mut d = surf.eval(u, v);
+    let mut r = d.s - x;
+    let mut f = r.norm_squared();
+    let mut on_edge = false;
+    for _ in 0..MAX_ITER {
+        let gu = r.dot(&d.su);
+        let gv = r.dot(&d.sv);
+        let (uu, uv, vv) = (d.su.norm_squared(), d.su.dot(&d.sv), d.sv.norm_squared());
+        let (mut huu, mut huv, mut hvv) =
+            (uu + r.dot(&d.suu), uv + r.dot(&d.suv), vv + r.dot(&d.svv));
+        if !(huu > 0.0 && hvv > 0.0 && huu * hvv - huv * huv > 1e-12 * uu * vv) {
+            (huu, huv, hvv) = (uu, uv, vv);
+        }
+        let det = huu * hvv - huv * huv;
+        let mut su = -(hvv * gu - huv * gv) / det;
+        let mut sv = -(huu * gv - huv * gu) / det;
+        let fix_u = pushes_out(u, su, dom.u);
+        let fix_v = pushes_out(v, sv, dom.v);
+        on_edge = false;
+        if fix_u && fix_v {
+            on_edge = true;
+            break;
+        } else if fix_u {
+            su = 0.0;
+            sv = -gv / hvv;
+            on_edge = true;
+            if pushes_out(v, sv, dom.v) {
+                break;
+            }
+        } else if fix_v {
+            sv = 0.0;
+            su = -gu / huu;
+            on_edge = true;
+            if pushes_out(u, su, dom.u) {
+                break;
+            }
+        }
+        let un = (u + su).clamp(dom.u[0], dom.u[1]);
+        let vn = (v + sv).clamp(dom.v[0], dom.v[1]);
+        let (su, sv) = (un - u, vn - v);
+        let step = (d.su * su + d.sv * sv).norm();
+        if step < STEP_TOL * (1.0 + f.sqrt()) || !step.is_finite() {
+            break;
+        }
+        // Near the minimum f no longer resolves the tangential error (it
+        // changes by less than its rounding), so a step that keeps f within
+        // rounding and reduces the tangential residual is accepted too.
+        let g2 = gu * gu / uu + gv * gv / vv;
+        let mut t = 1.0;
+        let mut accepted = false;
+        for _ in 0..12 {
+            let ut = u + t * su;
+            let vt = v + t * sv;
+            let dt = surf.eval(ut, vt);
+            let rt = dt.s - x;
+            let ft = rt.norm_squared();
+            let ok = ft <= f || {
+                let gtu = rt.dot(&dt.su);
+                let gtv = rt.dot(&dt.sv);
+                ft <= f * (1.0 + 1e-12) + 1e-300
+                    && gtu * gtu / dt.su.norm_squared() + gtv * gtv / dt.sv.norm_squared() < g2
+            };
+            if ok {
+                (u, v, d, r, f) = (ut, vt, dt, rt, ft);
+                accepted = true;
+                break;
+            }
+            t *= 0.5;
+        }
+        if !accepted || step * t < STEP_TOL {
+            break;
+        }
+    }
+    if !on_edge {
+        // A point on the boundary whose gradient points out of the box.
+        let eps = 1e-12 * (1.0 + f.sqrt());
+        let gu = r.dot(&d.su) / d.su.norm();
+        let gv = r.dot(&d.sv) / d.sv.norm();
+        let gu = if gu.abs() <= eps { 0.0 } else { gu };
+        let gv = if gv.abs() <= eps { 0.0 } else { gv };
+        on_edge = pushes_out(u, -gu, dom.u) || pushes_out(v, -gv, dom.v);
+    }
+    PatchHit {
+        u,
+        v,
+        d,
+        dist2: f,
+        on_edge,
+    }
+}

@@ -1,0 +1,75 @@
+//! Differential geometry at a surface point: oriented normal, tangent frame, Weingarten curvature tensor.
+//!
+//! Sign convention (the one `plugins_api::Projection` documents): `K = ∇_s n`
+//! with `n` the *oriented* normal (towards the blank). In the tangent basis
+//! `S_u, S_v`, `S_a · K · S_b = S_a · ∂_b n = -S_ab · n = -II_ab`, so
+//! `K = -J I⁻¹ II I⁻¹ Jᵀ` with `J = [S_u S_v]`, `I` and `II` the first and
+//! second fundamental forms (II taken with the oriented normal). A sphere of
+//! radius `R` seen from outside with the outward normal has
+//! `K = (1/R)(I - n⊗n)`: positive principal curvatures mean the surface
+//! bends away from the blank (a punch nose); a concave surface seen from its
+//! inside (a die cavity fillet seen from the blank) has negative ones.
+
+use crate::surface::Derivs;
+use plugins_api::{Mat3, Vec3};
+
+/// Oriented normal, tangent frame and curvature at one surface point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalGeometry {
+    /// Unit normal towards the blank side.
+    pub normal: Vec3,
+    /// Unit tangent along `S_u`.
+    pub e1: Vec3,
+    /// Unit tangent `n × e1` (right-handed frame `e1, e2, n`).
+    pub e2: Vec3,
+    /// Curvature tensor `K = ∇_s n` (1/mm), symmetric, `K n = 0`.
+    pub curvature: Mat3,
+    /// Larger principal curvature (1/mm).
+    pub k1: f64,
+    /// Smaller principal curvature (1/mm).
+    pub k2: f64,
+}
+
+/// The geometry at `d`; `sign = ±1` orients `S_u × S_v` towards the blank.
+#[inline]
+pub fn local_geometry(d: &Derivs, sign: f64) -> LocalGeometry {
+    let cross = d.su.cross(&d.sv);
+    let normal = cross * (sign / cross.norm());
+    let lu = d.su.norm();
+    let e1 = d.su / lu;
+    let e2 = normal.cross(&e1);
+    // J = T B with T = [e1 e2], B upper triangular.
+    let b11 = lu;
+    let b12 = d.sv.dot(&e1);
+    let b22 = d.sv.dot(&e2);
+    let l = d.suu.dot(&normal);
+    let m = d.suv.dot(&normal);
+    let nn = d.svv.dot(&normal);
+    // A = -B⁻ᵀ II B⁻¹, with B⁻¹ = [[1/b11, -b12/(b11 b22)], [0, 1/b22]].
+    let i11 = 1.0 / b11;
+    let i12 = -b12 / (b11 * b22);
+    let i22 = 1.0 / b22;
+    // C = II B⁻¹
+    let c11 = l * i11;
+    let c12 = l * i12 + m * i22;
+    let c21 = m * i11;
+    let c22 = m * i12 + nn * i22;
+    // A = -(B⁻ᵀ C)
+    let a11 = -(i11 * c11);
+    let a12 = -(i11 * c12);
+    let a22 = -(i12 * c12 + i22 * c22);
+    let _ = c21;
+    let mean = 0.5 * (a11 + a22);
+    let r = (0.25 * (a11 - a22) * (a11 - a22) + a12 * a12).sqrt();
+    let curvature = e1 * e1.transpose() * a11
+        + (e1 * e2.transpose() + e2 * e1.transpose()) * a12
+        + e2 * e2.transpose() * a22;
+    LocalGeometry {
+        normal,
+        e1,
+        e2,
+        curvature,
+        k1: mean + r,
+        k2: mean - r,
+    }
+}

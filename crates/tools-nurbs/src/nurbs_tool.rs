@@ -1,0 +1,376 @@
+//! A multi-patch rigid NURBS tool: oriented patches, a BVH over their knot spans, warm and cold projection.
+//!
+//! Projection (local frame; the pose maps in and out):
+//! - **warm**: Newton on the hinted patch from the hinted `(u, v)`; an
+//!   interior answer is returned at once (the explicit-step fast path, no
+//!   allocation). An answer clamped on the patch boundary, or an invalid hint,
+//!   continues with the cold search, bounded by the warm answer's distance.
+//! - **cold**: nearest-box-first traversal of the BVH over knot spans (boxes
+//!   of the spans' control points, conservative by the convex-hull property of
+//!   positive weights); for each span not farther than the best distance so
+//!   far, Newton from the nearest of a precomputed 5 × 5 seed grid of that
+//!   span. Answers on edges and corners come out of the bound-constrained
+//!   Newton (1-D Newton along the edge, or the corner itself).
+//! - **ties**: candidates within [`TIE_TOL`] of the best distance are resolved
+//!   to the lowest patch index, so a point equidistant from two patches always
+//!   gets the same one.
+
+use crate::bvh::Bvh;
+use crate::closest_point::{ParamBox, PatchHit, newton};
+use crate::differential::local_geometry;
+use crate::error::NurbsError;
+use crate::surface::{NurbsSurface, PatchDef};
+use plugins_api::{
+    Aabb, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface, Vec3,
+};
+use rayon::prelude::*;
+
+/// Distances (mm) closer than this are ties, broken by the lowest patch index.
+pub const TIE_TOL: f64 = 1e-9;
+const SEED_N: usize = 5;
+const SEEDS: usize = SEED_N * SEED_N;
+
+/// One patch of a tool with its orientation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrientedPatch {
+    /// The surface.
+    pub surface: NurbsSurface,
+    /// `+1` when `S_u × S_v` points towards the blank, `-1` when it points away.
+    pub sign: f64,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Element {
+    patch: u32,
+    bbox: Aabb,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Seed {
+    p: Vec3,
+    u: f64,
+    v: f64,
+}
+
+/// A rigid tool made of NURBS patches (see the module docs for the projection).
+#[derive(Debug, Clone)]
+pub struct NurbsTool {
+    name: String,
+    patches: Vec<OrientedPatch>,
+    domains: Vec<ParamBox>,
+    elements: Vec<Element>,
+    seeds: Vec<Seed>,
+    bvh: Bvh,
+    local_box: Aabb,
+    pose: RigidPose,
+    velocity: RigidVelocity,
+}
+
+/// The local closest point found by a search.
+#[derive(Debug, Clone, Copy)]
+struct Best {
+    patch: usize,
+    hit: PatchHit,
+    dist: f64,
+}
+
+impl NurbsTool {
+    /// A tool from validated, oriented patches (identity pose, at rest).
+    pub fn new(name: &str, patches: Vec<OrientedPatch>) -> Result<Self, NurbsError> {
+        if patches.is_empty() {
+            return Err(NurbsError::Empty {
+                tool: name.to_string(),
+            });
+        }
+        let mut domains = Vec::with_capacity(patches.len());
+        let mut elements = Vec::new();
+        let mut seeds = Vec::new();
+        let mut local_box = Aabb::empty();
+        for (pi, p) in patches.iter().enumerate() {
+            let (du, dv) = p.surface.domain();
+            domains.push(ParamBox { u: du, v: dv });
+            for &(u0, u1) in &p.surface.spans_u() {
+                for &(v0, v1) in &p.surface.spans_v() {
+                    let mut bbox = Aabb::empty();
+                    let (um, vm) = (0.5 * (u0 + u1), 0.5 * (v0 + v1));
+                    for c in p.surface.span_control_points(um, vm) {
+                        bbox.grow(&c);
+                        local_box.grow(&c);
+                    }
+                    elements.push(Element {
+                        patch: pi as u32,
+                        bbox,
+                    });
+                    for a in 0..SEED_N {
+                        for b in 0..SEED_N {
+                            let u = u0 + (u1 - u0) * a as f64 / (SEED_N - 1) as f64;
+                            let v = v0 + (v1 - v0) * b as f64 / (SEED_N - 1) as f64;
+                            seeds.push(Seed {
+                                p: p.surface.point(u, v),
+                                u,
+                                v,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        let boxes: Vec<Aabb> = elements.iter().map(|e| e.bbox).collect();
+        Ok(Self {
+            name: name.to_string(),
+            bvh: Bvh::build(&boxes),
+            patches,
+            domains,
+            elements,
+            seeds,
+            local_box,
+            pose: RigidPose::default(),
+            velocity: RigidVelocity::default(),
+        })
+    }
+
+    /// Validate patch definitions (errors name the patch index and field) and
+    /// build a tool; `signs[i] = ±1` orients patch `i` (see [`OrientedPatch`]).
+    pub fn from_defs(name: &str, defs: &[PatchDef], signs: &[f64]) -> Result<Self, NurbsError> {
+        let mut patches = Vec::with_capacity(defs.len());
+        for (i, d) in defs.iter().enumerate() {
+            patches.push(OrientedPatch {
+                surface: NurbsSurface::new(i, d)?,
+                sign: signs.get(i).copied().unwrap_or(1.0).signum(),
+            });
+        }
+        Self::new(name, patches)
+    }
+
+    /// The oriented patches (local frame).
+    pub fn patches(&self) -> &[OrientedPatch] {
+        &self.patches
+    }
+
+    /// Bounding box in the tool's local frame (mm).
+    pub fn local_box(&self) -> Aabb {
+        self.local_box
+    }
+
+    /// Number of knot spans (BVH leaves).
+    pub fn span_count(&self) -> usize {
+        self.elements.len()
+    }
+
+    #[inline]
+    fn consider(&self, best: &mut Option<Best>, patch: usize, hit: PatchHit) {
+        let dist = hit.dist2.sqrt();
+        let better = match best {
+            None => true,
+            Some(b) => dist < b.dist - TIE_TOL || (dist <= b.dist + TIE_TOL && patch < b.patch),
+        };
+        if better {
+            *best = Some(Best { patch, hit, dist });
+        }
+    }
+
+    /// Cold search over the BVH, starting from an optional bound.
+    fn search(&self, x: &Vec3, mut best: Option<Best>) -> Best {
+        let bound = best.map_or(f64::INFINITY, |b| b.dist);
+        self.bvh.nearest(x, bound, TIE_TOL, |ei, _| {
+            let e = &self.elements[ei];
+            let cur = best.map_or(f64::INFINITY, |b| b.dist);
+            if e.bbox.distance(x) > cur + TIE_TOL {
+                return cur;
+            }
+            let seeds = &self.seeds[ei * SEEDS..(ei + 1) * SEEDS];
+            let mut s0 = &seeds[0];
+            let mut d0 = f64::INFINITY;
+            for s in seeds {
+                let d = (s.p - x).norm_squared();
+                if d < d0 {
+                    d0 = d;
+                    s0 = s;
+                }
+            }
+            let pi = e.patch as usize;
+            let hit = newton(&self.patches[pi].surface, &self.domains[pi], x, s0.u, s0.v);
+            self.consider(&mut best, pi, hit);
+            best.map_or(f64::INFINITY, |b| b.dist)
+        });
+        // The BVH is never empty for a built tool, so a candidate exists.
+        best.unwrap_or_else(|| {
+            let hit = newton(&self.patches[0].surface, &self.domains[0], x, 0.0, 0.0);
+            Best {
+                patch: 0,
+                dist: hit.dist2.sqrt(),
+                hit,
+            }
+        })
+    }
+
+    /// Closest point in the local frame.
+    #[inline]
+    fn project_local(&self, x: &Vec3, hint: Option<ProjectionHint>) -> Best {
+        if let Some(h) = hint {
+            let pi = h.patch as usize;
+            if pi < self.patches.len() && h.u.is_finite() && h.v.is_finite() {
+                let hit = newton(&self.patches[pi].surface, &self.domains[pi], x, h.u, h.v);
+                let best = Best {
+                    patch: pi,
+                    dist: hit.dist2.sqrt(),
+                    hit,
+                };
+                if !hit.on_edge {
+                    return best;
+                }
+                return self.search(x, Some(best));
+            }
+        }
+        self.search(x, None)
+    }
+
+    /// The closest point of one patch only (local frame), from the best seed of
+    /// its spans: for checks across seams and for tests.
+    pub fn project_on_patch(&self, patch: usize, x: &Vec3) -> Option<Projection> {
+        let mut best: Option<Best> = None;
+        for (ei, e) in self.elements.iter().enumerate() {
+            if e.patch as usize != patch {
+                continue;
+            }
+            let seeds = &self.seeds[ei * SEEDS..(ei + 1) * SEEDS];
+            let s0 = seeds.iter().min_by(|a, b| {
+                (a.p - x)
+                    .norm_squared()
+                    .total_cmp(&(b.p - x).norm_squared())
+            })?;
+            let hit = newton(
+                &self.patches[patch].surface,
+                &self.domains[patch],
+                x,
+                s0.u,
+                s0.v,
+            );
+            self.consider(&mut best, patch, hit);
+        }
+        best.map(|b| self.finish(x, &b, &RigidPose::default()))
+    }
+
+    /// Projection in the tool's local frame (no pose applied).
+    pub fn project_local_frame(&self, x: &Vec3, hint: Option<ProjectionHint>) -> Projection {
+        let b = self.project_local(x, hint);
+        self.finish(x, &b, &RigidPose::default())
+    }
+
+    #[inline]
+    fn finish(&self, x_local: &Vec3, b: &Best, pose: &RigidPose) -> Projection {
+        let g = local_geometry(&b.hit.d, self.patches[b.patch].sign);
+        let r = x_local - b.hit.d.s;
+        let distance = if r.dot(&g.normal) < 0.0 {
+            -b.dist
+        } else {
+            b.dist
+        };
+        let rot = &pose.rotation;
+        Projection {
+            point: pose.to_global(&b.hit.d.s),
+            normal: rot * g.normal,
+            distance,
+            curvature: rot * g.curvature * rot.transpose(),
+            k1: g.k1,
+            k2: g.k2,
+            patch: b.patch as u32,
+            u: b.hit.u,
+            v: b.hit.v,
+        }
+    }
+
+    fn check_point(&self, x: &Vec3) -> Result<(), ToolError> {
+        if x.x.is_finite() && x.y.is_finite() && x.z.is_finite() {
+            Ok(())
+        } else {
+            Err(ToolError::NonFinitePoint {
+                tool: self.name.clone(),
+                x: x.x,
+                y: x.y,
+                z: x.z,
+            })
+        }
+    }
+}
+
+/// The bounding box of `local` after the rigid `pose`.
+pub fn posed_box(local: &Aabb, pose: &RigidPose) -> Aabb {
+    let mut b = Aabb::empty();
+    for i in 0..8 {
+        let c = Vec3::new(
+            if i & 1 == 0 { local.min.x } else { local.max.x },
+            if i & 2 == 0 { local.min.y } else { local.max.y },
+            if i & 4 == 0 { local.min.z } else { local.max.z },
+        );
+        b.grow(&pose.to_global(&c));
+    }
+    b
+}
+
+/// Batch projection shared by the tools: length check, then rayon over points.
+pub(crate) fn batch<T: ToolSurface + ?Sized>(
+    tool: &T,
+    points: &[Vec3],
+    hints: &[Option<ProjectionHint>],
+    out: &mut [Projection],
+) -> Result<(), ToolError> {
+    if points.len() != out.len() || (hints.len() != points.len()) {
+        return Err(ToolError::Other {
+            tool: tool.name().to_string(),
+            message: format!(
+                "project_batch: {} points, {} hints, {} outputs (lengths must match)",
+                points.len(),
+                hints.len(),
+                out.len()
+            ),
+        });
+    }
+    out.par_iter_mut()
+        .with_min_len(256)
+        .zip(points.par_iter().zip(hints.par_iter()))
+        .try_for_each(|(o, (x, h))| {
+            *o = tool.project(x, *h)?;
+            Ok(())
+        })
+}
+
+impl ToolSurface for NurbsTool {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn pose(&self) -> RigidPose {
+        self.pose
+    }
+
+    fn set_pose(&mut self, pose: RigidPose, velocity: RigidVelocity) {
+        self.pose = pose;
+        self.velocity = velocity;
+    }
+
+    fn velocity(&self) -> RigidVelocity {
+        self.velocity
+    }
+
+    fn bounding_box(&self) -> Aabb {
+        posed_box(&self.local_box, &self.pose)
+    }
+
+    #[inline]
+    fn project(&self, x: &Vec3, hint: Option<ProjectionHint>) -> Result<Projection, ToolError> {
+        self.check_point(x)?;
+        let xl = self.pose.to_local(x);
+        let b = self.project_local(&xl, hint);
+        Ok(self.finish(&xl, &b, &self.pose))
+    }
+
+    fn project_batch(
+        &self,
+        points: &[Vec3],
+        hints: &[Option<ProjectionHint>],
+        out: &mut [Projection],
+    ) -> Result<(), ToolError> {
+        batch(self, points, hints, out)
+    }
+}

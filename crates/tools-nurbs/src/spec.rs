@@ -1,0 +1,280 @@
+//! The tools section of a scene file (TOML): `[tools.NAME]` tables naming a builder (`kind`) and its keys.
+//!
+//! Keys, units and defaults are documented in `docs/tools.md`. Every tool
+//! table takes `kind`, `origin = [x, y, z]` (mm, default `[0, 0, 0]`) and
+//! `facing = "up" | "down"`; the square-cup kinds also take `model =
+//! "quarter" | "full"`. Unknown keys are errors naming the tool and the key.
+
+use crate::builders::s_rail::{self, SRailParams};
+use crate::builders::square_cup::{self, DieParams, HolderParams, PunchParams};
+use crate::builders::{Facing, Model, Placement, primitives};
+use crate::error::NurbsError;
+use crate::faceted::FacetedTool;
+use crate::mesh_io::read_mesh;
+use crate::nurbs_tool::NurbsTool;
+use plugins_api::{
+    Aabb, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface, Vec3,
+};
+use serde::de::DeserializeOwned;
+use std::path::Path;
+
+/// A tool of a spec: exact NURBS or faceted (enum dispatch, no virtual call per query).
+#[derive(Debug, Clone)]
+pub enum Tool {
+    /// Exact NURBS tool.
+    Nurbs(NurbsTool),
+    /// Triangle-mesh tool.
+    Faceted(FacetedTool),
+}
+
+macro_rules! each {
+    ($self:ident, $t:ident => $e:expr) => {
+        match $self {
+            Tool::Nurbs($t) => $e,
+            Tool::Faceted($t) => $e,
+        }
+    };
+}
+
+impl ToolSurface for Tool {
+    fn name(&self) -> &str {
+        each!(self, t => t.name())
+    }
+    fn pose(&self) -> RigidPose {
+        each!(self, t => t.pose())
+    }
+    fn set_pose(&mut self, pose: RigidPose, velocity: RigidVelocity) {
+        each!(self, t => t.set_pose(pose, velocity))
+    }
+    fn velocity(&self) -> RigidVelocity {
+        each!(self, t => t.velocity())
+    }
+    fn bounding_box(&self) -> Aabb {
+        each!(self, t => t.bounding_box())
+    }
+    fn project(&self, x: &Vec3, hint: Option<ProjectionHint>) -> Result<Projection, ToolError> {
+        each!(self, t => t.project(x, hint))
+    }
+    fn project_batch(
+        &self,
+        points: &[Vec3],
+        hints: &[Option<ProjectionHint>],
+        out: &mut [Projection],
+    ) -> Result<(), ToolError> {
+        each!(self, t => t.project_batch(points, hints, out))
+    }
+}
+
+fn spec_err(message: String) -> NurbsError {
+    NurbsError::Spec { message }
+}
+
+fn take<T: DeserializeOwned>(
+    name: &str,
+    table: &mut toml::Table,
+    key: &str,
+) -> Result<Option<T>, NurbsError> {
+    match table.remove(key) {
+        None => Ok(None),
+        Some(v) => v
+            .try_into()
+            .map(Some)
+            .map_err(|e| spec_err(format!("tool `{name}`: key `{key}`: {e}"))),
+    }
+}
+
+fn params<T: DeserializeOwned>(
+    name: &str,
+    kind: &str,
+    table: toml::Table,
+) -> Result<T, NurbsError> {
+    toml::Value::Table(table).try_into().map_err(|e| {
+        spec_err(format!(
+            "tool `{name}` (kind `{kind}`): {}",
+            e.to_string().trim()
+        ))
+    })
+}
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlaneKeys {
+    length: f64,
+    width: f64,
+}
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CylinderKeys {
+    radius: f64,
+    length: f64,
+    #[serde(default)]
+    start_deg: f64,
+    #[serde(default = "full_turn")]
+    end_deg: f64,
+}
+
+fn full_turn() -> f64 {
+    360.0
+}
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshKeys {
+    file: String,
+    #[serde(default)]
+    flip_normals: bool,
+}
+
+/// The tool kinds a spec may name.
+pub const KINDS: &[&str] = &[
+    "punch",
+    "die",
+    "blankholder",
+    "plane",
+    "cylinder",
+    "mesh",
+    "s-rail-punch",
+    "s-rail-die",
+    "s-rail-blankholder",
+];
+
+/// Build one tool from its table; `base` resolves relative mesh paths.
+pub fn build_tool(name: &str, table: &toml::Table, base: &Path) -> Result<Tool, NurbsError> {
+    let mut t = table.clone();
+    let kind: String = take(name, &mut t, "kind")?.ok_or_else(|| {
+        spec_err(format!(
+            "tool `{name}`: missing key `kind` (one of {})",
+            KINDS.join(", ")
+        ))
+    })?;
+    let origin: [f64; 3] = take(name, &mut t, "origin")?.unwrap_or([0.0; 3]);
+    if origin.iter().any(|v| !v.is_finite()) {
+        return Err(spec_err(format!(
+            "tool `{name}`: origin {origin:?} mm is not finite"
+        )));
+    }
+    let default_facing = if kind == "blankholder" {
+        Facing::Down
+    } else {
+        Facing::Up
+    };
+    let facing: Facing = take(name, &mut t, "facing")?.unwrap_or(default_facing);
+    let place = Placement {
+        origin: Vec3::from(origin),
+        facing,
+    };
+    let square = matches!(kind.as_str(), "punch" | "die" | "blankholder");
+    let model: Model = if square {
+        take(name, &mut t, "model")?.unwrap_or_default()
+    } else {
+        Model::Quarter
+    };
+    let k = kind.as_str();
+    let tool = match k {
+        "punch" => Tool::Nurbs(square_cup::punch(
+            name,
+            &params::<PunchParams>(name, k, t)?,
+            model,
+            &place,
+        )?),
+        "die" => Tool::Nurbs(square_cup::die(
+            name,
+            &params::<DieParams>(name, k, t)?,
+            model,
+            &place,
+        )?),
+        "blankholder" => Tool::Nurbs(square_cup::blankholder(
+            name,
+            &params::<HolderParams>(name, k, t)?,
+            model,
+            &place,
+        )?),
+        "plane" => {
+            let p: PlaneKeys = params(name, k, t)?;
+            Tool::Nurbs(primitives::plane(name, p.length, p.width, &place)?)
+        }
+        "cylinder" => {
+            let p: CylinderKeys = params(name, k, t)?;
+            Tool::Nurbs(primitives::cylinder(
+                name,
+                p.radius,
+                p.length,
+                p.start_deg,
+                p.end_deg,
+                &place,
+            )?)
+        }
+        "mesh" => {
+            let p: MeshKeys = params(name, k, t)?;
+            let path = base.join(&p.file);
+            let mut mesh = read_mesh(&path)?;
+            let mz = if facing == Facing::Down { -1.0 } else { 1.0 };
+            for v in &mut mesh.vertices {
+                *v = Vec3::new(v.x, v.y, mz * v.z) + place.origin;
+            }
+            // Mirroring reverses the winding.
+            Tool::Faceted(FacetedTool::new(name, &mesh, p.flip_normals ^ (mz < 0.0))?)
+        }
+        "s-rail-punch" => Tool::Nurbs(s_rail::punch(
+            name,
+            &params::<SRailParams>(name, k, t)?,
+            &place,
+        )?),
+        "s-rail-die" => Tool::Nurbs(s_rail::die(
+            name,
+            &params::<SRailParams>(name, k, t)?,
+            &place,
+        )?),
+        "s-rail-blankholder" => Tool::Nurbs(s_rail::blankholder(
+            name,
+            &params::<SRailParams>(name, k, t)?,
+            &place,
+        )?),
+        other => {
+            return Err(spec_err(format!(
+                "tool `{name}`: unknown kind `{other}` (one of {})",
+                KINDS.join(", ")
+            )));
+        }
+    };
+    Ok(tool)
+}
+
+/// Build every tool of a spec text (`[tools.NAME]` tables; other sections ignored), sorted by name.
+pub fn parse(text: &str, base: &Path) -> Result<Vec<Tool>, NurbsError> {
+    let doc: toml::Table = text
+        .parse()
+        .map_err(|e: toml::de::Error| spec_err(e.to_string().trim().to_string()))?;
+    let tools = doc
+        .get("tools")
+        .and_then(|v| v.as_table())
+        .ok_or_else(|| spec_err("no [tools] section".into()))?;
+    let mut out = Vec::new();
+    for (name, v) in tools {
+        let table = v
+            .as_table()
+            .ok_or_else(|| spec_err(format!("tools.{name} is not a table")))?;
+        out.push(build_tool(name, table, base)?);
+    }
+    if out.is_empty() {
+        return Err(spec_err("the [tools] section defines no tool".into()));
+    }
+    Ok(out)
+}
+
+/// Read and build a spec file (relative mesh paths resolve against its directory).
+pub fn load(path: &Path) -> Result<Vec<Tool>, NurbsError> {
+    let text = std::fs::read_to_string(path).map_err(|e| NurbsError::File {
+        path: path.display().to_string(),
+        message: format!("cannot read: {e}"),
+    })?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    parse(&text, base).map_err(|e| match e {
+        NurbsError::Spec { message } => NurbsError::File {
+            path: path.display().to_string(),
+            message,
+        },
+        other => other,
+    })
+}
