@@ -383,7 +383,8 @@ impl ContactPair {
         self.states
             .extend(self.active.iter().map(|&k| self.friction[k as usize]));
         self.outputs.clear();
-        self.outputs.resize(self.active.len(), zero_output());
+        self.outputs
+            .resize(self.active.len(), StepOutput::default());
         if let Err(source) =
             self.integrator
                 .step_batch(&mut self.states, &self.inputs, &mut self.outputs)
@@ -499,20 +500,5 @@ impl ContactPair {
             self.pressure[k] = 0.0;
             self.traction[k] = Vec3::zeros();
         }
-    }
-}
-
-fn zero_output() -> StepOutput {
-    StepOutput {
-        t: Vec3::zeros(),
-        tau_c: 0.0,
-        open: true,
-        stick: false,
-        dgamma: 0.0,
-        slip: Vec3::zeros(),
-        dissipation: 0.0,
-        tangent: Mat3::zeros(),
-        dt_dp: Vec3::zeros(),
-        clamped: false,
     }
 }
