@@ -19,9 +19,12 @@ const WIDTH: f64 = 4.0;
 const TAIL: f64 = 20.0;
 const H: f64 = 1.0;
 
+/// Nodes, quads and node sets of the strip.
+type Strip = (Vec<Vec3>, Vec<[u32; 4]>, BTreeMap<String, Vec<u32>>);
+
 /// Nodes and quads of the strip: a horizontal tail on top of the drum (pull end
 /// at x = TAIL), a quarter arc over the drum, a vertical tail (hold end at z = -TAIL).
-fn strip() -> (Vec<Vec3>, Vec<[u32; 4]>, BTreeMap<String, Vec<u32>>) {
+fn strip() -> Strip {
     let rm = R + 0.5 * T;
     let mut centre = Vec::new();
     let n1 = (TAIL / H).round() as usize;
