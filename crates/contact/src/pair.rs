@@ -116,6 +116,8 @@ pub struct ContactPair {
     pub pressure: Vec<f64>,
     /// Friction traction on the blank per pair point (MPa).
     pub traction: Vec<Vec3>,
+    /// Critical shear stress `τ_c` per pair point after the last step (MPa); 0 when open.
+    pub tau_c: Vec<f64>,
     /// Accumulated slip length `Σ Δγ` per pair point (mm).
     pub slip: Vec<f64>,
     /// Open / stick / slip per pair point.
@@ -222,6 +224,7 @@ impl ContactPair {
             force: vec![Vec3::zeros(); m],
             pressure: vec![0.0; m],
             traction: vec![Vec3::zeros(); m],
+            tau_c: vec![0.0; m],
             slip: vec![0.0; m],
             status: vec![PointStatus::Open; m],
             reaction: Reaction::default(),
@@ -434,6 +437,7 @@ impl ContactPair {
             self.force[k] = f;
             self.pressure[k] = p;
             self.traction[k] = out.t;
+            self.tau_c[k] = out.tau_c;
             self.slip[k] += out.dgamma;
             self.status[k] = if out.stick {
                 PointStatus::Stick
@@ -499,6 +503,7 @@ impl ContactPair {
             self.friction[k] = PointState::default();
             self.pressure[k] = 0.0;
             self.traction[k] = Vec3::zeros();
+            self.tau_c[k] = 0.0;
         }
     }
 }

@@ -231,3 +231,104 @@ fn nan_node_is_named() {
         "{e}"
     );
 }
+
+/// Drive a pressed blank under a plane that slides along x and bobs in z so that
+/// the blank lifts off and comes back; check every step that no touching point
+/// carries a traction above its `τ_c`, that open points carry none, and that
+/// everything stays finite. Returns whether a clamp was ever reported.
+fn lift_off_run(law: &str, params: Params, formulation: &str, steps: usize) -> bool {
+    let (x0, quads) = blank(0.49);
+    let mut g = BlankGeometry::new(x0.len(), &quads).unwrap();
+    let zero = vec![Vec3::zeros(); x0.len()];
+    let mass = vec![1e-6; x0.len()];
+    let thick = vec![1.0; x0.len()];
+    let view = BlankView {
+        x0: &x0,
+        x: &x0,
+        v: &zero,
+        mass: &mass,
+        thickness: &thick,
+        flow_stress: None,
+    };
+    let mut p = pair(law, params, formulation, &g, &x0);
+    let mut tool = Plane {
+        pose: RigidPose::default(),
+        vel: RigidVelocity::default(),
+    };
+    let dt = 1e-5;
+    let mut f = vec![Vec3::zeros(); x0.len()];
+    let (mut opened, mut reclosed, mut clamped) = (false, false, false);
+    for step in 0..steps {
+        let t = (step + 1) as f64 * dt;
+        // Penetration 0.01 mm at the crests, 0.01 mm clear at the troughs.
+        let z_old = tool.pose.translation.z;
+        tool.pose.translation.x = 100.0 * t;
+        tool.pose.translation.z = -0.01 * (2.0 * std::f64::consts::PI * t / (100.0 * dt)).cos();
+        tool.vel.linear = Vec3::new(100.0, 0.0, (tool.pose.translation.z - z_old) / dt);
+        g.update(&view, dt, p.needs());
+        f.iter_mut().for_each(|v| *v = Vec3::zeros());
+        p.step(&tool, &g, &view, dt, &mut f).unwrap();
+        clamped |= p.clamped;
+        let any_open = p.status.iter().any(|s| *s == PointStatus::Open);
+        if any_open {
+            opened = true;
+        } else if opened {
+            reclosed = true;
+        }
+        for k in 0..p.nodes().len() {
+            let t = p.traction[k];
+            assert!(
+                t.iter().all(|c| c.is_finite()),
+                "{law}/{formulation}: step {step}"
+            );
+            if p.status[k] == PointStatus::Open {
+                assert_eq!(t, Vec3::zeros());
+            } else {
+                assert!(
+                    t.norm() <= p.tau_c[k] * (1.0 + 1e-12) + 1e-300,
+                    "{law}/{formulation}: step {step}, point {k}: |t| = {} > tau_c = {}",
+                    t.norm(),
+                    p.tau_c[k]
+                );
+            }
+        }
+        let e = p.energy;
+        assert!(e.friction.is_finite() && e.tool_work.is_finite() && e.stored.is_finite());
+    }
+    assert!(
+        opened && reclosed,
+        "{law}/{formulation}: the run must lift off and re-close"
+    );
+    clamped
+}
+
+/// Hard case of issue 5: lift-off and re-contact under WVS (ν = 0.8,
+/// friction-math §7 square-cup values) give no traction above `τ_c` (return
+/// mapping bound of friction-math §2, relative 1e-12), for every formulation.
+#[test]
+fn wvs_lift_off_and_recontact_stay_within_tau_c() {
+    for formulation in ["convective", "jaumann", "lagrangian", "updated-lagrangian"] {
+        let params = Params::new()
+            .with("alpha", 0.03)
+            .with("beta", 0.144)
+            .with("nu", 0.8);
+        lift_off_run("wvs", params, formulation, 400);
+    }
+}
+
+/// Hard case of issue 5: WH with a steep negative slope (μ = 0.3 − 0.5 ω,
+/// clamp μ_min = 0.05) reaches its clamp within the run, without NaN and
+/// without a traction above `τ_c`.
+#[test]
+fn wh_steep_slope_hits_its_clamp_without_nan() {
+    for formulation in ["convective", "jaumann"] {
+        let params = Params::new()
+            .with("a0", 0.3)
+            .with("a1", -0.5)
+            .with("mu_min", 0.05);
+        assert!(
+            lift_off_run("wh", params, formulation, 400),
+            "{formulation}: the clamp must be reached"
+        );
+    }
+}
