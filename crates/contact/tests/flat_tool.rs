@@ -269,7 +269,7 @@ fn lift_off_run(law: &str, params: Params, formulation: &str, steps: usize) -> b
         f.iter_mut().for_each(|v| *v = Vec3::zeros());
         p.step(&tool, &g, &view, dt, &mut f).unwrap();
         clamped |= p.clamped;
-        let any_open = p.status.iter().any(|s| *s == PointStatus::Open);
+        let any_open = p.status.contains(&PointStatus::Open);
         if any_open {
             opened = true;
         } else if opened {
