@@ -1,4 +1,4 @@
-//! B-spline basis functions and their first two derivatives (Cox–de Boor), on stack buffers.
+//! Basis functions and their first two derivatives on stack buffers: B-spline (Cox–de Boor) and the Bernstein basis of one Bézier piece.
 //!
 //! The recurrences follow Piegl & Tiller, *The NURBS Book* (2nd ed.), algorithms
 //! A2.1 (span) and A2.3 (derivatives), rewritten here for fixed-size arrays so
@@ -145,7 +145,13 @@ mod tests {
 /// span), written into `ders` like [`basis_ders`].
 #[inline]
 pub fn bernstein_ders(t: f64, a: f64, b: f64, p: usize, ders: &mut [[f64; ORDER]; 3]) {
-    let inv = 1.0 / (b - a);
+    bernstein_ders_inv(t, a, 1.0 / (b - a), p, ders);
+}
+
+/// [`bernstein_ders`] on `[a, a + 1/inv]`, with the inverse width `inv` given
+/// (precomputed per knot span, so evaluation does not divide).
+#[inline(always)]
+pub fn bernstein_ders_inv(t: f64, a: f64, inv: f64, p: usize, ders: &mut [[f64; ORDER]; 3]) {
     let s = (t - a) * inv;
     let r = 1.0 - s;
     match p {

@@ -65,9 +65,9 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
         if !(huu > 0.0 && hvv > 0.0 && huu * hvv - huv * huv > 1e-12 * uu * vv) {
             (huu, huv, hvv) = (uu, uv, vv);
         }
-        let det = huu * hvv - huv * huv;
-        let mut su = -(hvv * gu - huv * gv) / det;
-        let mut sv = -(huu * gv - huv * gu) / det;
+        let idet = 1.0 / (huu * hvv - huv * huv);
+        let mut su = -(hvv * gu - huv * gv) * idet;
+        let mut sv = -(huu * gv - huv * gu) * idet;
         let fix_u = pushes_out(u, su, dom.u);
         let fix_v = pushes_out(v, sv, dom.v);
         on_edge = false;
@@ -99,7 +99,6 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
         // Near the minimum f no longer resolves the tangential error (it
         // changes by less than its rounding), so a step that keeps f within
         // rounding and reduces the tangential residual is accepted too.
-        let g2 = gu * gu / uu + gv * gv / vv;
         let mut t = 1.0;
         let mut accepted = false;
         for _ in 0..12 {
@@ -112,7 +111,8 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
                 let gtu = rt.dot(&dt.su);
                 let gtv = rt.dot(&dt.sv);
                 ft <= f * (1.0 + 1e-12) + 1e-300
-                    && gtu * gtu / dt.su.norm_squared() + gtv * gtv / dt.sv.norm_squared() < g2
+                    && gtu * gtu / dt.su.norm_squared() + gtv * gtv / dt.sv.norm_squared()
+                        < gu * gu / uu + gv * gv / vv
             };
             if ok {
                 (u, v, d, r, f) = (ut, vt, dt, rt, ft);
@@ -125,7 +125,9 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
             break;
         }
     }
-    if !on_edge {
+    // Strictly inside the box no bound can push out: skip the gradient test.
+    let at_bound = u <= dom.u[0] || u >= dom.u[1] || v <= dom.v[0] || v >= dom.v[1];
+    if !on_edge && at_bound {
         // A point on the boundary whose gradient points out of the box.
         let eps = 1e-12 * (1.0 + f.sqrt());
         let gu = r.dot(&d.su) / d.su.norm();

@@ -33,37 +33,51 @@ pub struct LocalGeometry {
 /// The geometry at `d`; `sign = ±1` orients `S_u × S_v` towards the blank.
 #[inline]
 pub fn local_geometry(d: &Derivs, sign: f64) -> LocalGeometry {
+    local_geometry_rotated(d, sign, None)
+}
+
+/// [`local_geometry`] with the frame and the tensor mapped by the rotation
+/// `rot` (a tool's pose, local → global) when one is given: the tensor is
+/// assembled once, directly in the rotated frame, from the rotated tangents
+/// (`R K Rᵀ` without the two matrix products).
+#[inline]
+pub fn local_geometry_rotated(d: &Derivs, sign: f64, rot: Option<&Mat3>) -> LocalGeometry {
     let cross = d.su.cross(&d.sv);
     let normal = cross * (sign / cross.norm());
     let lu = d.su.norm();
-    let e1 = d.su / lu;
+    let i11 = 1.0 / lu;
+    let e1 = d.su * i11;
     let e2 = normal.cross(&e1);
-    // J = T B with T = [e1 e2], B upper triangular.
-    let b11 = lu;
+    // J = T B with T = [e1 e2], B upper triangular (b11 = |S_u|).
     let b12 = d.sv.dot(&e1);
     let b22 = d.sv.dot(&e2);
     let l = d.suu.dot(&normal);
     let m = d.suv.dot(&normal);
     let nn = d.svv.dot(&normal);
     // A = -B⁻ᵀ II B⁻¹, with B⁻¹ = [[1/b11, -b12/(b11 b22)], [0, 1/b22]].
-    let i11 = 1.0 / b11;
-    let i12 = -b12 / (b11 * b22);
     let i22 = 1.0 / b22;
-    // C = II B⁻¹
+    let i12 = -b12 * i11 * i22;
+    // C = II B⁻¹ (first row and the second column are what A needs).
     let c11 = l * i11;
     let c12 = l * i12 + m * i22;
-    let c21 = m * i11;
     let c22 = m * i12 + nn * i22;
     // A = -(B⁻ᵀ C)
     let a11 = -(i11 * c11);
     let a12 = -(i11 * c12);
     let a22 = -(i12 * c12 + i22 * c22);
-    let _ = c21;
     let mean = 0.5 * (a11 + a22);
     let r = (0.25 * (a11 - a22) * (a11 - a22) + a12 * a12).sqrt();
-    let curvature = e1 * e1.transpose() * a11
-        + (e1 * e2.transpose() + e2 * e1.transpose()) * a12
-        + e2 * e2.transpose() * a22;
+    let (normal, e1, e2) = match rot {
+        Some(rot) => (rot * normal, rot * e1, rot * e2),
+        None => (normal, e1, e2),
+    };
+    // K = a11 e1⊗e1 + a12 (e1⊗e2 + e2⊗e1) + a22 e2⊗e2 = e1⊗f + e2⊗g with
+    // f = a11 e1 + a12 e2, g = a12 e1 + a22 e2; symmetric.
+    let f = e1 * a11 + e2 * a12;
+    let g = e1 * a12 + e2 * a22;
+    let k = |i: usize, j: usize| e1[i] * f[j] + e2[i] * g[j];
+    let (k00, k01, k02, k11, k12, k22) = (k(0, 0), k(0, 1), k(0, 2), k(1, 1), k(1, 2), k(2, 2));
+    let curvature = Mat3::new(k00, k01, k02, k01, k11, k12, k02, k12, k22);
     LocalGeometry {
         normal,
         e1,

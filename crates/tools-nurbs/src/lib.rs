@@ -21,9 +21,14 @@
 //! NURBS modelling library built on nalgebra's generic dimensions and
 //! heap-allocated control nets and knot vectors; its evaluation allocates and
 //! its closest-point search is not bounded-constrained Newton with warm start.
-//! A small rational tensor-product evaluator (Cox–de Boor basis with first and
-//! second derivatives on fixed stack buffers, degree ≤ [`basis::MAX_DEGREE`])
-//! is a few hundred lines, allocation-free and fast, and the exactness checks
+//! A small rational tensor-product evaluator (degree ≤ [`basis::MAX_DEGREE`])
+//! is a few hundred lines, allocation-free and fast: at build time every
+//! patch is split by knot insertion into its Bézier pieces (exact up to
+//! rounding: the surface, its patch index and its `(u, v)` are unchanged), so an evaluation
+//! locates its piece and runs the closed-form Bernstein basis with first and
+//! second derivatives on stack buffers, monomorphised for the degrees the
+//! builders use. The Cox–de Boor basis ([`basis::basis_ders`]) stays as the
+//! reference the extraction is tested against. The exactness checks
 //! (plane, cylinder, sphere, torus against closed forms to 1e-9) verify it
 //! directly, so curvo is not a dependency.
 //!

@@ -17,11 +17,11 @@
 
 use crate::bvh::Bvh;
 use crate::closest_point::{ParamBox, PatchHit, newton};
-use crate::differential::local_geometry;
+use crate::differential::local_geometry_rotated;
 use crate::error::NurbsError;
 use crate::surface::{NurbsSurface, PatchDef};
 use plugins_api::{
-    Aabb, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface, Vec3,
+    Aabb, Mat3, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface, Vec3,
 };
 use rayon::prelude::*;
 
@@ -63,6 +63,9 @@ pub struct NurbsTool {
     bvh: Bvh,
     local_box: Aabb,
     pose: RigidPose,
+    /// Whether `pose.rotation` differs from the identity (else the pose is a
+    /// translation and the frames map without matrix products).
+    rotated: bool,
     velocity: RigidVelocity,
 }
 
@@ -125,6 +128,7 @@ impl NurbsTool {
             seeds,
             local_box,
             pose: RigidPose::default(),
+            rotated: false,
             velocity: RigidVelocity::default(),
         })
     }
@@ -248,30 +252,32 @@ impl NurbsTool {
             );
             self.consider(&mut best, patch, hit);
         }
-        best.map(|b| self.finish(x, &b, &RigidPose::default()))
+        best.map(|b| self.finish(x, &b, &RigidPose::default(), false))
     }
 
     /// Projection in the tool's local frame (no pose applied).
     pub fn project_local_frame(&self, x: &Vec3, hint: Option<ProjectionHint>) -> Projection {
         let b = self.project_local(x, hint);
-        self.finish(x, &b, &RigidPose::default())
+        self.finish(x, &b, &RigidPose::default(), false)
     }
 
     #[inline]
-    fn finish(&self, x_local: &Vec3, b: &Best, pose: &RigidPose) -> Projection {
-        let g = local_geometry(&b.hit.d, self.patches[b.patch].sign);
+    fn finish(&self, x_local: &Vec3, b: &Best, pose: &RigidPose, rotated: bool) -> Projection {
+        let sign = self.patches[b.patch].sign;
+        // The signed distance needs the local normal's side only: r · (S_u × S_v).
         let r = x_local - b.hit.d.s;
-        let distance = if r.dot(&g.normal) < 0.0 {
-            -b.dist
-        } else {
-            b.dist
-        };
-        let rot = &pose.rotation;
+        let side = r.dot(&b.hit.d.su.cross(&b.hit.d.sv)) * sign;
+        let distance = if side < 0.0 { -b.dist } else { b.dist };
+        let g = local_geometry_rotated(&b.hit.d, sign, rotated.then_some(&pose.rotation));
         Projection {
-            point: pose.to_global(&b.hit.d.s),
-            normal: rot * g.normal,
+            point: if rotated {
+                pose.to_global(&b.hit.d.s)
+            } else {
+                b.hit.d.s + pose.translation
+            },
+            normal: g.normal,
             distance,
-            curvature: rot * g.curvature * rot.transpose(),
+            curvature: g.curvature,
             k1: g.k1,
             k2: g.k2,
             patch: b.patch as u32,
@@ -280,6 +286,7 @@ impl NurbsTool {
         }
     }
 
+    #[inline]
     fn check_point(&self, x: &Vec3) -> Result<(), ToolError> {
         if x.x.is_finite() && x.y.is_finite() && x.z.is_finite() {
             Ok(())
@@ -346,6 +353,7 @@ impl ToolSurface for NurbsTool {
 
     fn set_pose(&mut self, pose: RigidPose, velocity: RigidVelocity) {
         self.pose = pose;
+        self.rotated = pose.rotation != Mat3::identity();
         self.velocity = velocity;
     }
 
@@ -360,9 +368,13 @@ impl ToolSurface for NurbsTool {
     #[inline]
     fn project(&self, x: &Vec3, hint: Option<ProjectionHint>) -> Result<Projection, ToolError> {
         self.check_point(x)?;
-        let xl = self.pose.to_local(x);
+        let xl = if self.rotated {
+            self.pose.to_local(x)
+        } else {
+            x - self.pose.translation
+        };
         let b = self.project_local(&xl, hint);
-        Ok(self.finish(&xl, &b, &self.pose))
+        Ok(self.finish(&xl, &b, &self.pose, self.rotated))
     }
 
     fn project_batch(
