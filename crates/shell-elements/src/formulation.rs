@@ -79,7 +79,8 @@ pub(crate) struct SectionResult {
 
 /// Update every point of one section for the membrane strain increment `de`
 /// and the curvature increment `dk` (engineering shear in both), with
-/// `Δε(z) = de + z dk`, `z = ζ t/2`.
+/// `Δε(z) = de + z dk`, `z = ζ t/2`. The common rules (3, 5, 7 points) run a
+/// loop of fixed length, unrolled and free of bounds checks.
 #[inline(always)]
 pub(crate) fn integrate_section<M: Material>(
     mat: &M,
@@ -90,13 +91,82 @@ pub(crate) fn integrate_section<M: Material>(
     stress: &mut [[f64; 3]],
     history: &mut [M::History],
 ) -> SectionResult {
+    match rule.n {
+        5 => integrate_points::<M, 5>(mat, rule, t, de, dk, stress, history),
+        3 => integrate_points::<M, 3>(mat, rule, t, de, dk, stress, history),
+        7 => integrate_points::<M, 7>(mat, rule, t, de, dk, stress, history),
+        n => integrate_n(mat, rule, n, t, de, dk, stress, history),
+    }
+}
+
+/// [`integrate_section`] for a rule of `N` points.
+#[inline(always)]
+fn integrate_points<M: Material, const N: usize>(
+    mat: &M,
+    rule: &ThroughThickness,
+    t: f64,
+    de: [f64; 3],
+    dk: [f64; 3],
+    stress: &mut [[f64; 3]],
+    history: &mut [M::History],
+) -> SectionResult {
+    let (Some(stress), Some(history)) = (
+        stress.first_chunk_mut::<N>(),
+        history.first_chunk_mut::<N>(),
+    ) else {
+        return integrate_n(mat, rule, N, t, de, dk, stress, history);
+    };
+    let h = 0.5 * t;
+    let mut z = [0.0; N];
+    let mut d = [[0.0; 3]; N];
+    for k in 0..N {
+        z[k] = rule.zeta[k] * h;
+        d[k] = [
+            de[0] + z[k] * dk[0],
+            de[1] + z[k] * dk[1],
+            de[2] + z[k] * dk[2],
+        ];
+    }
+    let old = *stress;
+    let u = mat.update_points(stress, history, &d);
+    let mut r = SectionResult::default();
+    for k in 0..N {
+        let wk = rule.weight[k] * h;
+        let (s, o, d) = (stress[k], old[k], d[k]);
+        r.n[0] += wk * s[0];
+        r.n[1] += wk * s[1];
+        r.n[2] += wk * s[2];
+        r.m[0] += wk * z[k] * s[0];
+        r.m[1] += wk * z[k] * s[1];
+        r.m[2] += wk * z[k] * s[2];
+        r.work += wk * 0.5 * ((o[0] + s[0]) * d[0] + (o[1] + s[1]) * d[1] + (o[2] + s[2]) * d[2]);
+        r.dissipation += wk * u[k].dissipation;
+        r.deps_zz += rule.weight[k] * u[k].deps_zz;
+    }
+    r.deps_zz *= 0.5;
+    r
+}
+
+/// [`integrate_section`] for the first `n` points of `rule`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn integrate_n<M: Material>(
+    mat: &M,
+    rule: &ThroughThickness,
+    n: usize,
+    t: f64,
+    de: [f64; 3],
+    dk: [f64; 3],
+    stress: &mut [[f64; 3]],
+    history: &mut [M::History],
+) -> SectionResult {
     let h = 0.5 * t;
     let mut r = SectionResult::default();
-    let n = rule.n;
     let (stress, history) = (&mut stress[..n], &mut history[..n]);
+    let (zeta, weight) = (&rule.zeta[..n], &rule.weight[..n]);
     for k in 0..n {
-        let z = rule.zeta[k] * h;
-        let wk = rule.weight[k] * h;
+        let z = zeta[k] * h;
+        let wk = weight[k] * h;
         let d = [de[0] + z * dk[0], de[1] + z * dk[1], de[2] + z * dk[2]];
         let s = &mut stress[k];
         let old = *s;
@@ -111,7 +181,7 @@ pub(crate) fn integrate_section<M: Material>(
         r.work +=
             wk * 0.5 * ((old[0] + s[0]) * d[0] + (old[1] + s[1]) * d[1] + (old[2] + s[2]) * d[2]);
         r.dissipation += wk * u.dissipation;
-        r.deps_zz += rule.weight[k] * u.deps_zz;
+        r.deps_zz += weight[k] * u.deps_zz;
     }
     r.deps_zz *= 0.5;
     r

@@ -53,7 +53,8 @@ impl Frame {
         let d24 = sub(p[3], p[1]);
         let n = cross(d13, d24);
         let nn = dot(n, n).sqrt();
-        let e3 = [n[0] / nn, n[1] / nn, n[2] / nn];
+        let inn = 1.0 / nn;
+        let e3 = [n[0] * inn, n[1] * inn, n[2] * inn];
         let s = [
             p[1][0] - p[0][0] + p[2][0] - p[3][0],
             p[1][1] - p[0][1] + p[2][1] - p[3][1],
@@ -62,7 +63,8 @@ impl Frame {
         let sn = dot(s, e3);
         let s = [s[0] - sn * e3[0], s[1] - sn * e3[1], s[2] - sn * e3[2]];
         let sl = dot(s, s).sqrt();
-        let e1 = [s[0] / sl, s[1] / sl, s[2] / sl];
+        let isl = 1.0 / sl;
+        let e1 = [s[0] * isl, s[1] * isl, s[2] * isl];
         let e2 = cross(e3, e1);
         let c = [
             0.25 * (p[0][0] + p[1][0] + p[2][0] + p[3][0]),

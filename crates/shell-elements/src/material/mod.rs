@@ -51,6 +51,17 @@ pub trait Material: Clone + Send + Sync + 'static {
         history: &mut Self::History,
         deps: [f64; 3],
     ) -> PointUpdate;
+    /// Update the `N` points of one section (`deps[k]` for point `k`); by
+    /// default one after the other. Same contract as [`Material::update`].
+    #[inline(always)]
+    fn update_points<const N: usize>(
+        &self,
+        stress: &mut [[f64; 3]; N],
+        history: &mut [Self::History; N],
+        deps: &[[f64; 3]; N],
+    ) -> [PointUpdate; N] {
+        std::array::from_fn(|k| self.update(&mut stress[k], &mut history[k], deps[k]))
+    }
     /// Equivalent plastic strain of a point (-).
     fn plastic_strain(&self, history: &Self::History) -> f64;
     /// Current flow (yield) stress of a point (MPa).

@@ -1,0 +1,94 @@
+//! Profiling driver for the Belytschko–Tsay element loop: the benchmark's
+//! 2,500-element plastic blank, 300 warm-up cycles, then `N` measured cycles
+//! (default 100) in `measured_cycles`, which is what to count with
+//! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measured_cycles*'`.
+//! Run: `cargo run --release -p shell-elements --example profile_bt [N]`.
+
+use fem_core::{Effect, Forces, NodalState, StepContext, Vec3, rectangle};
+use shell_elements::{BelytschkoTsay, Hardening, J2PlaneStress, Section, ShellSet};
+
+struct Blank {
+    set: ShellSet<BelytschkoTsay, J2PlaneStress>,
+    state: NodalState,
+    forces: Forces,
+    ctx: StepContext,
+}
+
+impl Blank {
+    fn cycle(&mut self) {
+        self.forces.clear();
+        self.set
+            .add_forces(&self.ctx, &self.state, &mut self.forces)
+            .expect("element loop");
+    }
+}
+
+#[inline(never)]
+fn measured_cycles(b: &mut Blank, n: usize) {
+    for _ in 0..n {
+        b.cycle();
+    }
+}
+
+fn main() {
+    let cycles: usize = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(100);
+    let n = 50;
+    let mesh = rectangle(n as f64, n as f64, n, n).expect("mesh");
+    let mat = J2PlaneStress::new(
+        206_000.0,
+        0.3,
+        7.85e-9,
+        Hardening::swift(565.32, 0.007117, 0.2589).expect("swift"),
+    )
+    .expect("material");
+    let set = ShellSet::from_mesh(
+        "blank",
+        &mesh,
+        "all",
+        Section::new(0.78).expect("section"),
+        BelytschkoTsay::default(),
+        mat,
+    )
+    .expect("set")
+    .with_parallel_min(usize::MAX);
+    let mut state = NodalState::at_rest(&mesh.nodes);
+    let l = n as f64;
+    for (i, p) in mesh.nodes.iter().enumerate() {
+        state.v[i] = Vec3::new(p.x - 0.5 * l, 0.5 * (p.y - 0.5 * l), 0.0);
+        state.w[i] = Vec3::new(0.0, -2.0 * (p.x - 0.5 * l) / l, 0.0);
+    }
+    let forces = Forces::zeros(mesh.nodes.len());
+    let ctx = StepContext {
+        time: 0.0,
+        dt: 2e-5,
+        step: 1,
+    };
+    let mut b = Blank {
+        set,
+        state,
+        forces,
+        ctx,
+    };
+    for _ in 0..300 {
+        b.cycle();
+    }
+    let t0 = std::time::Instant::now();
+    measured_cycles(&mut b, cycles);
+    let el = t0.elapsed().as_secs_f64();
+    let ne = b.set.len();
+    let f: f64 = b
+        .forces
+        .f
+        .iter()
+        .map(|f| f.x.abs() + f.y.abs() + f.z.abs())
+        .sum();
+    let ep: f64 = (0..ne).map(|e| b.set.plastic_strain(e, 0, 0)).sum::<f64>() / ne as f64;
+    println!(
+        "{cycles} cycles × {ne} elements: {:.3} µs/element/cycle (wall); checksum |f| = {f:.9e}, mean ε_p(bottom) = {ep:.12e}, t(0) = {:.12}",
+        el / (cycles * ne) as f64 * 1e6,
+        b.set.thickness(0)
+    );
+}
