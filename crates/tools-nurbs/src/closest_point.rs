@@ -44,7 +44,10 @@ pub struct ParamBox {
 
 #[inline]
 fn pushes_out(t: f64, step: f64, b: [f64; 2]) -> bool {
-    (t <= b[0] && step < 0.0) || (t >= b[1] && step > 0.0)
+    // A parameter a rounding error inside a bound counts as on it (a hint
+    // saved from an edge answer comes back as 1e-17 inside).
+    let eps = 1e-12 * (b[1] - b[0]);
+    (t <= b[0] + eps && step < 0.0) || (t >= b[1] - eps && step > 0.0)
 }
 
 /// Local closest point of `surf` to `x` starting from `(u0, v0)`.
@@ -91,9 +94,13 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
         }
         let un = (u + su).clamp(dom.u[0], dom.u[1]);
         let vn = (v + sv).clamp(dom.v[0], dom.v[1]);
+        // The box cut the step: the minimum lies beyond an edge of this patch
+        // (e.g. a hint a rounding error inside an edge, pushed out by Newton).
+        let cut = un != u + su || vn != v + sv;
         let (su, sv) = (un - u, vn - v);
         let step = (d.su * su + d.sv * sv).norm();
         if step < STEP_TOL * (1.0 + f.sqrt()) || !step.is_finite() {
+            on_edge |= cut;
             break;
         }
         // Near the minimum f no longer resolves the tangential error (it
@@ -122,6 +129,7 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
             t *= 0.5;
         }
         if !accepted || step * t < STEP_TOL {
+            on_edge |= cut;
             break;
         }
     }
