@@ -29,6 +29,35 @@ fn blank(z: f64) -> (Vec<Vec3>, Vec<[u32; 4]>) {
     (x, q)
 }
 
+/// Zero velocities, small masses and a unit thickness for a blank at rest.
+struct AtRest {
+    zero: Vec<Vec3>,
+    mass: Vec<f64>,
+    thick: Vec<f64>,
+}
+
+impl AtRest {
+    fn new(n: usize) -> Self {
+        Self {
+            zero: vec![Vec3::zeros(); n],
+            mass: vec![1e-6; n],
+            thick: vec![1.0; n],
+        }
+    }
+
+    /// The blank at rest at `x0`.
+    fn view<'a>(&'a self, x0: &'a [Vec3]) -> BlankView<'a> {
+        BlankView {
+            x0,
+            x: x0,
+            v: &self.zero,
+            mass: &self.mass,
+            thickness: &self.thick,
+            flow_stress: None,
+        }
+    }
+}
+
 fn pair(
     law: &str,
     params: Params,
@@ -48,17 +77,8 @@ fn pair(
 fn penalty_force_is_stiffness_times_penetration() {
     let (x0, quads) = blank(0.49);
     let mut g = BlankGeometry::new(x0.len(), &quads).unwrap();
-    let zero = vec![Vec3::zeros(); x0.len()];
-    let mass = vec![1e-6; x0.len()];
-    let thick = vec![1.0; x0.len()];
-    let view = BlankView {
-        x0: &x0,
-        x: &x0,
-        v: &zero,
-        mass: &mass,
-        thickness: &thick,
-        flow_stress: None,
-    };
+    let rest = AtRest::new(x0.len());
+    let view = rest.view(&x0);
     let mut p = pair("ac", Params::new().with("mu", 0.1), "convective", &g, &x0);
     g.update(&view, 1e-6, p.needs());
     let tool = Plane {
@@ -87,17 +107,8 @@ fn sliding_plane_gives_coulomb_traction_and_energy_identity() {
     for formulation in ["convective", "jaumann", "lagrangian", "updated-lagrangian"] {
         let (x0, quads) = blank(0.49);
         let mut g = BlankGeometry::new(x0.len(), &quads).unwrap();
-        let zero = vec![Vec3::zeros(); x0.len()];
-        let mass = vec![1e-6; x0.len()];
-        let thick = vec![1.0; x0.len()];
-        let view = BlankView {
-            x0: &x0,
-            x: &x0,
-            v: &zero,
-            mass: &mass,
-            thickness: &thick,
-            flow_stress: None,
-        };
+        let rest = AtRest::new(x0.len());
+        let view = rest.view(&x0);
         let mu = 0.144;
         let mut p = pair("ac", Params::new().with("mu", mu), formulation, &g, &x0);
         let mut tool = Plane {
@@ -146,17 +157,8 @@ fn sliding_plane_gives_coulomb_traction_and_energy_identity() {
 #[test]
 fn only_declared_point_data_is_computed() {
     let (x0, quads) = blank(0.49);
-    let zero = vec![Vec3::zeros(); x0.len()];
-    let mass = vec![1e-6; x0.len()];
-    let thick = vec![1.0; x0.len()];
-    let view = BlankView {
-        x0: &x0,
-        x: &x0,
-        v: &zero,
-        mass: &mass,
-        thickness: &thick,
-        flow_stress: None,
-    };
+    let rest = AtRest::new(x0.len());
+    let view = rest.view(&x0);
     let mut counts = Vec::new();
     for formulation in ["convective", "jaumann", "lagrangian"] {
         let mut g = BlankGeometry::new(x0.len(), &quads).unwrap();
@@ -181,17 +183,8 @@ fn nan_node_is_named() {
     let g = BlankGeometry::new(x0.len(), &quads).unwrap();
     let mut p = pair("ac", Params::new().with("mu", 0.1), "convective", &g, &x0);
     x0[7].z = f64::NAN;
-    let zero = vec![Vec3::zeros(); x0.len()];
-    let mass = vec![1e-6; x0.len()];
-    let thick = vec![1.0; x0.len()];
-    let view = BlankView {
-        x0: &x0,
-        x: &x0,
-        v: &zero,
-        mass: &mass,
-        thickness: &thick,
-        flow_stress: None,
-    };
+    let rest = AtRest::new(x0.len());
+    let view = rest.view(&x0);
     let tool = Plane {
         pose: RigidPose::default(),
         vel: RigidVelocity::default(),
@@ -239,17 +232,8 @@ fn nan_node_is_named() {
 fn lift_off_run(law: &str, params: Params, formulation: &str, steps: usize) -> bool {
     let (x0, quads) = blank(0.49);
     let mut g = BlankGeometry::new(x0.len(), &quads).unwrap();
-    let zero = vec![Vec3::zeros(); x0.len()];
-    let mass = vec![1e-6; x0.len()];
-    let thick = vec![1.0; x0.len()];
-    let view = BlankView {
-        x0: &x0,
-        x: &x0,
-        v: &zero,
-        mass: &mass,
-        thickness: &thick,
-        flow_stress: None,
-    };
+    let rest = AtRest::new(x0.len());
+    let view = rest.view(&x0);
     let mut p = pair(law, params, formulation, &g, &x0);
     let mut tool = Plane {
         pose: RigidPose::default(),

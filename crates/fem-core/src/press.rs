@@ -63,6 +63,30 @@ pub enum ToolMotion {
     },
 }
 
+impl ToolMotion {
+    /// The unit direction and the amplitude of a moving tool (`None` when it holds).
+    pub fn direction_and_amplitude(&self) -> Option<(&Vec3, &Option<Amplitude>)> {
+        match self {
+            ToolMotion::Hold => None,
+            ToolMotion::Travel {
+                direction,
+                amplitude,
+                ..
+            }
+            | ToolMotion::Velocity {
+                direction,
+                amplitude,
+                ..
+            }
+            | ToolMotion::Force {
+                direction,
+                amplitude,
+                ..
+            } => Some((direction, amplitude)),
+        }
+    }
+}
+
 /// When a press step ends.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum StepEnd {
@@ -198,39 +222,28 @@ impl Press {
                     }
                     Ok(())
                 };
+                if let Some((direction, amplitude)) = m.direction_and_amplitude() {
+                    check_dir(direction)?;
+                    check_amp(amplitude)?;
+                }
                 match m {
                     ToolMotion::Hold => {}
-                    ToolMotion::Travel {
-                        direction,
-                        distance,
-                        amplitude,
-                    } => {
-                        check_dir(direction)?;
-                        check_amp(amplitude)?;
+                    ToolMotion::Travel { distance, .. } => {
                         if !distance.is_finite() {
                             return Err(bad("travel", *distance, "mm", "finite"));
                         }
                     }
-                    ToolMotion::Velocity {
-                        direction,
-                        speed,
-                        amplitude,
-                    } => {
-                        check_dir(direction)?;
-                        check_amp(amplitude)?;
+                    ToolMotion::Velocity { speed, .. } => {
                         if !speed.is_finite() {
                             return Err(bad("speed", *speed, "mm/s", "finite"));
                         }
                     }
                     ToolMotion::Force {
-                        direction,
                         force,
-                        amplitude,
                         mass,
                         damping,
+                        ..
                     } => {
-                        check_dir(direction)?;
-                        check_amp(amplitude)?;
                         if !(force.is_finite() && *force >= 0.0) {
                             return Err(bad("force", *force, "N", ">= 0 and finite"));
                         }
