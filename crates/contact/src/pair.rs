@@ -4,8 +4,8 @@
 
 use plugins_api::kinematics::cayley_rotate;
 use plugins_api::{
-    Mat3, PointIntegrator, PointNeeds, PointState, Projection, ProjectionHint, StepInput,
-    StepKinematics, StepOutput, ToolSurface, Vec3,
+    Mat3, PointIntegrator, PointNeeds, PointState, ProjectionHint, StepInput, StepKinematics,
+    StepOutput, ToolSurface, Vec3,
 };
 
 use crate::penalty::{PenaltySettings, nodal_stiffness};
@@ -130,11 +130,12 @@ pub struct ContactPair {
     pub clamped: bool,
     // Scratch for the gathered friction batch (capacity = node count; no allocation per step).
     active: Vec<u32>,
-    proj: Vec<Projection>,
+    /// Per gathered point: lever arm of the contact point about the tool origin
+    /// (mm) and the tool's velocity there (mm/s).
+    touch: Vec<(Vec3, Vec3)>,
     inputs: Vec<StepInput>,
     states: Vec<PointState>,
     outputs: Vec<StepOutput>,
-    penetration: Vec<f64>,
 }
 
 impl std::fmt::Debug for ContactPair {
@@ -173,22 +174,28 @@ impl ContactPair {
             }
             None => (0..n as u32).collect(),
         };
-        for (field, value, range) in [
-            ("search_margin", spec.search_margin, ">= 0 (mm)"),
+        for (field, value, unit, ok, range) in [
+            (
+                "search_margin",
+                spec.search_margin,
+                "mm",
+                spec.search_margin.is_finite() && spec.search_margin >= 0.0,
+                ">= 0 (mm)",
+            ),
             (
                 "max_penetration",
                 spec.max_penetration,
+                "-",
+                spec.max_penetration.is_finite() && spec.max_penetration > 0.0,
                 "> 0 (blank thicknesses)",
             ),
         ] {
-            let ok =
-                value.is_finite() && (value > 0.0 || (field == "search_margin" && value == 0.0));
             if !ok {
                 return Err(ContactError::OutOfRange {
                     pair: spec.name.clone(),
                     field,
                     value,
-                    unit: if field == "search_margin" { "mm" } else { "-" },
+                    unit,
                     range,
                 });
             }
@@ -196,17 +203,6 @@ impl ContactPair {
         let all = nodal_stiffness(geometry, x0, spec.bulk_modulus, &spec.penalty, &spec.name)?;
         let stiffness = nodes.iter().map(|&i| all[i as usize]).collect();
         let m = nodes.len();
-        let dummy = Projection {
-            point: Vec3::zeros(),
-            normal: Vec3::z(),
-            distance: 0.0,
-            curvature: Mat3::zeros(),
-            k1: 0.0,
-            k2: 0.0,
-            patch: 0,
-            u: 0.0,
-            v: 0.0,
-        };
         let needs = integrator.needs();
         Ok(Self {
             name: spec.name.clone(),
@@ -231,11 +227,10 @@ impl ContactPair {
             energy: ContactEnergy::default(),
             clamped: false,
             active: Vec::with_capacity(m),
-            proj: vec![dummy; m],
+            touch: Vec::with_capacity(m),
             inputs: Vec::with_capacity(m),
             states: Vec::with_capacity(m),
             outputs: Vec::with_capacity(m),
-            penetration: vec![0.0; m],
         })
     }
 
@@ -307,6 +302,7 @@ impl ContactPair {
         let want_flow = self.needs.contains(PointNeeds::FLOW_STRESS);
 
         self.active.clear();
+        self.touch.clear();
         self.inputs.clear();
         self.reaction = Reaction::default();
         self.clamped = false;
@@ -341,8 +337,8 @@ impl ContactPair {
                 continue;
             }
             let n_new = pr.normal;
-            let contact_point = x - n_new * half;
-            let v_tool = tool_vel.linear + tool_vel.angular.cross(&(contact_point - origin));
+            let arm = x - n_new * half - origin;
+            let v_tool = tool_vel.linear + tool_vel.angular.cross(&arm);
             let v_rel = blank.v[i] - v_tool;
             let mut f_n = self.stiffness[k] * (-gap);
             if self.penalty.damping > 0.0 {
@@ -375,8 +371,7 @@ impl ContactPair {
                     bottom[i]
                 };
             }
-            self.proj[k] = pr;
-            self.penetration[k] = -gap;
+            self.touch.push((arm, v_tool));
             self.active.push(k as u32);
             self.inputs.push(input);
         }
@@ -417,14 +412,13 @@ impl ContactPair {
             let i = self.nodes[k] as usize;
             let out = &self.outputs[j];
             let area = geometry.area[i];
-            let pr = &self.proj[k];
+            let normal = self.inputs[j].kin.n_new;
+            let (arm, v_tool) = self.touch[j];
             let p = self.inputs[j].p;
-            let f = (pr.normal * p + out.t) * area;
+            let f = (normal * p + out.t) * area;
             forces[i] += f;
-            let contact_point = blank.x[i] - pr.normal * (0.5 * blank.thickness[i]);
             self.reaction.force -= f;
-            self.reaction.moment -= (contact_point - origin).cross(&f);
-            let v_tool = tool_vel.linear + tool_vel.angular.cross(&(contact_point - origin));
+            self.reaction.moment -= arm.cross(&f);
             let f_mid = 0.5 * (f + self.force[k]);
             blank_work += f_mid.dot(&(blank.v[i] * dt));
             tool_work += f_mid.dot(&(v_tool * dt));
@@ -433,7 +427,7 @@ impl ContactPair {
                 stored += 0.5 * out.t.norm_squared() * area / k_t;
             }
             self.friction[k] = self.states[j];
-            self.n_old[k] = pr.normal;
+            self.n_old[k] = normal;
             self.force[k] = f;
             self.pressure[k] = p;
             self.traction[k] = out.t;

@@ -980,40 +980,26 @@ impl Solver {
             let vo = vs[i];
             vos[i] = vo;
             if m > 0.0 {
-                let g = hb / m;
-                let f = &fs[i];
-                let vn = Vec3::new(
-                    (vo.x * d1 + f.x * g) * d2,
-                    (vo.y * d1 + f.y * g) * d2,
-                    (vo.z * d1 + f.z * g) * d2,
-                );
-                vs[i] = vn;
-                let s = (vo.x + vn.x, vo.y + vn.y, vo.z + vn.z);
-                kp0 += m * (vo.x * vn.x + vo.y * vn.y + vo.z * vn.z);
-                km0 += m * (s.0 * s.0 + s.1 * s.1 + s.2 * s.2);
+                let u = velocity_step(vo, &fs[i], hb / m, d1, d2);
+                vs[i] = u.v;
+                kp0 += m * u.product;
+                km0 += m * u.sum2;
                 if c > 0.0 {
-                    dcur += m * (s.0 * vo.x + s.1 * vo.y + s.2 * vo.z);
-                    dpend += m * (s.0 * vn.x + s.1 * vn.y + s.2 * vn.z);
+                    dcur += m * u.sum_old;
+                    dpend += m * u.sum_new;
                 }
             }
             let j = js[i];
             let wo = ws[i];
             wos[i] = wo;
             if j > 0.0 {
-                let g = hb / j;
-                let f = &mts[i];
-                let wn = Vec3::new(
-                    (wo.x * d1 + f.x * g) * d2,
-                    (wo.y * d1 + f.y * g) * d2,
-                    (wo.z * d1 + f.z * g) * d2,
-                );
-                ws[i] = wn;
-                let s = (wo.x + wn.x, wo.y + wn.y, wo.z + wn.z);
-                kp1 += j * (wo.x * wn.x + wo.y * wn.y + wo.z * wn.z);
-                km1 += j * (s.0 * s.0 + s.1 * s.1 + s.2 * s.2);
+                let u = velocity_step(wo, &mts[i], hb / j, d1, d2);
+                ws[i] = u.v;
+                kp1 += j * u.product;
+                km1 += j * u.sum2;
                 if c > 0.0 {
-                    dcur += j * (s.0 * wo.x + s.1 * wo.y + s.2 * wo.z);
-                    dpend += j * (s.0 * wn.x + s.1 * wn.y + s.2 * wn.z);
+                    dcur += j * u.sum_old;
+                    dpend += j * u.sum_new;
                 }
             }
             if cm[i] != 0 {
@@ -1207,5 +1193,39 @@ fn set_dof(v: &mut [Vec3], w: &mut [Vec3], node: u32, dof: u8, value: f64) {
         v[node as usize][axis] = value;
     } else {
         w[node as usize][axis] = value;
+    }
+}
+
+/// One damped central-difference velocity update of a translational or
+/// rotational DOF triple, `v_new = (v_old d1 + f g) d2`, with the per-unit-mass
+/// sums the ledger needs (`s = v_old + v_new`).
+#[derive(Clone, Copy)]
+struct VelocityStep {
+    /// The new velocity.
+    v: Vec3,
+    /// `v_old · v_new`.
+    product: f64,
+    /// `|s|²`.
+    sum2: f64,
+    /// `s · v_old`.
+    sum_old: f64,
+    /// `s · v_new`.
+    sum_new: f64,
+}
+
+#[inline(always)]
+fn velocity_step(vo: Vec3, f: &Vec3, g: f64, d1: f64, d2: f64) -> VelocityStep {
+    let vn = Vec3::new(
+        (vo.x * d1 + f.x * g) * d2,
+        (vo.y * d1 + f.y * g) * d2,
+        (vo.z * d1 + f.z * g) * d2,
+    );
+    let s = (vo.x + vn.x, vo.y + vn.y, vo.z + vn.z);
+    VelocityStep {
+        v: vn,
+        product: vo.x * vn.x + vo.y * vn.y + vo.z * vn.z,
+        sum2: s.0 * s.0 + s.1 * s.1 + s.2 * s.2,
+        sum_old: s.0 * vo.x + s.1 * vo.y + s.2 * vo.z,
+        sum_new: s.0 * vn.x + s.1 * vn.y + s.2 * vn.z,
     }
 }
