@@ -9,8 +9,12 @@
 //! join as the engine crates arrive. It must not re-implement physics: every
 //! friction number comes from `plugins-api`'s return mapping and the laws.
 
+pub mod compare;
 pub mod components;
 pub mod history;
+pub mod output;
 pub mod plot;
 pub mod point_driver;
+pub mod run;
+pub mod scene;
 pub mod tools_cli;

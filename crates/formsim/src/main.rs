@@ -34,6 +34,60 @@ enum Command {
         #[command(subcommand)]
         action: ToolsAction,
     },
+    /// Scene files: check and summarise.
+    Scene {
+        #[command(subcommand)]
+        action: SceneAction,
+    },
+    /// Run a forming simulation: summary.json, sections, energies, punch force, VTK, plots.
+    Run(RunArgs),
+    /// Run a scene for several laws and formulations and tabulate the differences.
+    Compare(CompareArgs),
+}
+
+#[derive(Subcommand, Debug)]
+enum SceneAction {
+    /// Validate a scene and print what it would run.
+    Check {
+        /// Scene file (TOML; docs/scene-format.md).
+        scene: PathBuf,
+        /// Override a scene value, e.g. contact.law=wvs (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
+}
+
+#[derive(Args, Debug)]
+struct RunArgs {
+    /// Scene file (TOML; docs/scene-format.md).
+    scene: PathBuf,
+    /// Output directory (default: results/<scene name>).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Override a scene value, e.g. contact.law=wvs, blank.mesh.divisions=25 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args, Debug)]
+struct CompareArgs {
+    /// Scene file (TOML).
+    scene: PathBuf,
+    /// Laws, comma-separated (the first, with the first formulation, is the reference).
+    #[arg(long, value_delimiter = ',', default_value = "ac,wvs,wh,levanov")]
+    laws: Vec<String>,
+    /// Formulations, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "convective,jaumann")]
+    formulations: Vec<String>,
+    /// Output directory.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Override a scene value for every run (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -143,6 +197,11 @@ fn main() -> ExitCode {
         } => plugin_check(&path, &to_params(&params)),
         Command::FrictionPoint(args) => friction_point(&args),
         Command::Tools { action } => tools(&action),
+        Command::Scene {
+            action: SceneAction::Check { scene, set },
+        } => scene_check(&scene, &set),
+        Command::Run(args) => run(&args),
+        Command::Compare(args) => compare(&args),
     };
     match result {
         Ok(code) => code,
@@ -397,4 +456,158 @@ fn plot_point(
         },
     ];
     formsim::plot::draw_panels(png, &panels, 1000, 340)
+}
+
+fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
+    let loaded = formsim::scene::load(path, set).map_err(|e| e.to_string())?;
+    let model = formsim::scene::build(&loaded).map_err(|e| e.to_string())?;
+    let s = &loaded.scene;
+    println!("{}: ok", path.display());
+    println!("  scene       {} ({:?})", s.scene.name, s.scene.kind);
+    println!(
+        "  blank       {} nodes, {} {} shells, t0 = {} mm, {} points through the thickness",
+        model.mesh.nodes.len(),
+        model.mesh.quads.len(),
+        s.blank.element.name(),
+        s.blank.thickness,
+        s.blank.integration_points
+    );
+    println!("  tools       {}", model.tool_names.join(", "));
+    println!(
+        "  friction    {} + {} ({} pairs)",
+        model.law,
+        model.formulation,
+        model.contact().map_or(0, |c| c.pairs().len())
+    );
+    for (i, st) in s.steps.iter().enumerate() {
+        let end = match (&st.duration, &st.until) {
+            (Some(d), _) => format!("{d} s"),
+            (None, Some(u)) => format!("until {} travels {} mm", u.tool, u.distance),
+            _ => String::new(),
+        };
+        let motions: Vec<String> = st.motions.iter().map(|m| format!("{m:?}")).collect();
+        println!(
+            "  step {}      {} ({end}): {}",
+            i + 1,
+            st.name,
+            motions.join("; ")
+        );
+    }
+    println!(
+        "  solver      end {:.4e} s, safety {}, mass scaling {}",
+        model.end_time,
+        s.solver.safety_factor,
+        s.solver
+            .mass_scaling_dt
+            .map_or("off".to_string(), |t| format!("dt = {t:e} s"))
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn run(args: &RunArgs) -> Result<ExitCode, String> {
+    let loaded = formsim::scene::load(&args.scene, &args.set).map_err(|e| e.to_string())?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("results").join(&loaded.scene.scene.name));
+    let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let result = formsim::run::run(
+        &loaded,
+        &formsim::run::RunOptions {
+            out: out.clone(),
+            progress,
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let s = &result.summary;
+    println!(
+        "{}: {} + {}, {} {} shells, {} increments in {:.1} s ({:.3e} element cycles/s, {} threads)",
+        s.scene,
+        s.law,
+        s.formulation,
+        s.elements,
+        s.element,
+        s.increments,
+        s.wall_time_s,
+        s.element_cycles_per_s,
+        s.threads
+    );
+    println!(
+        "  energy (mJ): internal {:.1}, plastic {:.1}, friction {:.1}, kinetic {:.2}, hourglass {:.2}, external work {:.1}; balance error {:.2e}; max kinetic/internal while forming {:.3}",
+        s.energy.internal,
+        s.energy.plastic,
+        s.energy.friction,
+        s.energy.kinetic,
+        s.energy.hourglass,
+        s.energy.external_work,
+        s.energy.balance_error_rel,
+        s.kinetic_to_internal_max
+    );
+    if s.stroke != 0.0 {
+        println!(
+            "  stroke {:.2} mm, punch force max {:.1} kN, thinning max {:.1} %",
+            s.stroke,
+            1e-3 * s.punch_force_max,
+            100.0 * s.thinning_max
+        );
+    }
+    for (name, sec) in &s.sections {
+        println!(
+            "  {name}: major max {:.4}, minor min {:.4}{}",
+            sec.major_max,
+            sec.minor_min,
+            sec.minor_at_punch_edge
+                .map_or(String::new(), |m| format!(", minor at punch edge {m:.4}"))
+        );
+    }
+    if let Some(c) = &s.capstan {
+        println!(
+            "  capstan: T_pull/T_hold = {:.4}, e^(mu theta) = {:.4} ({:+.2} %)",
+            c.tension_ratio,
+            c.analytic,
+            100.0 * (c.tension_ratio / c.analytic - 1.0)
+        );
+    }
+    if let Some(b) = &s.block {
+        println!(
+            "  block: slip force {:.3} N, mu N = {:.3} N ({:+.2} %)",
+            b.slip_force,
+            b.analytic,
+            100.0 * (b.slip_force / b.analytic - 1.0)
+        );
+    }
+    println!(
+        "  results: {}/summary.json, sections/, energy.csv, punch_force.csv, blank.pvd (ParaView), plots/*.png",
+        out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn compare(args: &CompareArgs) -> Result<ExitCode, String> {
+    let entries = formsim::compare::compare(
+        &args.scene,
+        &args.laws,
+        &args.formulations,
+        &args.set,
+        &args.out,
+        &|e| match &e.result {
+            Ok(r) => eprintln!(
+                "done {}-{}: {} increments, {:.1} s",
+                e.law, e.formulation, r.summary.increments, r.summary.wall_time_s
+            ),
+            Err(m) => eprintln!("failed {}-{}: {m}", e.law, e.formulation),
+        },
+    )?;
+    let failed = entries.iter().filter(|e| e.result.is_err()).count();
+    println!(
+        "{} runs ({} failed): {}/compare.md, compare.csv, plots/",
+        entries.len(),
+        failed,
+        args.out.display()
+    );
+    Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }

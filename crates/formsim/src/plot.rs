@@ -18,7 +18,7 @@ const FONT_CANDIDATES: [&str; 5] = [
 ];
 
 /// Register a sans-serif font once per process.
-fn ensure_font() -> Result<(), String> {
+pub(crate) fn ensure_font() -> Result<(), String> {
     static FONT: OnceLock<Result<(), String>> = OnceLock::new();
     FONT.get_or_init(|| {
         let from_env = std::env::var("FORMSIM_FONT").ok();

@@ -1,0 +1,301 @@
+//! `formsim run`: one forming simulation of a scene, from set-up to the files
+//! of `DIR` (`summary.json`, `sections/*.csv`, `energy.csv`,
+//! `punch_force.csv`, `vtk/*.vtu` + `blank.pvd`, PNG plots).
+//!
+//! The time-step loop calls [`fem_core::Solver::step`], hands the shells'
+//! thickness (and flow stress when a law reads it) to contact, and samples
+//! histories on a fixed schedule; everything that allocates (snapshots,
+//! frames) happens only at the scheduled times.
+
+pub mod post;
+pub mod summary;
+pub mod write;
+
+use crate::output::OutputError;
+use crate::scene::schema::SceneKind;
+use crate::scene::validate::dof_from_name;
+use crate::scene::{LoadedScene, Model, SceneError};
+use post::{Post, Snapshot};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// How to run.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// Output directory (created).
+    pub out: PathBuf,
+    /// Draw a progress bar on the terminal.
+    pub progress: bool,
+}
+
+/// Errors of a run.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The scene is invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The solver stopped (what was computed so far has been written).
+    #[error("run stopped at t = {time:.6e} s: {message} (results so far in {out})")]
+    Solver {
+        /// Time reached (s).
+        time: f64,
+        /// The solver's message.
+        message: String,
+        /// Output directory.
+        out: String,
+    },
+    /// Writing an output failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+}
+
+/// One row of the histories (`energy.csv`, `punch_force.csv`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct HistoryRow {
+    /// Time (s).
+    pub time: f64,
+    /// Stroke (mm).
+    pub stroke: f64,
+    /// Punch force, full-model equivalent (N).
+    pub punch_force: f64,
+    /// Energies at this time.
+    pub energy: fem_core::EnergyLedger,
+    /// Time step (s).
+    pub dt: f64,
+}
+
+/// Everything a run produced, in memory.
+#[derive(Debug, Clone)]
+pub struct RunResult {
+    /// `summary.json`'s content.
+    pub summary: summary::Summary,
+    /// Histories.
+    pub history: Vec<HistoryRow>,
+    /// Final snapshot.
+    pub last: Snapshot,
+    /// Snapshots at the report strokes.
+    pub states: Vec<(f64, Snapshot)>,
+}
+
+/// Run `loaded` and write its outputs to `options.out`.
+///
+/// # Errors
+/// Scene/model errors before the run; a solver error during the run (after
+/// writing what was computed so far); output errors.
+pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunError> {
+    let scene = &loaded.scene;
+    let out = &options.out;
+    std::fs::create_dir_all(out).map_err(|e| OutputError::Io {
+        path: out.clone(),
+        source: e,
+    })?;
+    let mut model = crate::scene::build(loaded)?;
+    let post = Post::new(
+        &model.mesh,
+        &scene.output.sections,
+        &scene.output.draw_in,
+        scene.output.punch_edge_distance,
+    );
+    let setup = model
+        .solver
+        .initialize()
+        .map_err(|e| loaded.key_error("solver", e.to_string()))?;
+    let end = model.end_time;
+    let o = &scene.output;
+    let sample_every = end / (o.history_points as f64 - 1.0);
+    let frame_every = if o.frames > 0 {
+        end / o.frames as f64
+    } else {
+        f64::INFINITY
+    };
+    let mut next_sample = 0.0;
+    let mut next_frame = 0.0;
+    let mut history = Vec::with_capacity(o.history_points + 2);
+    let mut frames: Vec<(f64, String)> = Vec::new();
+    let mut strokes: Vec<f64> = o.report_strokes.clone();
+    strokes.sort_by(f64::total_cmp);
+    let mut states: Vec<(f64, Snapshot)> = Vec::new();
+    let mut ki_max: f64 = 0.0;
+    let mut force_max: f64 = 0.0;
+    let mut capstan_sum = (0.0, 0usize);
+    let mut clamp_seen = false;
+    let bar = progress_bar(options.progress, end);
+    let started = Instant::now();
+    let mut stop: Option<String> = None;
+    let vtk_dir = out.join("vtk");
+    if o.frames > 0 {
+        std::fs::create_dir_all(&vtk_dir).map_err(|e| OutputError::Io {
+            path: vtk_dir.clone(),
+            source: e,
+        })?;
+    }
+    let pull = capstan_pull(loaded);
+    let dt0 = setup.dt_initial;
+    loop {
+        let time = model.solver.time();
+        let (stroke, force) = stroke_and_force(&model, o.symmetry_factor);
+        force_max = force_max.max(force);
+        let e = *model.solver.ledger();
+        let forming = match model.stroke {
+            Some(_) => stroke >= o.forming_starts_at,
+            None => time >= 0.1 * end,
+        };
+        if forming && e.internal > 0.0 {
+            ki_max = ki_max.max(e.kinetic / e.internal);
+        }
+        if let Some(c) = model.contact() {
+            clamp_seen |= c.pairs().iter().any(|p| p.clamped);
+        }
+        if let Some((set, dof, from)) = &pull
+            && time >= *from
+        {
+            let (f, _) = model
+                .solver
+                .reaction(set)
+                .map_err(|e| loaded.key_error("output", e.to_string()))?;
+            capstan_sum.0 += f[*dof].abs();
+            capstan_sum.1 += 1;
+        }
+        if time >= next_sample || time >= end {
+            history.push(HistoryRow {
+                time,
+                stroke,
+                punch_force: force,
+                energy: e,
+                dt: model.solver.dt_next(),
+            });
+            next_sample += sample_every;
+        }
+        while let Some(&r) = strokes.first() {
+            if stroke >= r - 1e-4 {
+                states.push((r, post.snapshot(&model, time, stroke, force)));
+                strokes.remove(0);
+            } else {
+                break;
+            }
+        }
+        if time >= next_frame || time >= end {
+            let name = format!("blank_{:04}.vtu", frames.len());
+            write::frame(&vtk_dir.join(&name), &model, time, stroke)?;
+            frames.push((time, name));
+            next_frame += frame_every;
+        }
+        if time >= end * (1.0 - 1e-12) {
+            break;
+        }
+        if let Err(err) = model.solver.step() {
+            stop = Some(err.to_string());
+            break;
+        }
+        model.couple_shells_to_contact();
+        if model.solver.steps() % 64 == 0
+            && let Some(b) = &bar
+        {
+            b.set_position((1000.0 * model.solver.time() / end) as u64);
+            b.set_message(format!(
+                "stroke {stroke:6.2} mm  force {:8.0} N  K/I {:5.3}  balance {:.1e}",
+                force,
+                if e.internal > 0.0 {
+                    e.kinetic / e.internal
+                } else {
+                    0.0
+                },
+                e.balance_error
+            ));
+        }
+    }
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let wall = started.elapsed().as_secs_f64();
+    let time = model.solver.time();
+    let (stroke, force) = stroke_and_force(&model, o.symmetry_factor);
+    let last = post.snapshot(&model, time, stroke, force);
+    if o.frames > 0 {
+        write::pvd(&out.join("blank.pvd"), &frames)?;
+    }
+    let summary = summary::Summary::new(summary::Inputs {
+        loaded,
+        model: &model,
+        setup: &setup,
+        wall,
+        last: &last,
+        states: &states,
+        force_max,
+        ki_max,
+        capstan: (capstan_sum.1 > 0).then(|| capstan_sum.0 / capstan_sum.1 as f64),
+        clamp_seen,
+        stopped: stop.clone(),
+        dt0,
+    });
+    let result = RunResult {
+        summary,
+        history,
+        last,
+        states,
+    };
+    write::all(out, &result, &model, o.plots)?;
+    if let Some(message) = stop {
+        return Err(RunError::Solver {
+            time,
+            message,
+            out: out.display().to_string(),
+        });
+    }
+    Ok(result)
+}
+
+/// Stroke (mm) and punch force (full-model N) of the stroke tool.
+fn stroke_and_force(model: &Model, symmetry: f64) -> (f64, f64) {
+    match (model.stroke, model.contact()) {
+        (Some(s), Some(c)) => {
+            let stroke = c
+                .press()
+                .map_or(0.0, |p| p.displacement(s.index).dot(&s.direction));
+            let force = -c.reactions()[s.index].dot(&s.direction) * symmetry;
+            (stroke, force)
+        }
+        _ => (0.0, 0.0),
+    }
+}
+
+/// The node set, DOF axis and start time of a capstan's or block's pull.
+fn capstan_pull(loaded: &LoadedScene) -> Option<(String, usize, f64)> {
+    let o = &loaded.scene.output;
+    match loaded.scene.scene.kind {
+        SceneKind::Capstan => o.capstan.as_ref().map(|c| {
+            (
+                c.pull_set.clone(),
+                dof_from_name(&c.pull_dof).map_or(0, |d| d.axis()),
+                c.average_from,
+            )
+        }),
+        SceneKind::BlockOnPlane => o.block.as_ref().map(|b| {
+            (
+                b.pull_set.clone(),
+                dof_from_name(&b.pull_dof).map_or(0, |d| d.axis()),
+                b.average_from,
+            )
+        }),
+        _ => None,
+    }
+}
+
+fn progress_bar(show: bool, _end: f64) -> Option<indicatif::ProgressBar> {
+    if !show {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(1000);
+    let style = indicatif::ProgressStyle::with_template(
+        "{elapsed_precise} [{bar:30}] {percent:>3}% eta {eta}  {msg}",
+    )
+    .ok()?
+    .progress_chars("=> ");
+    bar.set_style(style);
+    Some(bar)
+}
+
+/// Where `path` lies relative to the output directory (for messages).
+pub fn display(path: &Path) -> String {
+    path.display().to_string()
+}

@@ -1,0 +1,248 @@
+//! `summary.json`: the figures of one run (issue 5's keys; scene units).
+
+use super::post::{SectionSummary, Snapshot};
+use crate::scene::schema::SceneKind;
+use crate::scene::{LoadedScene, Model};
+use fem_core::SetupReport;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Energies at the end of the run (mJ = N·mm), balance error relative (-).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct EnergySummary {
+    /// Internal (elastic + plastic, hourglass excluded).
+    pub internal: f64,
+    /// Kinetic.
+    pub kinetic: f64,
+    /// Hourglass.
+    pub hourglass: f64,
+    /// Contact (penalty) energy.
+    pub contact: f64,
+    /// Frictional dissipation.
+    pub friction: f64,
+    /// Plastic dissipation (part of internal).
+    pub plastic: f64,
+    /// Work of the tools, loads and prescribed motions (and mass added in the run).
+    pub external_work: f64,
+    /// `|E_total − E_total(0) − W_ext| / max(...)`, see fem-core's energy ledger.
+    pub balance_error_rel: f64,
+}
+
+/// The state at one report stroke.
+#[derive(Debug, Clone, Serialize)]
+pub struct StateSummary {
+    /// Section extremes.
+    pub sections: BTreeMap<String, SectionSummary>,
+    /// Draw-in (mm).
+    pub draw_in: BTreeMap<String, f64>,
+    /// Largest thinning (-).
+    pub thinning_max: f64,
+    /// Punch force, full-model equivalent (N).
+    pub punch_force: f64,
+    /// Stroke reached (mm).
+    pub stroke: f64,
+}
+
+impl From<&Snapshot> for StateSummary {
+    fn from(s: &Snapshot) -> Self {
+        Self {
+            sections: s.sections.clone(),
+            draw_in: s.draw_in.clone(),
+            thinning_max: s.thinning_max,
+            punch_force: s.punch_force,
+            stroke: s.stroke,
+        }
+    }
+}
+
+/// Capstan result: `T_pull / T_hold` against `e^{μθ}`.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct CapstanSummary {
+    /// Measured steady tension ratio (-).
+    pub tension_ratio: f64,
+    /// `e^{μθ}` (-).
+    pub analytic: f64,
+}
+
+/// Block on a plane: mean friction force while sliding against `μ N`.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct BlockSummary {
+    /// Measured slip force (N).
+    pub slip_force: f64,
+    /// `μ N` (N).
+    pub analytic: f64,
+}
+
+/// `summary.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// Scene name.
+    pub scene: String,
+    /// Friction law (of the first pair).
+    pub law: String,
+    /// Kinematic formulation (of the first pair).
+    pub formulation: String,
+    /// Shell element.
+    pub element: String,
+    /// Number of shells.
+    pub elements: usize,
+    /// Number of nodes.
+    pub nodes: usize,
+    /// Explicit steps taken.
+    pub increments: u64,
+    /// Wall time of the time-step loop (s).
+    pub wall_time_s: f64,
+    /// `elements × increments / wall_time_s`.
+    pub element_cycles_per_s: f64,
+    /// Threads of the rayon pool.
+    pub threads: usize,
+    /// Simulated time (s).
+    pub simulated_time_s: f64,
+    /// First time step (s).
+    pub dt_initial_s: f64,
+    /// Mass added by mass scaling, % of the physical mass (at the end).
+    pub added_mass_percent: f64,
+    /// Energies at the end.
+    pub energy: EnergySummary,
+    /// `friction / (plastic + friction)` (-).
+    pub friction_energy_share: f64,
+    /// Largest kinetic/internal ratio once forming has started (-).
+    pub kinetic_to_internal_max: f64,
+    /// Largest thinning at the end (-).
+    pub thinning_max: f64,
+    /// Largest punch force over the run, full-model equivalent (N).
+    pub punch_force_max: f64,
+    /// Final stroke (mm).
+    pub stroke: f64,
+    /// Section extremes at the end.
+    pub sections: BTreeMap<String, SectionSummary>,
+    /// Draw-in at the end (mm).
+    pub draw_in: BTreeMap<String, f64>,
+    /// States at the report strokes (keys: the stroke in mm).
+    pub states: BTreeMap<String, StateSummary>,
+    /// Capstan result.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub capstan: Option<CapstanSummary>,
+    /// Block-on-plane result.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub block: Option<BlockSummary>,
+    /// Whether a law's clamp (WH's `μ_min`) was active at some step.
+    pub friction_clamp_active: bool,
+    /// `--set` overrides applied.
+    pub overrides: Vec<String>,
+    /// `"completed"` or the reason the run stopped.
+    pub status: String,
+}
+
+/// What [`Summary::new`] reads.
+pub struct Inputs<'a> {
+    /// The scene.
+    pub loaded: &'a LoadedScene,
+    /// The model after the run.
+    pub model: &'a Model,
+    /// Set-up report.
+    pub setup: &'a SetupReport,
+    /// Wall time of the loop (s).
+    pub wall: f64,
+    /// Final snapshot.
+    pub last: &'a Snapshot,
+    /// Report-stroke snapshots.
+    pub states: &'a [(f64, Snapshot)],
+    /// Largest punch force (N).
+    pub force_max: f64,
+    /// Largest K/I while forming.
+    pub ki_max: f64,
+    /// Mean pulled-end reaction for capstan/block (N).
+    pub capstan: Option<f64>,
+    /// Whether a clamp was active.
+    pub clamp_seen: bool,
+    /// Why the run stopped early.
+    pub stopped: Option<String>,
+    /// First time step (s).
+    pub dt0: f64,
+}
+
+/// The stroke as a key: `15` for 15.0, `12.5` for 12.5.
+pub fn stroke_key(r: f64) -> String {
+    if (r - r.round()).abs() < 1e-9 {
+        format!("{}", r.round() as i64)
+    } else {
+        format!("{r}")
+    }
+}
+
+impl Summary {
+    /// Assemble the summary.
+    pub fn new(i: Inputs<'_>) -> Self {
+        let scene = &i.loaded.scene;
+        let e = i.model.solver.ledger();
+        let elements = i.model.mesh.quads.len();
+        let increments = i.model.solver.steps();
+        let (_, added_percent) = i.model.solver.added_mass();
+        let share = if e.plastic + e.friction > 0.0 {
+            e.friction / (e.plastic + e.friction)
+        } else {
+            0.0
+        };
+        let capstan = match (scene.scene.kind, &scene.output.capstan, i.capstan) {
+            (SceneKind::Capstan, Some(c), Some(pull)) => Some(CapstanSummary {
+                tension_ratio: pull / c.hold_force,
+                analytic: (c.mu * c.angle_deg.to_radians()).exp(),
+            }),
+            _ => None,
+        };
+        let block = match (scene.scene.kind, &scene.output.block, i.capstan) {
+            (SceneKind::BlockOnPlane, Some(b), Some(f)) => Some(BlockSummary {
+                slip_force: f,
+                analytic: b.mu * b.normal_force,
+            }),
+            _ => None,
+        };
+        Summary {
+            scene: scene.scene.name.clone(),
+            law: i.model.law.clone(),
+            formulation: i.model.formulation.clone(),
+            element: scene.blank.element.name().to_string(),
+            elements,
+            nodes: i.model.mesh.nodes.len(),
+            increments,
+            wall_time_s: i.wall,
+            element_cycles_per_s: if i.wall > 0.0 {
+                elements as f64 * increments as f64 / i.wall
+            } else {
+                0.0
+            },
+            threads: rayon::current_num_threads(),
+            simulated_time_s: i.model.solver.time(),
+            dt_initial_s: i.dt0,
+            added_mass_percent: added_percent,
+            energy: EnergySummary {
+                internal: e.internal,
+                kinetic: e.kinetic,
+                hourglass: e.hourglass,
+                contact: e.contact,
+                friction: e.friction,
+                plastic: e.plastic,
+                external_work: e.external,
+                balance_error_rel: e.balance_error,
+            },
+            friction_energy_share: share,
+            kinetic_to_internal_max: i.ki_max,
+            thinning_max: i.last.thinning_max,
+            punch_force_max: i.force_max,
+            stroke: i.last.stroke,
+            sections: i.last.sections.clone(),
+            draw_in: i.last.draw_in.clone(),
+            states: i
+                .states
+                .iter()
+                .map(|(r, s)| (stroke_key(*r), StateSummary::from(s)))
+                .collect(),
+            capstan,
+            block,
+            friction_clamp_active: i.clamp_seen,
+            overrides: i.loaded.overrides.clone(),
+            status: i.stopped.clone().unwrap_or_else(|| "completed".to_string()),
+        }
+    }
+}

@@ -1,0 +1,331 @@
+//! Writing a run's files: `summary.json`, `sections/*.csv`, `energy.csv`,
+//! `punch_force.csv`, VTK frames and the `.pvd` series, PNG plots.
+
+use super::RunResult;
+use super::post::{SectionRow, Snapshot};
+use super::summary::stroke_key;
+use crate::output::OutputError;
+use crate::output::vtk::{BlankFrame, FieldData, write_pvd, write_vtu};
+use crate::plot::{Panel, Series, draw_panels};
+use crate::scene::Model;
+use std::fmt::Write as _;
+use std::path::Path;
+
+fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
+    std::fs::write(path, text).map_err(|source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+fn finite(path: &Path, what: &str, v: f64) -> Result<f64, OutputError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(OutputError::Invalid {
+            what: format!("{}: {what} is {v}", path.display()),
+        })
+    }
+}
+
+/// One VTK frame of the blank: current shape, displacement, contact pressure
+/// and friction traction per node (largest over the pairs), and per element
+/// thickness, thinning, major/minor/thickness strain, von Mises, plastic strain.
+///
+/// # Errors
+/// Non-finite values, I/O.
+pub fn frame(path: &Path, model: &Model, time: f64, stroke: f64) -> Result<(), OutputError> {
+    let state = model.solver.state();
+    let n = state.x.len();
+    let x: Vec<[f64; 3]> = state.x.iter().map(|p| [p.x, p.y, p.z]).collect();
+    let u: Vec<[f64; 3]> = state
+        .x
+        .iter()
+        .zip(&state.x0)
+        .map(|(a, b)| [a.x - b.x, a.y - b.y, a.z - b.z])
+        .collect();
+    let mut pressure = vec![0.0; n];
+    let mut traction = vec![[0.0; 3]; n];
+    if let Some(c) = model.contact() {
+        for pair in c.pairs() {
+            for (k, &node) in pair.nodes().iter().enumerate() {
+                let node = node as usize;
+                if pair.pressure[k] > pressure[node] {
+                    pressure[node] = pair.pressure[k];
+                    let t = pair.traction[k];
+                    traction[node] = [t.x, t.y, t.z];
+                }
+            }
+        }
+    }
+    let shells = model.shells();
+    let ne = shells.len();
+    let t0 = model.thickness0;
+    let mut thickness = Vec::with_capacity(ne);
+    let mut thinning = Vec::with_capacity(ne);
+    let mut major = Vec::with_capacity(ne);
+    let mut minor = Vec::with_capacity(ne);
+    let mut eps3 = Vec::with_capacity(ne);
+    let mut mises = Vec::with_capacity(ne);
+    let mut peeq = Vec::with_capacity(ne);
+    for e in 0..ne {
+        let t = shells.thickness(e);
+        let s = shells.membrane_strain(e, state);
+        thickness.push(t);
+        thinning.push((t0 - t) / t0);
+        major.push(s.major);
+        minor.push(s.minor);
+        eps3.push((t / t0).ln());
+        mises.push(shells.von_mises_max(e));
+        peeq.push(shells.plastic_strain_max(e));
+    }
+    let point_fields = [
+        ("contact_pressure", FieldData::Scalar(&pressure)),
+        ("friction_traction", FieldData::Vector(&traction)),
+    ];
+    let cell_fields = [
+        ("thickness", FieldData::Scalar(&thickness)),
+        ("thinning", FieldData::Scalar(&thinning)),
+        ("major_strain", FieldData::Scalar(&major)),
+        ("minor_strain", FieldData::Scalar(&minor)),
+        ("thickness_strain", FieldData::Scalar(&eps3)),
+        ("von_mises_max", FieldData::Scalar(&mises)),
+        ("plastic_strain_max", FieldData::Scalar(&peeq)),
+    ];
+    write_vtu(
+        path,
+        &BlankFrame {
+            time,
+            stroke,
+            quads: &model.mesh.quads,
+            x: &x,
+            displacement: &u,
+            point_fields: &point_fields,
+            cell_fields: &cell_fields,
+        },
+    )
+}
+
+/// The ParaView collection of the frames.
+///
+/// # Errors
+/// I/O.
+pub fn pvd(path: &Path, frames: &[(f64, String)]) -> Result<(), OutputError> {
+    write_pvd(path, frames)
+}
+
+fn section_csv(path: &Path, rows: &[SectionRow]) -> Result<(), OutputError> {
+    let mut s = String::from("distance,major,minor,thickness_strain,thinning\n");
+    for r in rows {
+        for (what, v) in [
+            ("major", r.major),
+            ("minor", r.minor),
+            ("thickness_strain", r.thickness_strain),
+        ] {
+            finite(path, what, v)?;
+        }
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{}",
+            r.distance, r.major, r.minor, r.thickness_strain, r.thinning
+        );
+    }
+    write_text(path, &s)
+}
+
+fn sections(dir: &Path, snap: &Snapshot, suffix: &str) -> Result<(), OutputError> {
+    for (name, rows) in &snap.curves {
+        section_csv(&dir.join(format!("{name}{suffix}.csv")), rows)?;
+    }
+    Ok(())
+}
+
+/// Every file of the run.
+///
+/// # Errors
+/// Non-finite values, I/O, plotting.
+pub fn all(out: &Path, result: &RunResult, model: &Model, plots: bool) -> Result<(), OutputError> {
+    // summary.json
+    let path = out.join("summary.json");
+    let json = serde_json::to_string_pretty(&result.summary).map_err(|e| OutputError::Invalid {
+        what: format!("{}: {e}", path.display()),
+    })?;
+    if json.contains("null") {
+        return Err(OutputError::Invalid {
+            what: format!(
+                "{}: a figure is not finite (NaN or infinity); the run is not trustworthy",
+                path.display()
+            ),
+        });
+    }
+    write_text(&path, &(json + "\n"))?;
+
+    // Sections, at the end and at each report stroke.
+    let dir = out.join("sections");
+    if !result.last.curves.is_empty() {
+        std::fs::create_dir_all(&dir).map_err(|source| OutputError::Io {
+            path: dir.clone(),
+            source,
+        })?;
+        sections(&dir, &result.last, "")?;
+        for (r, snap) in &result.states {
+            sections(&dir, snap, &format!("_stroke{}", stroke_key(*r)))?;
+        }
+    }
+
+    // Histories.
+    let path = out.join("energy.csv");
+    let mut s = String::from(
+        "time,stroke,dt,internal,kinetic,hourglass,plastic,contact,friction,external_work,balance_error\n",
+    );
+    for h in &result.history {
+        let e = &h.energy;
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{},{},{}",
+            h.time,
+            h.stroke,
+            h.dt,
+            e.internal,
+            e.kinetic,
+            e.hourglass,
+            e.plastic,
+            e.contact,
+            e.friction,
+            e.external,
+            e.balance_error
+        );
+    }
+    write_text(&path, &s)?;
+    let path = out.join("punch_force.csv");
+    let mut s = String::from("time,stroke,punch_force\n");
+    for h in &result.history {
+        let _ = writeln!(s, "{},{},{}", h.time, h.stroke, h.punch_force);
+    }
+    write_text(&path, &s)?;
+
+    if plots {
+        plots_png(out, result, model)?;
+    }
+    Ok(())
+}
+
+fn plot_err(path: &Path) -> impl Fn(String) -> OutputError + '_ {
+    move |message| OutputError::Plot {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
+fn plots_png(out: &Path, result: &RunResult, model: &Model) -> Result<(), OutputError> {
+    let plots = out.join("plots");
+    std::fs::create_dir_all(&plots).map_err(|source| OutputError::Io {
+        path: plots.clone(),
+        source,
+    })?;
+    // Strains along each section: one panel per section, final state and report strokes.
+    if !result.last.curves.is_empty() {
+        let mut panels = Vec::new();
+        for (name, rows) in &result.last.curves {
+            let mut series = Vec::new();
+            let mut add = |label: String, rows: &[SectionRow]| {
+                series.push(Series {
+                    label: format!("major {label}"),
+                    points: rows.iter().map(|r| (r.distance, r.major)).collect(),
+                });
+                series.push(Series {
+                    label: format!("minor {label}"),
+                    points: rows.iter().map(|r| (r.distance, r.minor)).collect(),
+                });
+                series.push(Series {
+                    label: format!("thickness {label}"),
+                    points: rows
+                        .iter()
+                        .map(|r| (r.distance, r.thickness_strain))
+                        .collect(),
+                });
+            };
+            for (r, snap) in &result.states {
+                if let Some(rows) = snap.curves.get(name)
+                    && (r - result.last.stroke).abs() > 1e-3
+                {
+                    add(format!("@{} mm", stroke_key(*r)), rows);
+                }
+            }
+            add(format!("@{:.1} mm", result.last.stroke), rows);
+            panels.push(Panel {
+                title: format!("Strains along {name}"),
+                x_label: "initial distance from the section start (mm)".into(),
+                y_label: "logarithmic strain (-)".into(),
+                series,
+            });
+        }
+        let path = plots.join("strains.png");
+        draw_panels(&path, &panels, 1000, 420).map_err(plot_err(&path))?;
+    }
+    // Energies against time.
+    let h = &result.history;
+    let series = |label: &str, f: &dyn Fn(&super::HistoryRow) -> f64| Series {
+        label: label.into(),
+        points: h.iter().map(|r| (r.time * 1e3, f(r))).collect(),
+    };
+    let path = plots.join("energies.png");
+    draw_panels(
+        &path,
+        &[Panel {
+            title: "Energies".into(),
+            x_label: "time (ms)".into(),
+            y_label: "energy (mJ)".into(),
+            series: vec![
+                series("internal", &|r| r.energy.internal),
+                series("plastic", &|r| r.energy.plastic),
+                series("friction", &|r| r.energy.friction),
+                series("kinetic", &|r| r.energy.kinetic),
+                series("hourglass", &|r| r.energy.hourglass),
+                series("contact", &|r| r.energy.contact),
+                series("external work", &|r| r.energy.external),
+            ],
+        }],
+        1000,
+        500,
+    )
+    .map_err(plot_err(&path))?;
+    if model.stroke.is_some() {
+        let path = plots.join("punch_force.png");
+        draw_panels(
+            &path,
+            &[Panel {
+                title: "Punch force (full-model equivalent)".into(),
+                x_label: "stroke (mm)".into(),
+                y_label: "force (kN)".into(),
+                series: vec![Series {
+                    label: "punch force".into(),
+                    points: h.iter().map(|r| (r.stroke, 1e-3 * r.punch_force)).collect(),
+                }],
+            }],
+            1000,
+            500,
+        )
+        .map_err(plot_err(&path))?;
+    }
+    // Thinning map on the formed blank in plan view.
+    let state = model.solver.state();
+    let xy: Vec<[f64; 2]> = state.x.iter().map(|p| [p.x, p.y]).collect();
+    let shells = model.shells();
+    let t0 = model.thickness0;
+    let thinning: Vec<f64> = (0..shells.len())
+        .map(|e| 100.0 * (t0 - shells.thickness(e)) / t0)
+        .collect();
+    crate::output::field_plots::element_map_png(
+        &plots.join("thinning.png"),
+        &format!(
+            "Thinning at stroke {:.1} mm (plan view)",
+            result.last.stroke
+        ),
+        "thinning (%)",
+        &model.mesh.quads,
+        &xy,
+        &thinning,
+    )?;
+    Ok(())
+}

@@ -1,0 +1,767 @@
+//! Building the model of a checked scene: mesh, shells, tools, press, contact
+//! pairs, boundary conditions and loads, assembled on one [`Solver`]. Only
+//! what the scene asks for is built (design.md: a scene pays for its effects).
+
+use super::LoadedScene;
+use super::SceneError;
+use super::schema::{AmplitudeSpec, Boundary, ElementKind, HardeningSpec, MeshSpec, Motion, Scene};
+use super::validate::{axis_index, dof_from_name};
+use crate::components::{LawSource, point_integrator};
+use contact::{BlankGeometry, ContactEffect, ContactPair, PairSpec, PenaltySettings};
+use fem_core::{
+    Amplitude, BoundaryCondition, Dofs, EffectId, Mesh, MotionKind, NodalLoad, NodalState, Press,
+    PressStep, Solver, SolverSettings, StepEnd, ToolMotion, Vec3,
+};
+use plugins_api::{Params, PointNeeds, TangentMode, ToolSurface};
+use shell_elements::{
+    BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, LogStrain, Section,
+    ShellFormulation, ShellSet,
+};
+use std::collections::BTreeMap;
+
+/// Read access to the blank's shells, whichever element the scene chose.
+pub trait ShellView {
+    /// Number of elements.
+    fn len(&self) -> usize;
+    /// True when there are no elements.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Current thickness of element `e` (mm).
+    fn thickness(&self, e: usize) -> f64;
+    /// Flow stress at the outer fibres `[bottom, top]` (MPa).
+    fn outer_flow_stress(&self, e: usize) -> [f64; 2];
+    /// Logarithmic membrane strain of element `e`.
+    fn membrane_strain(&self, e: usize, state: &NodalState) -> LogStrain;
+    /// Largest von Mises stress over the element's integration points (MPa).
+    fn von_mises_max(&self, e: usize) -> f64;
+    /// Largest equivalent plastic strain over the element's integration points (-).
+    fn plastic_strain_max(&self, e: usize) -> f64;
+}
+
+impl<E: ShellFormulation> ShellView for ShellSet<E, J2PlaneStress> {
+    fn len(&self) -> usize {
+        ShellSet::len(self)
+    }
+    fn thickness(&self, e: usize) -> f64 {
+        ShellSet::thickness(self, e)
+    }
+    fn outer_flow_stress(&self, e: usize) -> [f64; 2] {
+        ShellSet::outer_flow_stress(self, e)
+    }
+    fn membrane_strain(&self, e: usize, state: &NodalState) -> LogStrain {
+        ShellSet::membrane_strain(self, e, state)
+    }
+    fn von_mises_max(&self, e: usize) -> f64 {
+        let n = self.section().rule.n;
+        let mut m: f64 = 0.0;
+        for p in 0..E::IN_PLANE_POINTS {
+            for k in 0..n {
+                m = m.max(self.von_mises(e, p, k));
+            }
+        }
+        m
+    }
+    fn plastic_strain_max(&self, e: usize) -> f64 {
+        let n = self.section().rule.n;
+        let mut m: f64 = 0.0;
+        for p in 0..E::IN_PLANE_POINTS {
+            for k in 0..n {
+                m = m.max(self.plastic_strain(e, p, k));
+            }
+        }
+        m
+    }
+}
+
+/// Which shell effect holds the blank.
+#[derive(Debug, Clone, Copy)]
+pub enum ShellHandle {
+    /// Belytschko–Tsay shells.
+    BelytschkoTsay(EffectId),
+    /// Fully integrated shells.
+    FullyIntegrated(EffectId),
+}
+
+/// The tool whose travel is the stroke.
+#[derive(Debug, Clone, Copy)]
+pub struct StrokeTool {
+    /// Tool index.
+    pub index: usize,
+    /// Unit direction of its travel.
+    pub direction: Vec3,
+}
+
+/// The built model.
+pub struct Model {
+    /// The solver with every effect added (not yet initialised).
+    pub solver: Solver,
+    /// The blank's shells.
+    pub shells: ShellHandle,
+    /// The contact effect, when the scene has tools.
+    pub contact: Option<EffectId>,
+    /// Tool names, in tool-index order.
+    pub tool_names: Vec<String>,
+    /// The initial mesh.
+    pub mesh: Mesh,
+    /// Initial thickness (mm).
+    pub thickness0: f64,
+    /// End of the run (s).
+    pub end_time: f64,
+    /// Stroke tool, if the scene names one.
+    pub stroke: Option<StrokeTool>,
+    /// Law and formulation of the first pair (for reports).
+    pub law: String,
+    /// See `law`.
+    pub formulation: String,
+    coupling: Coupling,
+}
+
+impl std::fmt::Debug for Model {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Model")
+            .field("elements", &self.mesh.quads.len())
+            .field("tools", &self.tool_names)
+            .field("end_time", &self.end_time)
+            .finish()
+    }
+}
+
+/// Element-to-node averaging buffers for the thickness and the flow stress that contact reads.
+#[derive(Debug, Clone, Default)]
+struct Coupling {
+    inv_valence: Vec<f64>,
+    thickness: Vec<f64>,
+    top: Vec<f64>,
+    bottom: Vec<f64>,
+    flow: bool,
+}
+
+impl Model {
+    /// The blank's shells.
+    pub fn shells(&self) -> &dyn ShellView {
+        match self.shells {
+            ShellHandle::BelytschkoTsay(id) => self
+                .solver
+                .effect::<ShellSet<BelytschkoTsay, J2PlaneStress>>(id)
+                .expect("shell effect"),
+            ShellHandle::FullyIntegrated(id) => self
+                .solver
+                .effect::<ShellSet<FullyIntegrated, J2PlaneStress>>(id)
+                .expect("shell effect"),
+        }
+    }
+
+    /// The contact effect.
+    pub fn contact(&self) -> Option<&ContactEffect> {
+        self.contact.and_then(|id| self.solver.effect(id))
+    }
+
+    /// Hand contact the blank's current nodal thickness (and outer-fibre flow
+    /// stress when a law reads it), averaged from the adjacent elements. Call
+    /// after each step; it does not allocate.
+    pub fn couple_shells_to_contact(&mut self) {
+        let Some(cid) = self.contact else { return };
+        let c = &mut self.coupling;
+        c.thickness.iter_mut().for_each(|v| *v = 0.0);
+        if c.flow {
+            c.top.iter_mut().for_each(|v| *v = 0.0);
+            c.bottom.iter_mut().for_each(|v| *v = 0.0);
+        }
+        {
+            let shells: &dyn ShellView = match self.shells {
+                ShellHandle::BelytschkoTsay(id) => self
+                    .solver
+                    .effect::<ShellSet<BelytschkoTsay, J2PlaneStress>>(id)
+                    .expect("shell effect"),
+                ShellHandle::FullyIntegrated(id) => self
+                    .solver
+                    .effect::<ShellSet<FullyIntegrated, J2PlaneStress>>(id)
+                    .expect("shell effect"),
+            };
+            for (e, q) in self.mesh.quads.iter().enumerate() {
+                let t = shells.thickness(e);
+                let f = if c.flow {
+                    shells.outer_flow_stress(e)
+                } else {
+                    [0.0; 2]
+                };
+                for &n in q {
+                    let n = n as usize;
+                    c.thickness[n] += t;
+                    if c.flow {
+                        c.bottom[n] += f[0];
+                        c.top[n] += f[1];
+                    }
+                }
+            }
+        }
+        let contact: &mut ContactEffect = self.solver.effect_mut(cid).expect("contact effect");
+        for (dst, (sum, w)) in contact
+            .thickness_mut()
+            .iter_mut()
+            .zip(c.thickness.iter().zip(&c.inv_valence))
+        {
+            if *w > 0.0 {
+                *dst = sum * w;
+            }
+        }
+        if c.flow
+            && let Some((top, bottom)) = contact.flow_stress_mut()
+        {
+            for n in 0..top.len() {
+                if c.inv_valence[n] > 0.0 {
+                    top[n] = c.top[n] * c.inv_valence[n];
+                    bottom[n] = c.bottom[n] * c.inv_valence[n];
+                }
+            }
+        }
+    }
+}
+
+/// Build the model of `loaded`.
+///
+/// # Errors
+/// Errors of the engine crates (mesh, material, tools, friction law, press),
+/// each attached to the scene key it comes from.
+pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
+    let s: &Scene = &loaded.scene;
+    let base = loaded.base_dir();
+
+    // Mesh.
+    let mesh = build_mesh(loaded).map_err(|e| loaded.key_error("blank.mesh", e.to_string()))?;
+    let settings = SolverSettings {
+        safety_factor: s.solver.safety_factor,
+        mass_scaling_dt: s.solver.mass_scaling_dt,
+        damping: s.solver.damping,
+        dt_max: s.solver.dt_max,
+        ..SolverSettings::default()
+    };
+    let mut solver =
+        Solver::new(&mesh, settings).map_err(|e| loaded.key_error("solver", e.to_string()))?;
+
+    // Material and shells.
+    let m = &s.blank.material;
+    let hardening = match &m.hardening {
+        HardeningSpec::Swift { k, eps0, n } => Hardening::swift(*k, *eps0, *n),
+        HardeningSpec::Table { eps_p, sigma_y } => Hardening::table(
+            &eps_p
+                .iter()
+                .zip(sigma_y)
+                .map(|(a, b)| (*a, *b))
+                .collect::<Vec<_>>(),
+        ),
+        HardeningSpec::Perfect { sigma_y } => Hardening::swift(*sigma_y, 1.0, 0.0),
+        HardeningSpec::Elastic => Hardening::swift(1e30, 1.0, 0.0),
+    }
+    .map_err(|e| loaded.key_error("blank.material.hardening", e.to_string()))?;
+    let material = J2PlaneStress::new(m.youngs_modulus, m.poissons_ratio, m.density, hardening)
+        .map_err(|e| loaded.key_error("blank.material", e.to_string()))?;
+    let section = Section::new(s.blank.thickness)
+        .and_then(|sec| sec.with_rule(shell_elements::RuleKind::Gauss, s.blank.integration_points))
+        .and_then(|sec| sec.with_hourglass(s.blank.hourglass))
+        .map_err(|e| loaded.key_error("blank", e.to_string()))?;
+    let shells = match s.blank.element {
+        ElementKind::BelytschkoTsay => ShellHandle::BelytschkoTsay(
+            solver.add_effect(
+                ShellSet::new(
+                    "blank",
+                    &mesh.nodes,
+                    &mesh.quads,
+                    section,
+                    BelytschkoTsay::default(),
+                    material,
+                )
+                .map_err(|e| loaded.key_error("blank", e.to_string()))?,
+            ),
+        ),
+        ElementKind::FullyIntegrated => ShellHandle::FullyIntegrated(
+            solver.add_effect(
+                ShellSet::new(
+                    "blank",
+                    &mesh.nodes,
+                    &mesh.quads,
+                    section,
+                    FullyIntegrated::default(),
+                    material,
+                )
+                .map_err(|e| loaded.key_error("blank", e.to_string()))?,
+            ),
+        ),
+    };
+
+    // Tools (in the table's key order).
+    let mut tool_names = Vec::new();
+    let mut tools: Vec<Box<dyn ToolSurface>> = Vec::new();
+    for (name, value) in &s.tools {
+        let key = format!("tools.{name}");
+        let table = value
+            .as_table()
+            .ok_or_else(|| loaded.key_error(&key, "must be a table [tools.NAME]"))?;
+        let tool = tools_nurbs::spec::build_tool(name, table, base)
+            .map_err(|e| loaded.key_error(&key, e.to_string()))?;
+        tool_names.push(name.clone());
+        tools.push(Box::new(tool));
+    }
+    let tool_index = |name: &str| tool_names.iter().position(|n| n == name);
+
+    // Press programme.
+    let mut press_steps = Vec::new();
+    for (i, step) in s.steps.iter().enumerate() {
+        let (end, duration) = match (step.duration, &step.until) {
+            (Some(d), _) => (StepEnd::Duration(d), d),
+            (None, Some(u)) => (
+                StepEnd::Travel {
+                    tool: tool_index(&u.tool).expect("validated"),
+                    distance: u.distance,
+                    max_duration: u.max_duration,
+                },
+                u.max_duration,
+            ),
+            (None, None) => unreachable!("validated"),
+        };
+        let mut motions = Vec::new();
+        for motion in &step.motions {
+            let tool = tool_index(motion.tool()).expect("validated");
+            let amp = |a: &Option<AmplitudeSpec>| a.as_ref().map(|a| step_amplitude(a, duration));
+            let m = match motion {
+                Motion::Hold { .. } => ToolMotion::Hold,
+                Motion::Travel {
+                    direction,
+                    distance,
+                    amplitude,
+                    ..
+                } => ToolMotion::Travel {
+                    direction: unit(direction),
+                    distance: *distance,
+                    amplitude: amp(amplitude),
+                },
+                Motion::Velocity {
+                    direction,
+                    speed,
+                    amplitude,
+                    ..
+                } => ToolMotion::Velocity {
+                    direction: unit(direction),
+                    speed: *speed,
+                    amplitude: amp(amplitude),
+                },
+                Motion::Force {
+                    direction,
+                    force,
+                    amplitude,
+                    mass,
+                    damping,
+                    ..
+                } => ToolMotion::Force {
+                    direction: unit(direction),
+                    force: *force,
+                    amplitude: amp(amplitude),
+                    mass: *mass,
+                    damping: *damping,
+                },
+            };
+            motions.push((tool, m));
+        }
+        let active_pairs = step.pairs.as_ref().map(|tools_on| {
+            pair_tools(s)
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| tools_on.iter().any(|n| n == *t))
+                .map(|(k, _)| k)
+                .collect()
+        });
+        let _ = i;
+        press_steps.push(PressStep {
+            name: step.name.clone(),
+            end,
+            motions,
+            active_pairs,
+        });
+    }
+    let press = if press_steps.is_empty() {
+        None
+    } else {
+        let poses: Vec<_> = tools.iter().map(|t| t.pose()).collect();
+        Some(
+            Press::new(&tool_names, &poses, press_steps)
+                .map_err(|e| loaded.key_error("steps", e.to_string()))?,
+        )
+    };
+    let end_time = s
+        .solver
+        .end_time
+        .or_else(|| press.as_ref().map(Press::nominal_duration))
+        .expect("validated: end_time or steps");
+
+    // Contact pairs.
+    let n_nodes = mesh.nodes.len();
+    let mut contact = None;
+    let mut law_name = s.contact.law.clone();
+    let mut formulation_name = s.contact.formulation.clone();
+    let mut flow = false;
+    if !tools.is_empty() {
+        let geometry = BlankGeometry::new(n_nodes, &mesh.quads)
+            .map_err(|e| loaded.key_error("blank.mesh", e.to_string()))?;
+        let bulk = m.youngs_modulus / (3.0 * (1.0 - 2.0 * m.poissons_ratio));
+        let mut pairs = Vec::new();
+        let entries = pair_entries(s);
+        for (k, entry) in entries.iter().enumerate() {
+            let key = if s.contact.pairs.is_empty() {
+                "contact".to_string()
+            } else {
+                format!("contact.pairs[{k}]")
+            };
+            let law = entry.law.clone().unwrap_or_else(|| s.contact.law.clone());
+            let formulation = entry
+                .formulation
+                .clone()
+                .unwrap_or_else(|| s.contact.formulation.clone());
+            let (source, params_key) = match &s.contact.plugin {
+                Some(p) if entry.law.is_none() => {
+                    (LawSource::Plugin(base.join(p)), "plugin".to_string())
+                }
+                _ => (LawSource::Named(law.clone()), law.clone()),
+            };
+            if k == 0 {
+                law_name = match &source {
+                    LawSource::Named(n) => n.clone(),
+                    LawSource::Plugin(p) => p.display().to_string(),
+                };
+                formulation_name = formulation.clone();
+            }
+            let mut params = Params::new();
+            if let Some(table) = s.contact.params.get(&params_key) {
+                for (name, v) in table {
+                    params.set(name, *v);
+                }
+            }
+            let integrator = point_integrator(&source, &params, &formulation, TangentMode::None)
+                .map_err(|e| {
+                    let message = e.to_string();
+                    let key = if message.contains("unknown law") || message.contains("plugin") {
+                        if entry.law.is_some() {
+                            format!("{key}.law")
+                        } else if s.contact.plugin.is_some() {
+                            "contact.plugin".to_string()
+                        } else {
+                            "contact.law".to_string()
+                        }
+                    } else if message.contains("formulation") {
+                        if entry.formulation.is_some() {
+                            format!("{key}.formulation")
+                        } else {
+                            "contact.formulation".to_string()
+                        }
+                    } else {
+                        format!("contact.params.{params_key}")
+                    };
+                    loaded.key_error(&key, message)
+                })?;
+            let tool = tool_index(&entry.tool).expect("validated");
+            let mut spec = PairSpec::new(
+                &entry
+                    .name
+                    .clone()
+                    .unwrap_or_else(|| format!("{}-blank", entry.tool)),
+                tool,
+                bulk,
+            );
+            spec.penalty = PenaltySettings {
+                scale: entry.penalty_scale.unwrap_or(s.contact.penalty_scale),
+                damping: s.contact.damping,
+            };
+            spec.search_margin = s.contact.search_margin;
+            let pair = ContactPair::new(&spec, integrator, &geometry, &mesh.nodes)
+                .map_err(|e| loaded.key_error(&key, e.to_string()))?;
+            flow |= pair.needs().contains(PointNeeds::FLOW_STRESS);
+            pairs.push(pair);
+        }
+        let effect = ContactEffect::new(
+            tools,
+            press,
+            pairs,
+            geometry,
+            vec![s.blank.thickness; n_nodes],
+        )
+        .map_err(|e| loaded.key_error("contact", e.to_string()))?;
+        contact = Some(solver.add_effect(effect));
+    }
+
+    // Boundary conditions and loads.
+    for (i, bc) in s.boundary.iter().enumerate() {
+        let key = format!("boundary[{i}]");
+        let condition = match bc {
+            Boundary::Symmetry { set, axis } => BoundaryCondition::Symmetry {
+                set: set.clone(),
+                axis: axis_index(axis).expect("validated"),
+            },
+            Boundary::Fixed { set, dofs } => BoundaryCondition::Fixed {
+                set: set.clone(),
+                dofs: Dofs::of(
+                    &dofs
+                        .iter()
+                        .map(|d| dof_from_name(d).expect("validated"))
+                        .collect::<Vec<_>>(),
+                ),
+            },
+            Boundary::Prescribed {
+                set,
+                dof,
+                motion,
+                value,
+                amplitude,
+            } => BoundaryCondition::Prescribed {
+                set: set.clone(),
+                dof: dof_from_name(dof).expect("validated"),
+                kind: if motion == "velocity" {
+                    MotionKind::Velocity
+                } else {
+                    MotionKind::Displacement
+                },
+                value: *value,
+                amplitude: amplitude
+                    .as_ref()
+                    .map_or(Amplitude::Constant, |a| step_amplitude(a, 1.0)),
+            },
+        };
+        solver
+            .add_boundary_condition(&condition)
+            .map_err(|e| loaded.key_error(&key, e.to_string()))?;
+    }
+    for (i, load) in s.loads.iter().enumerate() {
+        let key = format!("loads[{i}]");
+        let count = mesh
+            .node_set(&load.set)
+            .map_err(|e| loaded.key_error(&format!("{key}.set"), e.to_string()))?
+            .len();
+        solver
+            .add_load(&NodalLoad {
+                set: load.set.clone(),
+                dof: dof_from_name(&load.dof).expect("validated"),
+                value: load.total / count.max(1) as f64,
+                amplitude: load
+                    .amplitude
+                    .as_ref()
+                    .map_or(Amplitude::Constant, |a| step_amplitude(a, 1.0)),
+            })
+            .map_err(|e| loaded.key_error(&key, e.to_string()))?;
+    }
+
+    // Stroke tool: its first travel or velocity direction.
+    let stroke = match &s.output.stroke_tool {
+        None => None,
+        Some(name) => {
+            let index = tool_index(name).expect("validated");
+            let direction = s
+                .steps
+                .iter()
+                .flat_map(|st| &st.motions)
+                .find_map(|m| match m {
+                    Motion::Travel {
+                        tool, direction, ..
+                    }
+                    | Motion::Velocity {
+                        tool, direction, ..
+                    } if tool == name => Some(unit(direction)),
+                    _ => None,
+                })
+                .ok_or_else(|| {
+                    loaded.key_error(
+                        "output.stroke_tool",
+                        format!("\"{name}\" never travels in [[steps]]: no stroke direction"),
+                    )
+                })?;
+            Some(StrokeTool { index, direction })
+        }
+    };
+
+    // Element-to-node averaging weights.
+    let mut valence = vec![0usize; n_nodes];
+    for q in &mesh.quads {
+        for &n in q {
+            valence[n as usize] += 1;
+        }
+    }
+    let coupling = Coupling {
+        inv_valence: valence
+            .iter()
+            .map(|&v| if v > 0 { 1.0 / v as f64 } else { 0.0 })
+            .collect(),
+        thickness: vec![0.0; n_nodes],
+        top: if flow { vec![0.0; n_nodes] } else { Vec::new() },
+        bottom: if flow { vec![0.0; n_nodes] } else { Vec::new() },
+        flow,
+    };
+
+    Ok(Model {
+        solver,
+        shells,
+        contact,
+        tool_names,
+        mesh,
+        thickness0: s.blank.thickness,
+        end_time,
+        stroke,
+        law: law_name,
+        formulation: formulation_name,
+        coupling,
+    })
+}
+
+/// The contact pairs: as listed, or one per tool.
+fn pair_entries(s: &Scene) -> Vec<super::schema::PairEntry> {
+    if s.contact.pairs.is_empty() {
+        s.tools
+            .keys()
+            .map(|t| super::schema::PairEntry {
+                tool: t.clone(),
+                name: None,
+                law: None,
+                formulation: None,
+                penalty_scale: None,
+            })
+            .collect()
+    } else {
+        s.contact.pairs.clone()
+    }
+}
+
+/// Tool name of each pair, in pair order.
+fn pair_tools(s: &Scene) -> Vec<String> {
+    pair_entries(s).into_iter().map(|p| p.tool).collect()
+}
+
+fn unit(d: &[f64; 3]) -> Vec3 {
+    Vec3::new(d[0], d[1], d[2]).normalize()
+}
+
+/// A step amplitude (`duration`: the step's length, for the named shapes).
+fn step_amplitude(a: &AmplitudeSpec, duration: f64) -> Amplitude {
+    match a {
+        AmplitudeSpec::Named(n) => match n.as_str() {
+            "smooth-step" => Amplitude::SmoothStep {
+                t0: 0.0,
+                t1: duration,
+            },
+            "linear" => Amplitude::Linear {
+                t0: 0.0,
+                t1: duration,
+            },
+            _ => Amplitude::Constant,
+        },
+        AmplitudeSpec::Ramp { shape, t0, t1 } => {
+            if shape == "linear" {
+                Amplitude::Linear { t0: *t0, t1: *t1 }
+            } else {
+                Amplitude::SmoothStep { t0: *t0, t1: *t1 }
+            }
+        }
+        AmplitudeSpec::Table(rows) => Amplitude::Table(rows.iter().map(|r| (r[0], r[1])).collect()),
+    }
+}
+
+/// The blank mesh of the scene.
+fn build_mesh(loaded: &LoadedScene) -> Result<Mesh, String> {
+    let mut mesh = match &loaded.scene.blank.mesh {
+        MeshSpec::Rectangle {
+            size,
+            divisions,
+            origin,
+        } => {
+            let (nx, ny) = divisions.pair();
+            let mut m = fem_core::rectangle(size[0], size[1], nx as usize, ny as usize)
+                .map_err(|e| e.to_string())?;
+            for p in &mut m.nodes {
+                *p += Vec3::new(origin[0], origin[1], origin[2]);
+            }
+            m
+        }
+        MeshSpec::File { path, translate } => {
+            let full = loaded.base_dir().join(path);
+            let ext = full
+                .extension()
+                .and_then(|e| e.to_str())
+                .unwrap_or("")
+                .to_ascii_lowercase();
+            let mut m = match ext.as_str() {
+                "inp" => fem_core::read_inp(&full),
+                "msh" => fem_core::read_msh(&full),
+                _ => return Err(format!("\"{path}\": expected a .inp or .msh file")),
+            }
+            .map_err(|e| e.to_string())?;
+            for p in &mut m.nodes {
+                *p += Vec3::new(translate[0], translate[1], translate[2]);
+            }
+            m
+        }
+        MeshSpec::WrappedStrip {
+            radius,
+            width,
+            tail,
+            angle_deg,
+            element_size,
+        } => wrapped_strip(
+            *radius + 0.5 * loaded.scene.blank.thickness,
+            *width,
+            *tail,
+            angle_deg.to_radians(),
+            *element_size,
+        ),
+    };
+    mesh.add_all_sets();
+    Ok(mesh)
+}
+
+/// A strip over a drum of axis `y`: horizontal tail on top from `x = tail`
+/// to the top of the drum, an arc of `angle` in the x–z plane, a straight tail
+/// leaving tangentially. Mid-surface radius `rm`; three nodes across the width.
+fn wrapped_strip(rm: f64, width: f64, tail: f64, angle: f64, h: f64) -> Mesh {
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let mut centre = Vec::new();
+    let n1 = ((tail / h).round() as usize).max(1);
+    for i in 0..=n1 {
+        centre.push((tail - i as f64 * tail / n1 as f64, rm));
+    }
+    let na = ((rm * angle / h).ceil() as usize).max(1);
+    for j in 1..=na {
+        let a = half_pi + angle * j as f64 / na as f64;
+        centre.push((rm * a.cos(), rm * a.sin()));
+    }
+    let a_end = half_pi + angle;
+    let (ex, ez) = (rm * a_end.cos(), rm * a_end.sin());
+    let (tx, tz) = (-a_end.sin(), a_end.cos());
+    for k in 1..=n1 {
+        let s = k as f64 * tail / n1 as f64;
+        centre.push((ex + s * tx, ez + s * tz));
+    }
+    let ys = [-0.5 * width, 0.0, 0.5 * width];
+    let mut nodes = Vec::new();
+    for &(x, z) in &centre {
+        for &y in &ys {
+            nodes.push(Vec3::new(x, y, z));
+        }
+    }
+    let m = centre.len();
+    let mut quads = Vec::new();
+    for i in 0..m - 1 {
+        for j in 0..2 {
+            let a = (3 * i + j) as u32;
+            quads.push([a, a + 3, a + 4, a + 1]);
+        }
+    }
+    let mut node_sets = BTreeMap::new();
+    node_sets.insert("pull".to_string(), vec![0, 1, 2]);
+    let last = 3 * (m as u32 - 1);
+    node_sets.insert("hold".to_string(), vec![last, last + 1, last + 2]);
+    node_sets.insert(
+        "centre".to_string(),
+        (0..m as u32).map(|i| 3 * i + 1).collect(),
+    );
+    Mesh {
+        nodes,
+        quads,
+        node_sets,
+        ..Default::default()
+    }
+}

@@ -1,0 +1,127 @@
+//! `--set KEY=VALUE`: overriding any scene value from the command line.
+//!
+//! `KEY` is a dotted path (`contact.law`, `blank.mesh.divisions`,
+//! `steps[2].duration`, `contact.params.wvs.nu`); `VALUE` is read as a TOML
+//! value (`0.2`, `50`, `[25, 25]`, `true`, `"text"`), and as a bare string when
+//! it is not one (`wvs`). Intermediate tables are created; array entries must exist.
+
+use super::SceneError;
+use super::locate::{Segment, split_path};
+use toml::{Table, Value};
+
+/// Parse `KEY=VALUE`.
+///
+/// # Errors
+/// No `=`, or an empty key.
+pub fn parse_assignment(text: &str) -> Result<(String, Value), SceneError> {
+    let bad = |message: &str| SceneError::Override {
+        assignment: text.to_string(),
+        message: message.to_string(),
+    };
+    let (key, value) = text
+        .split_once('=')
+        .ok_or_else(|| bad("expected KEY=VALUE"))?;
+    let key = key.trim();
+    if key.is_empty() {
+        return Err(bad("empty key"));
+    }
+    let value = value.trim();
+    let parsed = toml::from_str::<Table>(&format!("v = {value}"))
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| Value::String(value.to_string()));
+    Ok((key.to_string(), parsed))
+}
+
+/// Apply one override to the scene table.
+///
+/// # Errors
+/// A path through a value that is not a table or array, or an index past the end.
+pub fn apply(
+    table: &mut Table,
+    key: &str,
+    value: Value,
+    assignment: &str,
+) -> Result<(), SceneError> {
+    let segments = split_path(key);
+    if segments.is_empty() {
+        return Err(SceneError::Override {
+            assignment: assignment.to_string(),
+            message: "empty key".into(),
+        });
+    }
+    let mut root = Value::Table(std::mem::take(table));
+    let result = set_in(&mut root, &segments, value).map_err(|message| SceneError::Override {
+        assignment: assignment.to_string(),
+        message,
+    });
+    if let Value::Table(t) = root {
+        *table = t;
+    }
+    result
+}
+
+fn set_in(node: &mut Value, path: &[Segment], value: Value) -> Result<(), String> {
+    let (first, rest) = path.split_first().expect("non-empty path");
+    let child: &mut Value = match (first, node) {
+        (Segment::Key(k), Value::Table(t)) => {
+            if rest.is_empty() {
+                t.insert(k.clone(), value);
+                return Ok(());
+            }
+            t.entry(k.clone())
+                .or_insert_with(|| Value::Table(Table::new()))
+        }
+        (Segment::Index(i), Value::Array(a)) => {
+            let n = a.len();
+            let slot = a
+                .get_mut(*i)
+                .ok_or_else(|| format!("index [{i}] past the end ({n} entries)"))?;
+            if rest.is_empty() {
+                *slot = value;
+                return Ok(());
+            }
+            slot
+        }
+        (Segment::Key(k), other) => {
+            return Err(format!("cannot set `{k}` inside a {}", other.type_str()));
+        }
+        (Segment::Index(i), other) => {
+            return Err(format!("cannot index [{i}] into a {}", other.type_str()));
+        }
+    };
+    set_in(child, rest, value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sets_nested_keys_arrays_and_bare_strings() {
+        let mut t: Table =
+            toml::from_str("[contact]\nlaw = \"ac\"\n[[steps]]\nduration = 1.0\n").unwrap();
+        for a in [
+            "contact.law=wvs",
+            "contact.params.wvs.nu=0.8",
+            "steps[0].duration=2e-3",
+            "blank.mesh.divisions=[25, 25]",
+        ] {
+            let (k, v) = parse_assignment(a).unwrap();
+            apply(&mut t, &k, v, a).unwrap();
+        }
+        assert_eq!(t["contact"]["law"].as_str(), Some("wvs"));
+        assert_eq!(t["contact"]["params"]["wvs"]["nu"].as_float(), Some(0.8));
+        assert_eq!(t["steps"][0]["duration"].as_float(), Some(2e-3));
+        assert_eq!(
+            t["blank"]["mesh"]["divisions"].as_array().map(Vec::len),
+            Some(2)
+        );
+        let (k, v) = parse_assignment("steps[3].duration=1").unwrap();
+        let e = apply(&mut t, &k, v, "steps[3].duration=1")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("past the end"), "{e}");
+        assert!(parse_assignment("novalue").is_err());
+    }
+}

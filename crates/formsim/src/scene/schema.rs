@@ -1,0 +1,669 @@
+//! The scene file's schema: every table and key of `docs/scene-format.md`, as
+//! serde structures (unknown keys are errors). Ranges are checked afterwards by
+//! [`super::validate::validate`]; building the model is [`super::build()`]'s work.
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// A whole scene file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// `[scene]`: name, kind, units.
+    pub scene: Meta,
+    /// `[blank]`: mesh, thickness, element, material.
+    pub blank: Blank,
+    /// `[tools.NAME]`: rigid tools, keys of `docs/tools.md`.
+    #[serde(default)]
+    pub tools: toml::Table,
+    /// `[contact]`: friction law, formulation, parameters, pairs.
+    #[serde(default)]
+    pub contact: Contact,
+    /// `[[steps]]`: the press programme.
+    #[serde(default)]
+    pub steps: Vec<Step>,
+    /// `[solver]`: time step, mass scaling, damping, end time.
+    #[serde(default)]
+    pub solver: SolverSection,
+    /// `[[boundary]]`: symmetry planes, fixed and prescribed DOFs on node sets.
+    #[serde(default)]
+    pub boundary: Vec<Boundary>,
+    /// `[[loads]]`: nodal forces on node sets.
+    #[serde(default)]
+    pub loads: Vec<Load>,
+    /// `[output]`: what to write.
+    #[serde(default)]
+    pub output: Output,
+}
+
+/// `[scene]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Meta {
+    /// Name used in reports and `summary.json`.
+    pub name: String,
+    /// Free text.
+    #[serde(default)]
+    pub description: String,
+    /// Post-processing preset: `generic`, `square-cup`, `capstan`, `block-on-plane`.
+    #[serde(default)]
+    pub kind: SceneKind,
+    /// The unit system; formsim computes in mm, N, MPa, tonne, s only.
+    pub units: Units,
+}
+
+/// Post-processing preset of a scene.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SceneKind {
+    /// No benchmark-specific results.
+    #[default]
+    Generic,
+    /// NUMISHEET'93 square cup: sections OD/OX, draw-in DX/DY/DD.
+    SquareCup,
+    /// Capstan: tension ratio against `e^{μθ}`.
+    Capstan,
+    /// Block on a plane: slip force against `μN`.
+    BlockOnPlane,
+}
+
+/// `[scene.units]`: must be mm, N, MPa, tonne, s (stated so that every scene says it).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Units {
+    /// `"mm"`.
+    pub length: String,
+    /// `"N"`.
+    pub force: String,
+    /// `"MPa"`.
+    pub stress: String,
+    /// `"tonne"`.
+    pub mass: String,
+    /// `"s"`.
+    pub time: String,
+}
+
+/// `[blank]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Blank {
+    /// `[blank.mesh]`: generator or file.
+    pub mesh: MeshSpec,
+    /// Initial thickness (mm).
+    pub thickness: f64,
+    /// `belytschko-tsay` (default) or `fully-integrated`.
+    #[serde(default)]
+    pub element: ElementKind,
+    /// Through-thickness integration points (default 5).
+    #[serde(default = "default_points")]
+    pub integration_points: usize,
+    /// Hourglass coefficient of the Belytschko–Tsay shell (default 0.05).
+    #[serde(default = "default_hourglass")]
+    pub hourglass: f64,
+    /// `[blank.material]`.
+    pub material: Material,
+}
+
+fn default_points() -> usize {
+    5
+}
+fn default_hourglass() -> f64 {
+    0.05
+}
+
+/// Shell element formulation.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ElementKind {
+    /// One-point Belytschko–Tsay with hourglass control.
+    #[default]
+    BelytschkoTsay,
+    /// 2×2 fully integrated shell with assumed transverse shear.
+    FullyIntegrated,
+}
+
+impl ElementKind {
+    /// The name used in the scene file.
+    pub fn name(self) -> &'static str {
+        match self {
+            ElementKind::BelytschkoTsay => "belytschko-tsay",
+            ElementKind::FullyIntegrated => "fully-integrated",
+        }
+    }
+}
+
+/// `[blank.mesh]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum MeshSpec {
+    /// A structured rectangle in the plane `z = origin.z`, corner at `origin`;
+    /// node sets `x0`, `x1`, `y0`, `y1` (edges), `all`.
+    Rectangle {
+        /// `[lx, ly]` (mm).
+        size: [f64; 2],
+        /// Elements per side: one number for both, or `[nx, ny]`.
+        divisions: Divisions,
+        /// Corner of the rectangle (mm); default `[0, 0, 0]`.
+        #[serde(default)]
+        origin: [f64; 3],
+    },
+    /// An Abaqus `.inp` or Gmsh `.msh` file, relative to the scene file.
+    File {
+        /// Path of the mesh file.
+        path: String,
+        /// Translation applied to every node (mm).
+        #[serde(default)]
+        translate: [f64; 3],
+    },
+    /// A strip wrapped over a drum of axis `y` through the origin: a horizontal
+    /// tail on top (pull end, set `pull`, at `x = tail`), an arc of `angle_deg`
+    /// over the drum, a straight tail leaving it (hold end, set `hold`); set
+    /// `centre` is the strip's centre line. Mid-surface at `radius + t/2`.
+    WrappedStrip {
+        /// Drum radius (mm).
+        radius: f64,
+        /// Strip width (mm), three nodes across.
+        width: f64,
+        /// Length of each straight tail (mm).
+        tail: f64,
+        /// Wrap angle (degrees), in (0, 180].
+        angle_deg: f64,
+        /// Target element length along the strip (mm).
+        element_size: f64,
+    },
+}
+
+/// Elements per side of a rectangle.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(untagged)]
+pub enum Divisions {
+    /// The same number along x and y.
+    Both(i64),
+    /// `[nx, ny]`.
+    Each([i64; 2]),
+}
+
+impl Divisions {
+    /// `(nx, ny)`.
+    pub fn pair(self) -> (i64, i64) {
+        match self {
+            Divisions::Both(n) => (n, n),
+            Divisions::Each([a, b]) => (a, b),
+        }
+    }
+}
+
+/// `[blank.material]`: isotropic elastic–plastic (plane-stress J2).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Young's modulus (MPa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio (-).
+    pub poissons_ratio: f64,
+    /// Density (tonne/mm³).
+    pub density: f64,
+    /// `[blank.material.hardening]`.
+    pub hardening: HardeningSpec,
+}
+
+/// Hardening curve `σ_y(ε_p)`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum HardeningSpec {
+    /// Swift: `σ_y = k (eps0 + ε_p)^n` (MPa).
+    Swift {
+        /// `K` (MPa).
+        k: f64,
+        /// `ε0` (-).
+        eps0: f64,
+        /// `n` (-).
+        n: f64,
+    },
+    /// Piecewise linear through `(ε_p, σ_y)` points.
+    Table {
+        /// Plastic strains (-), increasing from 0.
+        eps_p: Vec<f64>,
+        /// Flow stresses (MPa).
+        sigma_y: Vec<f64>,
+    },
+    /// Perfectly plastic at `sigma_y` (MPa).
+    Perfect {
+        /// Yield stress (MPa).
+        sigma_y: f64,
+    },
+    /// Elastic only (no yield).
+    Elastic,
+}
+
+/// `[contact]`: the defaults of every pair, and the pairs.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Contact {
+    /// Friction law by name (`ac`, `wvs`, `wh`, `levanov` or a linked plugin).
+    #[serde(default = "default_law")]
+    pub law: String,
+    /// A dynamic plugin (shared library, relative to the scene) instead of `law`.
+    #[serde(default)]
+    pub plugin: Option<String>,
+    /// Kinematic formulation (`convective`, `jaumann`, `lagrangian`, `updated-lagrangian`).
+    #[serde(default = "default_formulation")]
+    pub formulation: String,
+    /// Law parameters per law name: `[contact.params.ac] mu = 0.144`, …; the
+    /// table of the active law is used (the plugin's: `[contact.params.plugin]`).
+    #[serde(default)]
+    pub params: BTreeMap<String, BTreeMap<String, f64>>,
+    /// Penalty scale factor `s` in `k = s K A / d` (-); default 0.1.
+    #[serde(default = "default_penalty_scale")]
+    pub penalty_scale: f64,
+    /// Normal damping as a fraction of critical (-); default 0.
+    #[serde(default)]
+    pub damping: f64,
+    /// Projection margin beyond half the thickness (mm); default 1.
+    #[serde(default = "default_margin")]
+    pub search_margin: f64,
+    /// `[[contact.pairs]]`.
+    #[serde(default)]
+    pub pairs: Vec<PairEntry>,
+}
+
+impl Default for Contact {
+    fn default() -> Self {
+        Self {
+            law: default_law(),
+            plugin: None,
+            formulation: default_formulation(),
+            params: BTreeMap::new(),
+            penalty_scale: default_penalty_scale(),
+            damping: 0.0,
+            search_margin: default_margin(),
+            pairs: Vec::new(),
+        }
+    }
+}
+
+fn default_law() -> String {
+    "ac".into()
+}
+fn default_formulation() -> String {
+    "convective".into()
+}
+fn default_penalty_scale() -> f64 {
+    0.1
+}
+fn default_margin() -> f64 {
+    1.0
+}
+
+/// `[[contact.pairs]]`: the blank against one tool.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairEntry {
+    /// Tool name (a `[tools.NAME]`).
+    pub tool: String,
+    /// Pair name; default `TOOL-blank`.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Law of this pair instead of `contact.law`.
+    #[serde(default)]
+    pub law: Option<String>,
+    /// Formulation of this pair instead of `contact.formulation`.
+    #[serde(default)]
+    pub formulation: Option<String>,
+    /// Penalty scale of this pair instead of `contact.penalty_scale`.
+    #[serde(default)]
+    pub penalty_scale: Option<f64>,
+}
+
+/// A time amplitude: `"smooth-step"`, `"linear"` (over the press step; not
+/// for boundary conditions and loads, which run on absolute time),
+/// `"constant"`, a ramp `{ shape = "smooth-step" | "linear", t0, t1 }`, or a
+/// table `[[t, A], …]` (t in s from the start of the step, or of the run for
+/// boundary conditions and loads).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum AmplitudeSpec {
+    /// A named shape over the step.
+    Named(String),
+    /// Piecewise linear.
+    Table(Vec<[f64; 2]>),
+    /// A ramp from 0 at `t0` to 1 at `t1`.
+    Ramp {
+        /// `"smooth-step"` or `"linear"`.
+        shape: String,
+        /// Start (s).
+        t0: f64,
+        /// End (s).
+        t1: f64,
+    },
+}
+
+/// `[[steps]]`: one press step.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Step {
+    /// Name for reports.
+    pub name: String,
+    /// Duration (s); or give `until`.
+    #[serde(default)]
+    pub duration: Option<f64>,
+    /// End when a tool has travelled a distance.
+    #[serde(default)]
+    pub until: Option<TravelEnd>,
+    /// Tool motions; unlisted tools hold.
+    #[serde(default)]
+    pub motions: Vec<Motion>,
+    /// Tools whose contact pairs are active in this step; default all.
+    #[serde(default)]
+    pub pairs: Option<Vec<String>>,
+}
+
+/// `until = { tool, distance, max_duration }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TravelEnd {
+    /// Tool name.
+    pub tool: String,
+    /// Travel (mm).
+    pub distance: f64,
+    /// Upper bound of the step's duration (s).
+    pub max_duration: f64,
+}
+
+/// `[[steps.motions]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Motion {
+    /// Stay put.
+    Hold {
+        /// Tool name.
+        tool: String,
+    },
+    /// Travel a distance along a direction over the step.
+    Travel {
+        /// Tool name.
+        tool: String,
+        /// Direction (normalised by formsim).
+        direction: [f64; 3],
+        /// Distance (mm).
+        distance: f64,
+        /// Shape of the travel over the step; default `"smooth-step"`.
+        #[serde(default)]
+        amplitude: Option<AmplitudeSpec>,
+    },
+    /// Move at a speed along a direction.
+    Velocity {
+        /// Tool name.
+        tool: String,
+        /// Direction (normalised by formsim).
+        direction: [f64; 3],
+        /// Speed (mm/s).
+        speed: f64,
+        /// Scale of the speed; default `"constant"`.
+        #[serde(default)]
+        amplitude: Option<AmplitudeSpec>,
+    },
+    /// Force control on the tool's own rigid-body DOF along `direction`.
+    Force {
+        /// Tool name.
+        tool: String,
+        /// Direction of the force and of the free travel.
+        direction: [f64; 3],
+        /// Force (N) on the model (a quarter model carries a quarter of the press force).
+        force: f64,
+        /// Scale of the force; default `"constant"`.
+        #[serde(default)]
+        amplitude: Option<AmplitudeSpec>,
+        /// Mass of the free DOF (tonne); default 0.01.
+        #[serde(default = "default_tool_mass")]
+        mass: f64,
+        /// Viscous damping of the free DOF (N·s/mm); default 500.
+        #[serde(default = "default_tool_damping")]
+        damping: f64,
+    },
+}
+
+fn default_tool_mass() -> f64 {
+    0.01
+}
+fn default_tool_damping() -> f64 {
+    500.0
+}
+
+impl Motion {
+    /// The tool it moves.
+    pub fn tool(&self) -> &str {
+        match self {
+            Motion::Hold { tool }
+            | Motion::Travel { tool, .. }
+            | Motion::Velocity { tool, .. }
+            | Motion::Force { tool, .. } => tool,
+        }
+    }
+}
+
+/// `[solver]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSection {
+    /// Time-step safety factor (-); default 0.9.
+    #[serde(default = "default_safety")]
+    pub safety_factor: f64,
+    /// Fixed-time-step mass scaling: the step to run at (s); default none.
+    #[serde(default)]
+    pub mass_scaling_dt: Option<f64>,
+    /// Mass-proportional damping (1/s); default 0.
+    #[serde(default)]
+    pub damping: f64,
+    /// End of the run (s); default the press programme's nominal duration.
+    #[serde(default)]
+    pub end_time: Option<f64>,
+    /// Upper bound of the time step (s).
+    #[serde(default)]
+    pub dt_max: Option<f64>,
+}
+
+impl Default for SolverSection {
+    fn default() -> Self {
+        Self {
+            safety_factor: default_safety(),
+            mass_scaling_dt: None,
+            damping: 0.0,
+            end_time: None,
+            dt_max: None,
+        }
+    }
+}
+
+fn default_safety() -> f64 {
+    0.9
+}
+
+/// `[[boundary]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Boundary {
+    /// Symmetry plane with normal `axis` (`"x"`, `"y"`, `"z"`) through a node set.
+    Symmetry {
+        /// Node set.
+        set: String,
+        /// Normal of the plane.
+        axis: String,
+    },
+    /// Fixed DOFs (`ux uy uz rx ry rz`).
+    Fixed {
+        /// Node set.
+        set: String,
+        /// DOF names.
+        dofs: Vec<String>,
+    },
+    /// Prescribed velocity or displacement of one DOF.
+    Prescribed {
+        /// Node set.
+        set: String,
+        /// DOF name.
+        dof: String,
+        /// `"velocity"` or `"displacement"`.
+        motion: String,
+        /// Magnitude (mm/s or mm; rad/s or rad).
+        value: f64,
+        /// Time function over the run; default `"constant"`.
+        #[serde(default)]
+        amplitude: Option<AmplitudeSpec>,
+    },
+}
+
+/// `[[loads]]`: a force on every node of a set.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Load {
+    /// Node set.
+    pub set: String,
+    /// DOF name (`ux` … `rz`).
+    pub dof: String,
+    /// Total force (N) or moment (N·mm) over the set, shared equally by its nodes.
+    pub total: f64,
+    /// Time function over the run (absolute time); default `"constant"`.
+    #[serde(default)]
+    pub amplitude: Option<AmplitudeSpec>,
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    /// VTK frames over the run (0: none); default 20.
+    #[serde(default = "default_frames")]
+    pub frames: usize,
+    /// Rows of `energy.csv` and `punch_force.csv` over the run; default 400.
+    #[serde(default = "default_history")]
+    pub history_points: usize,
+    /// The tool whose travel is the stroke and whose force is the punch force.
+    #[serde(default)]
+    pub stroke_tool: Option<String>,
+    /// Strokes (mm) at which the state is reported in `summary.json`.
+    #[serde(default)]
+    pub report_strokes: Vec<f64>,
+    /// Multiplier from the model to the full part (4 for a quarter model).
+    #[serde(default = "one")]
+    pub symmetry_factor: f64,
+    /// `[[output.sections]]`: lines in the initial blank.
+    #[serde(default)]
+    pub sections: Vec<SectionLine>,
+    /// `[[output.draw_in]]`: edge points whose inward travel is reported.
+    #[serde(default)]
+    pub draw_in: Vec<DrawIn>,
+    /// PNG plots; default true.
+    #[serde(default = "yes")]
+    pub plots: bool,
+    /// Kinetic/internal is tracked once the stroke exceeds this (mm); default 1.
+    #[serde(default = "one")]
+    pub forming_starts_at: f64,
+    /// Initial distance from a section's start at which its minor strain is
+    /// reported as `minor_at_punch_edge` (mm; square cup: 27, where the punch
+    /// profile radius starts).
+    #[serde(default)]
+    pub punch_edge_distance: Option<f64>,
+    /// Capstan post-processing.
+    #[serde(default)]
+    pub capstan: Option<CapstanOutput>,
+    /// Block-on-plane post-processing.
+    #[serde(default)]
+    pub block: Option<BlockOutput>,
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Self {
+            frames: default_frames(),
+            history_points: default_history(),
+            stroke_tool: None,
+            report_strokes: Vec::new(),
+            symmetry_factor: 1.0,
+            sections: Vec::new(),
+            draw_in: Vec::new(),
+            plots: true,
+            forming_starts_at: 1.0,
+            punch_edge_distance: None,
+            capstan: None,
+            block: None,
+        }
+    }
+}
+
+fn default_pull_dof() -> String {
+    "ux".into()
+}
+fn default_frames() -> usize {
+    20
+}
+fn default_history() -> usize {
+    400
+}
+fn one() -> f64 {
+    1.0
+}
+fn yes() -> bool {
+    true
+}
+
+/// `[[output.sections]]`: elements whose initial centroid lies within half an
+/// element of the segment `from → to` (x, y in mm), ordered by distance from `from`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SectionLine {
+    /// Name (`OD`, `OX`, …): the CSV is `sections/NAME.csv`.
+    pub name: String,
+    /// Start `[x, y]` (mm).
+    pub from: [f64; 2],
+    /// End `[x, y]` (mm).
+    pub to: [f64; 2],
+}
+
+/// `[[output.draw_in]]`: the node nearest `at` (initial x, y); its draw-in is
+/// its displacement along the unit `inward` direction (mm).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DrawIn {
+    /// Name (`DX`, `DY`, `DD`).
+    pub name: String,
+    /// Initial position `[x, y]` (mm).
+    pub at: [f64; 2],
+    /// Inward direction `[x, y]` (normalised by formsim).
+    pub inward: [f64; 2],
+}
+
+/// `[output.capstan]`: tension ratio of the wrapped strip.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CapstanOutput {
+    /// Node set pulled (prescribed motion): its reaction is `T_pull`.
+    pub pull_set: String,
+    /// Holding load `T_hold` (N).
+    pub hold_force: f64,
+    /// DOF along which it is pulled (`ux`, `uy`, `uz`); default `ux`.
+    #[serde(default = "default_pull_dof")]
+    pub pull_dof: String,
+    /// Wrap angle θ (degrees).
+    pub angle_deg: f64,
+    /// Friction coefficient μ of the analytic value.
+    pub mu: f64,
+    /// Steady sliding is averaged from this time on (s).
+    pub average_from: f64,
+}
+
+/// `[output.block]`: slip force of a block pressed on a plane and pulled.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BlockOutput {
+    /// Node set pulled (prescribed motion): its reaction is the friction force.
+    pub pull_set: String,
+    /// DOF along which it is pulled (`ux`, `uy`).
+    pub pull_dof: String,
+    /// Normal force N (N).
+    pub normal_force: f64,
+    /// μ of the analytic value `μ N`.
+    pub mu: f64,
+    /// Steady sliding is averaged from this time on (s).
+    pub average_from: f64,
+}

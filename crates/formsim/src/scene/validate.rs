@@ -1,0 +1,483 @@
+//! Range and name checks of a typed scene: every error names the key, the
+//! value, the unit and the accepted range. What the engine crates check again
+//! when the model is built (tool geometry, friction parameters) is left to
+//! them; their errors are mapped to the key in [`super::build()`].
+
+use super::LoadedScene;
+use super::SceneError;
+use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, Scene, SceneKind};
+
+/// Check `loaded.scene`.
+///
+/// # Errors
+/// The first key out of range, with its line.
+pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
+    let s: &Scene = &loaded.scene;
+    let err = |key: &str, message: String| Err(loaded.key_error(key, message));
+    let positive = |key: &str, v: f64, unit: &str| -> Result<(), SceneError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            err(key, format!("{v} {unit}: must be finite and > 0"))
+        }
+    };
+    let non_negative = |key: &str, v: f64, unit: &str| -> Result<(), SceneError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(())
+        } else {
+            err(key, format!("{v} {unit}: must be finite and >= 0"))
+        }
+    };
+
+    // Units: formsim computes in one consistent system and says so in every scene.
+    let u = &s.scene.units;
+    for (key, given, want) in [
+        ("scene.units.length", &u.length, "mm"),
+        ("scene.units.force", &u.force, "N"),
+        ("scene.units.stress", &u.stress, "MPa"),
+        ("scene.units.mass", &u.mass, "tonne"),
+        ("scene.units.time", &u.time, "s"),
+    ] {
+        if given != want {
+            return err(
+                key,
+                format!("\"{given}\": formsim works in mm, N, MPa, tonne, s; write \"{want}\""),
+            );
+        }
+    }
+
+    // Blank.
+    let b = &s.blank;
+    positive("blank.thickness", b.thickness, "mm")?;
+    if !(1..=9).contains(&b.integration_points) {
+        return err(
+            "blank.integration_points",
+            format!("{}: must be in [1, 9]", b.integration_points),
+        );
+    }
+    non_negative("blank.hourglass", b.hourglass, "-")?;
+    match &b.mesh {
+        MeshSpec::Rectangle {
+            size,
+            divisions,
+            origin,
+        } => {
+            positive("blank.mesh.size", size[0], "mm")?;
+            positive("blank.mesh.size", size[1], "mm")?;
+            let (nx, ny) = divisions.pair();
+            for n in [nx, ny] {
+                if !(1..=4096).contains(&n) {
+                    return err("blank.mesh.divisions", format!("{n}: must be in [1, 4096]"));
+                }
+            }
+            if origin.iter().any(|v| !v.is_finite()) {
+                return err(
+                    "blank.mesh.origin",
+                    format!("{origin:?} mm: must be finite"),
+                );
+            }
+        }
+        MeshSpec::File { path, translate } => {
+            let full = loaded.base_dir().join(path);
+            if !full.is_file() {
+                return err(
+                    "blank.mesh.path",
+                    format!("\"{path}\": no such file ({})", full.display()),
+                );
+            }
+            if translate.iter().any(|v| !v.is_finite()) {
+                return err(
+                    "blank.mesh.translate",
+                    format!("{translate:?} mm: must be finite"),
+                );
+            }
+        }
+        MeshSpec::WrappedStrip {
+            radius,
+            width,
+            tail,
+            angle_deg,
+            element_size,
+        } => {
+            positive("blank.mesh.radius", *radius, "mm")?;
+            positive("blank.mesh.width", *width, "mm")?;
+            positive("blank.mesh.tail", *tail, "mm")?;
+            positive("blank.mesh.element_size", *element_size, "mm")?;
+            if !(*angle_deg > 0.0 && *angle_deg <= 180.0) {
+                return err(
+                    "blank.mesh.angle_deg",
+                    format!("{angle_deg} deg: must be in (0, 180]"),
+                );
+            }
+        }
+    }
+    let m = &b.material;
+    positive("blank.material.youngs_modulus", m.youngs_modulus, "MPa")?;
+    positive("blank.material.density", m.density, "tonne/mm^3")?;
+    if !(m.poissons_ratio > -1.0 && m.poissons_ratio < 0.5) {
+        return err(
+            "blank.material.poissons_ratio",
+            format!("{}: must be in (-1, 0.5)", m.poissons_ratio),
+        );
+    }
+    match &m.hardening {
+        HardeningSpec::Swift { k, eps0, n } => {
+            positive("blank.material.hardening.k", *k, "MPa")?;
+            positive("blank.material.hardening.eps0", *eps0, "-")?;
+            non_negative("blank.material.hardening.n", *n, "-")?;
+        }
+        HardeningSpec::Table { eps_p, sigma_y } => {
+            if eps_p.len() != sigma_y.len() || eps_p.is_empty() {
+                return err(
+                    "blank.material.hardening",
+                    format!(
+                        "{} eps_p values and {} sigma_y values: need the same non-zero count",
+                        eps_p.len(),
+                        sigma_y.len()
+                    ),
+                );
+            }
+        }
+        HardeningSpec::Perfect { sigma_y } => {
+            positive("blank.material.hardening.sigma_y", *sigma_y, "MPa")?;
+        }
+        HardeningSpec::Elastic => {}
+    }
+
+    // Tools and contact.
+    let tool_exists = |name: &str| s.tools.contains_key(name);
+    let c = &s.contact;
+    positive("contact.penalty_scale", c.penalty_scale, "-")?;
+    if !(0.0..=1.0).contains(&c.damping) {
+        return err(
+            "contact.damping",
+            format!("{}: must be in [0, 1]", c.damping),
+        );
+    }
+    non_negative("contact.search_margin", c.search_margin, "mm")?;
+    for (i, p) in c.pairs.iter().enumerate() {
+        if !tool_exists(&p.tool) {
+            return err(
+                &format!("contact.pairs[{i}].tool"),
+                format!("\"{}\": no [tools.{}] in the scene", p.tool, p.tool),
+            );
+        }
+        if let Some(k) = p.penalty_scale {
+            positive(&format!("contact.pairs[{i}].penalty_scale"), k, "-")?;
+        }
+    }
+    for (law, table) in &c.params {
+        for (name, v) in table {
+            if !v.is_finite() {
+                return err(
+                    &format!("contact.params.{law}.{name}"),
+                    format!("{v}: must be finite"),
+                );
+            }
+        }
+    }
+
+    // Press programme.
+    for (i, step) in s.steps.iter().enumerate() {
+        let key = |k: &str| format!("steps[{i}].{k}");
+        match (step.duration, &step.until) {
+            (Some(d), None) => positive(&key("duration"), d, "s")?,
+            (None, Some(u)) => {
+                if !tool_exists(&u.tool) {
+                    return err(&key("until.tool"), format!("\"{}\": no such tool", u.tool));
+                }
+                positive(&key("until.distance"), u.distance, "mm")?;
+                positive(&key("until.max_duration"), u.max_duration, "s")?;
+            }
+            _ => {
+                return err(
+                    &format!("steps[{i}]"),
+                    format!(
+                        "step \"{}\": give exactly one of duration or until",
+                        step.name
+                    ),
+                );
+            }
+        }
+        for (j, motion) in step.motions.iter().enumerate() {
+            let mkey = |k: &str| format!("steps[{i}].motions[{j}].{k}");
+            if !tool_exists(motion.tool()) {
+                return err(
+                    &mkey("tool"),
+                    format!("\"{}\": no such tool", motion.tool()),
+                );
+            }
+            let direction = match motion {
+                Motion::Hold { .. } => None,
+                Motion::Travel {
+                    direction,
+                    distance,
+                    amplitude,
+                    ..
+                } => {
+                    if !distance.is_finite() {
+                        return err(&mkey("distance"), format!("{distance} mm: must be finite"));
+                    }
+                    check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
+                    Some(direction)
+                }
+                Motion::Velocity {
+                    direction,
+                    speed,
+                    amplitude,
+                    ..
+                } => {
+                    if !speed.is_finite() {
+                        return err(&mkey("speed"), format!("{speed} mm/s: must be finite"));
+                    }
+                    check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
+                    Some(direction)
+                }
+                Motion::Force {
+                    direction,
+                    force,
+                    amplitude,
+                    mass,
+                    damping,
+                    ..
+                } => {
+                    non_negative(&mkey("force"), *force, "N")?;
+                    positive(&mkey("mass"), *mass, "tonne")?;
+                    non_negative(&mkey("damping"), *damping, "N*s/mm")?;
+                    check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
+                    Some(direction)
+                }
+            };
+            if let Some(d) = direction {
+                let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                if !(n.is_finite() && n > 1e-12) {
+                    return err(
+                        &mkey("direction"),
+                        format!("{d:?}: must be a non-zero vector"),
+                    );
+                }
+            }
+        }
+        if let Some(pairs) = &step.pairs {
+            for (j, t) in pairs.iter().enumerate() {
+                if !tool_exists(t) {
+                    return err(
+                        &format!("steps[{i}].pairs[{j}]"),
+                        format!("\"{t}\": no such tool"),
+                    );
+                }
+            }
+        }
+    }
+
+    // Solver.
+    let sv = &s.solver;
+    if !(sv.safety_factor > 0.0 && sv.safety_factor <= 1.0) {
+        return err(
+            "solver.safety_factor",
+            format!("{}: must be in (0, 1]", sv.safety_factor),
+        );
+    }
+    if let Some(t) = sv.mass_scaling_dt {
+        positive("solver.mass_scaling_dt", t, "s")?;
+    }
+    non_negative("solver.damping", sv.damping, "1/s")?;
+    if let Some(t) = sv.end_time {
+        positive("solver.end_time", t, "s")?;
+    }
+    if let Some(t) = sv.dt_max {
+        positive("solver.dt_max", t, "s")?;
+    }
+    if s.steps.is_empty() && sv.end_time.is_none() {
+        return err(
+            "solver.end_time",
+            "required when the scene has no [[steps]]".into(),
+        );
+    }
+
+    // Boundary conditions and loads.
+    for (i, bc) in s.boundary.iter().enumerate() {
+        let key = |k: &str| format!("boundary[{i}].{k}");
+        match bc {
+            Boundary::Symmetry { axis, .. } => {
+                if axis_index(axis).is_none() {
+                    return err(
+                        &key("axis"),
+                        format!("\"{axis}\": must be \"x\", \"y\" or \"z\""),
+                    );
+                }
+            }
+            Boundary::Fixed { dofs, .. } => {
+                for (j, d) in dofs.iter().enumerate() {
+                    if dof_from_name(d).is_none() {
+                        return err(&format!("boundary[{i}].dofs[{j}]"), bad_dof(d));
+                    }
+                }
+            }
+            Boundary::Prescribed {
+                dof,
+                motion,
+                value,
+                amplitude,
+                ..
+            } => {
+                if dof_from_name(dof).is_none() {
+                    return err(&key("dof"), bad_dof(dof));
+                }
+                if motion != "velocity" && motion != "displacement" {
+                    return err(
+                        &key("motion"),
+                        format!("\"{motion}\": must be \"velocity\" or \"displacement\""),
+                    );
+                }
+                if !value.is_finite() {
+                    return err(&key("value"), format!("{value}: must be finite"));
+                }
+                check_amplitude(loaded, &key("amplitude"), amplitude.as_ref(), false)?;
+            }
+        }
+    }
+    for (i, load) in s.loads.iter().enumerate() {
+        if dof_from_name(&load.dof).is_none() {
+            return err(&format!("loads[{i}].dof"), bad_dof(&load.dof));
+        }
+        if !load.total.is_finite() {
+            return err(
+                &format!("loads[{i}].total"),
+                format!("{}: must be finite", load.total),
+            );
+        }
+        check_amplitude(
+            loaded,
+            &format!("loads[{i}].amplitude"),
+            load.amplitude.as_ref(),
+            false,
+        )?;
+    }
+
+    // Outputs.
+    let o = &s.output;
+    if let Some(t) = &o.stroke_tool
+        && !tool_exists(t)
+    {
+        return err("output.stroke_tool", format!("\"{t}\": no such tool"));
+    }
+    if !o.report_strokes.is_empty() && o.stroke_tool.is_none() {
+        return err(
+            "output.stroke_tool",
+            "required with output.report_strokes".into(),
+        );
+    }
+    for (i, r) in o.report_strokes.iter().enumerate() {
+        positive(&format!("output.report_strokes[{i}]"), *r, "mm")?;
+    }
+    positive("output.symmetry_factor", o.symmetry_factor, "-")?;
+    if o.history_points < 2 {
+        return err(
+            "output.history_points",
+            format!("{}: must be >= 2", o.history_points),
+        );
+    }
+    for (i, sec) in o.sections.iter().enumerate() {
+        let d = [sec.to[0] - sec.from[0], sec.to[1] - sec.from[1]];
+        if d[0].hypot(d[1]).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return err(
+                &format!("output.sections[{i}].to"),
+                "the section has zero length".into(),
+            );
+        }
+    }
+    for (i, d) in o.draw_in.iter().enumerate() {
+        if d.inward[0].hypot(d.inward[1]).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return err(
+                &format!("output.draw_in[{i}].inward"),
+                "must be a non-zero vector".into(),
+            );
+        }
+    }
+    if s.scene.kind == SceneKind::Capstan && o.capstan.is_none() {
+        return err(
+            "output.capstan",
+            "a capstan scene needs [output.capstan]".into(),
+        );
+    }
+    if s.scene.kind == SceneKind::BlockOnPlane && o.block.is_none() {
+        return err(
+            "output.block",
+            "a block-on-plane scene needs [output.block]".into(),
+        );
+    }
+    Ok(())
+}
+
+fn check_amplitude(
+    loaded: &LoadedScene,
+    key: &str,
+    a: Option<&AmplitudeSpec>,
+    in_step: bool,
+) -> Result<(), SceneError> {
+    match a {
+        None => Ok(()),
+        Some(AmplitudeSpec::Named(n)) => match n.as_str() {
+            "constant" => Ok(()),
+            "smooth-step" | "linear" if in_step => Ok(()),
+            _ => Err(loaded.key_error(
+                key,
+                if in_step {
+                    format!("\"{n}\": must be \"smooth-step\", \"linear\", \"constant\", a ramp or a table")
+                } else {
+                    format!("\"{n}\": must be \"constant\", a ramp {{ shape, t0, t1 }} or a table")
+                },
+            )),
+        },
+        Some(AmplitudeSpec::Ramp { shape, t0, t1 }) => {
+            if shape != "smooth-step" && shape != "linear" {
+                return Err(loaded.key_error(
+                    key,
+                    format!("shape \"{shape}\": must be \"smooth-step\" or \"linear\""),
+                ));
+            }
+            if !(t0.is_finite() && t1.is_finite() && t1 > t0) {
+                return Err(loaded.key_error(key, format!("t0 = {t0} s, t1 = {t1} s: need t1 > t0")));
+            }
+            Ok(())
+        }
+        Some(AmplitudeSpec::Table(rows)) => {
+            if rows.is_empty() || rows.iter().any(|r| !r[0].is_finite() || !r[1].is_finite()) {
+                return Err(loaded.key_error(key, "the table needs finite [t, A] rows"));
+            }
+            if rows.windows(2).any(|w| w[1][0] <= w[0][0]) {
+                return Err(loaded.key_error(key, "table times must increase strictly"));
+            }
+            Ok(())
+        }
+    }
+}
+
+fn bad_dof(d: &str) -> String {
+    format!("\"{d}\": must be one of ux, uy, uz, rx, ry, rz")
+}
+
+/// `"x" | "y" | "z"` → 0, 1, 2.
+pub fn axis_index(axis: &str) -> Option<usize> {
+    match axis {
+        "x" => Some(0),
+        "y" => Some(1),
+        "z" => Some(2),
+        _ => None,
+    }
+}
+
+/// `ux` … `rz` → the DOF.
+pub fn dof_from_name(name: &str) -> Option<fem_core::Dof> {
+    use fem_core::Dof;
+    Some(match name {
+        "ux" => Dof::Ux,
+        "uy" => Dof::Uy,
+        "uz" => Dof::Uz,
+        "rx" => Dof::Rx,
+        "ry" => Dof::Ry,
+        "rz" => Dof::Rz,
+        _ => return None,
+    })
+}

@@ -1,0 +1,136 @@
+//! Scene files: the ready scenes load and build; bad input gives one error
+//! naming the file, the line (when the key is in the file) and the key.
+
+use formsim::scene::{self, SceneError};
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn cup() -> PathBuf {
+    root().join("scenes/square-cup.toml")
+}
+
+/// The cup scene with one line replaced, parsed from text.
+fn cup_with(from: &str, to: &str) -> Result<scene::LoadedScene, SceneError> {
+    let text = std::fs::read_to_string(cup()).unwrap();
+    assert!(text.contains(from), "the scene has `{from}`");
+    scene::parse(&text.replacen(from, to, 1), &cup(), &[])
+}
+
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines().position(|l| l.contains(needle)).unwrap() + 1
+}
+
+#[test]
+fn ready_scenes_load_and_build() {
+    for name in ["square-cup", "square-cup-al", "capstan", "block-on-plane"] {
+        let path = root().join(format!("scenes/{name}.toml"));
+        let loaded = scene::load(&path, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let model = scene::build(&loaded).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(!model.mesh.quads.is_empty(), "{name}");
+        assert!(model.end_time > 0.0, "{name}");
+    }
+    let loaded = scene::load(&cup(), &[]).unwrap();
+    let model = scene::build(&loaded).unwrap();
+    assert_eq!(model.mesh.quads.len(), 2500);
+    assert_eq!(model.tool_names, ["blankholder", "die", "punch"]);
+    assert_eq!(model.contact().unwrap().pairs().len(), 3);
+}
+
+#[test]
+fn overrides_change_any_value() {
+    let sets = [
+        "blank.mesh.divisions=25".to_string(),
+        "contact.law=wvs".to_string(),
+        "contact.formulation=jaumann".to_string(),
+    ];
+    let loaded = scene::load(&cup(), &sets).unwrap();
+    let model = scene::build(&loaded).unwrap();
+    assert_eq!(model.mesh.quads.len(), 625);
+    assert_eq!(
+        (model.law.as_str(), model.formulation.as_str()),
+        ("wvs", "jaumann")
+    );
+    let pair = &model.contact().unwrap().pairs()[0];
+    assert_eq!(pair.friction_model(), ("wvs", "jaumann"));
+}
+
+#[test]
+fn unknown_key_names_its_line() {
+    let text = std::fs::read_to_string(cup()).unwrap();
+    let line = line_of(&text, "hourglass = 0.05");
+    let e = cup_with("hourglass = 0.05", "hourglas = 0.05")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(&format!("square-cup.toml:{line}: blank.hourglas")),
+        "{e}"
+    );
+    assert!(e.contains("unknown field"), "{e}");
+}
+
+#[test]
+fn wrong_type_and_out_of_range_name_key_value_and_unit() {
+    let text = std::fs::read_to_string(cup()).unwrap();
+    let line = line_of(&text, "youngs_modulus");
+    let e = cup_with("youngs_modulus = 206000.0", "youngs_modulus = \"steel\"")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(&format!(":{line}: blank.material.youngs_modulus")),
+        "{e}"
+    );
+    let e = cup_with("youngs_modulus = 206000.0", "youngs_modulus = -1.0")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("-1 MPa: must be finite and > 0"), "{e}");
+    let e = cup_with("poissons_ratio = 0.30", "poissons_ratio = 0.7")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("blank.material.poissons_ratio: 0.7"), "{e}");
+    let e = cup_with("length = \"mm\"", "length = \"m\"")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("scene.units.length"), "{e}");
+    let e = cup_with("distance = 39.99", "distance = nan")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("steps[2].motions[1].distance"), "{e}");
+}
+
+#[test]
+fn bad_names_point_at_the_key() {
+    let e = scene::load(&cup(), &["contact.law=coulomb".into()])
+        .and_then(|l| scene::build(&l).map(|_| ()))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("(value from --set): contact.law: unknown law `coulomb`"),
+        "{e}"
+    );
+    let e = scene::load(&cup(), &["output.stroke_tool=ram".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("output.stroke_tool: \"ram\": no such tool"),
+        "{e}"
+    );
+    let e = scene::load(&cup(), &["steps[7].duration=1".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("--set steps[7].duration=1: index [7] past the end"),
+        "{e}"
+    );
+}
+
+#[test]
+fn syntax_error_names_the_line() {
+    let text = "[scene]\nname = \"x\"\nunits = { length = \"mm\" \n";
+    let e = scene::parse(text, Path::new("bad.toml"), &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("bad.toml:3:"), "{e}");
+}
