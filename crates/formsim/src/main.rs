@@ -463,7 +463,10 @@ fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
     let model = formsim::scene::build(&loaded).map_err(|e| e.to_string())?;
     let s = &loaded.scene;
     println!("{}: ok", path.display());
-    println!("  scene       {} ({:?})", s.scene.name, s.scene.kind);
+    println!(
+        "  scene       {} ({:?}): {}",
+        s.scene.name, s.scene.kind, s.scene.description
+    );
     println!(
         "  blank       {} nodes, {} {} shells, t0 = {} mm, {} points through the thickness",
         model.mesh.nodes.len(),
@@ -485,7 +488,7 @@ fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
             (None, Some(u)) => format!("until {} travels {} mm", u.tool, u.distance),
             _ => String::new(),
         };
-        let motions: Vec<String> = st.motions.iter().map(|m| format!("{m:?}")).collect();
+        let motions: Vec<String> = st.motions.iter().map(|m| m.describe()).collect();
         println!(
             "  step {}      {} ({end}): {}",
             i + 1,

@@ -134,3 +134,30 @@ fn syntax_error_names_the_line() {
         .to_string();
     assert!(e.starts_with("bad.toml:3:"), "{e}");
 }
+
+#[test]
+fn cli_scene_check_summarises_and_bad_input_exits_1_with_one_line() {
+    let exe = env!("CARGO_BIN_EXE_formsim");
+    let ok = std::process::Command::new(exe)
+        .args(["scene", "check"])
+        .arg(cup())
+        .output()
+        .unwrap();
+    assert!(ok.status.success());
+    let text = String::from_utf8_lossy(&ok.stdout);
+    assert!(text.contains("2500 belytschko-tsay shells"), "{text}");
+    assert!(text.contains("punch travels 39.99 mm"), "{text}");
+    let bad = std::process::Command::new(exe)
+        .args(["run", "--quiet", "--out", "/nonexistent-dir-never-written"])
+        .arg(cup())
+        .args(["--set", "blank.material.density=0"])
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("blank.material.density: 0 tonne/mm^3: must be finite and > 0"),
+        "{err}"
+    );
+}

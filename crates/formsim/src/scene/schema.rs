@@ -431,6 +431,47 @@ fn default_tool_damping() -> f64 {
 }
 
 impl Motion {
+    /// One line for reports: `punch travels 40 mm along [0, 0, -1] (smooth-step)`.
+    pub fn describe(&self) -> String {
+        let amp = |a: &Option<AmplitudeSpec>, default: &str| match a {
+            None => default.to_string(),
+            Some(AmplitudeSpec::Named(n)) => n.clone(),
+            Some(AmplitudeSpec::Ramp { shape, t0, t1 }) => format!("{shape} {t0}..{t1} s"),
+            Some(AmplitudeSpec::Table(rows)) => format!("table of {} points", rows.len()),
+        };
+        match self {
+            Motion::Hold { tool } => format!("{tool} holds"),
+            Motion::Travel {
+                tool,
+                direction,
+                distance,
+                amplitude,
+            } => format!(
+                "{tool} travels {distance} mm along {direction:?} ({})",
+                amp(amplitude, "smooth-step")
+            ),
+            Motion::Velocity {
+                tool,
+                direction,
+                speed,
+                amplitude,
+            } => format!(
+                "{tool} moves at {speed} mm/s along {direction:?} ({})",
+                amp(amplitude, "constant")
+            ),
+            Motion::Force {
+                tool,
+                direction,
+                force,
+                amplitude,
+                ..
+            } => format!(
+                "{tool} pushed with {force} N along {direction:?} ({})",
+                amp(amplitude, "constant")
+            ),
+        }
+    }
+
     /// The tool it moves.
     pub fn tool(&self) -> &str {
         match self {
