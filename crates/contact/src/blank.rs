@@ -6,6 +6,7 @@
 //! the needs and skips the gradients nobody reads.
 
 use plugins_api::{Mat3, PointNeeds, Vec3};
+use rayon::prelude::*;
 
 use crate::ContactError;
 
@@ -106,7 +107,14 @@ fn surface_gradient(w: [Vec3; 4], f: &CentreFrame) -> Mat3 {
     g
 }
 
+/// Quads or nodes per parallel task in [`BlankGeometry::update_areas`].
+const PARALLEL_CHUNK: usize = 512;
+
 impl BlankGeometry {
+    /// Blanks with more quads than this update their nodal areas and normals
+    /// in parallel (when rayon's current pool has more than one thread).
+    pub const PARALLEL_MIN_QUADS: usize = 2048;
+
     /// Build the adjacency of `quads` over `n_nodes` nodes.
     ///
     /// # Errors
@@ -170,29 +178,63 @@ impl BlankGeometry {
         &self.around[self.offsets[i] as usize..self.offsets[i + 1] as usize]
     }
 
-    /// Nodal areas and normals of the configuration `x` (no allocation).
+    /// Nodal areas and normals of the configuration `x` (no allocation). For
+    /// more than [`BlankGeometry::PARALLEL_MIN_QUADS`] quads the loops run in
+    /// parallel (rayon); every quad and node is computed alone, in a fixed
+    /// order of its own terms, so the result does not depend on the threads.
     pub fn update_areas(&mut self, x: &[Vec3]) {
-        for (e, q) in self.quads.iter().enumerate() {
-            let xs = q.map(|a| x[a as usize]);
-            if let Some(f) = centre_frame(xs) {
-                self.quad_area[e] = f.area;
-                self.quad_normal[e] = f.normal;
+        let quad = |q: &[u32; 4], area: &mut f64, normal: &mut Vec3| {
+            if let Some(f) = centre_frame(q.map(|a| x[a as usize])) {
+                *area = f.area;
+                *normal = f.normal;
             } else {
-                self.quad_area[e] = 0.0;
+                *area = 0.0;
             }
-        }
-        for i in 0..self.area.len() {
+        };
+        let (offsets, around) = (&self.offsets, &self.around);
+        let node = |i: usize,
+                    quad_area: &[f64],
+                    quad_normal: &[Vec3],
+                    area: &mut f64,
+                    normal: &mut Vec3| {
             let mut a = 0.0;
             let mut n = Vec3::zeros();
-            for &e in self.quads_around(i) {
-                let ea = self.quad_area[e as usize];
+            for &e in &around[offsets[i] as usize..offsets[i + 1] as usize] {
+                let ea = quad_area[e as usize];
                 a += 0.25 * ea;
-                n += self.quad_normal[e as usize] * ea;
+                n += quad_normal[e as usize] * ea;
             }
-            self.area[i] = a;
+            *area = a;
             let nn = n.norm();
             if nn > 0.0 {
-                self.normal[i] = n / nn;
+                *normal = n / nn;
+            }
+        };
+        if self.quads.len() > Self::PARALLEL_MIN_QUADS && rayon::current_num_threads() > 1 {
+            self.quads
+                .par_iter()
+                .zip(self.quad_area.par_iter_mut())
+                .zip(self.quad_normal.par_iter_mut())
+                .with_min_len(PARALLEL_CHUNK)
+                .for_each(|((q, a), n)| quad(q, a, n));
+            let (qa, qn) = (&self.quad_area, &self.quad_normal);
+            self.area
+                .par_iter_mut()
+                .zip(self.normal.par_iter_mut())
+                .enumerate()
+                .with_min_len(PARALLEL_CHUNK)
+                .for_each(|(i, (a, n))| node(i, qa, qn, a, n));
+        } else {
+            for ((q, a), n) in self
+                .quads
+                .iter()
+                .zip(&mut self.quad_area)
+                .zip(&mut self.quad_normal)
+            {
+                quad(q, a, n);
+            }
+            for (i, (a, n)) in self.area.iter_mut().zip(&mut self.normal).enumerate() {
+                node(i, &self.quad_area, &self.quad_normal, a, n);
             }
         }
     }
@@ -416,6 +458,57 @@ mod tests {
         g.update(&view, 1e-3, PointNeeds::NONE);
         assert_eq!((g.vel_grad_evaluations, g.def_grad_evaluations), (0, 0));
         assert!(g.vel_grad.is_empty() && g.f_new.is_empty());
+    }
+
+    /// Above `PARALLEL_MIN_QUADS` the areas and normals are computed in
+    /// parallel; they must be the same bits as the plain serial sums over
+    /// each node's quads (exact comparison), on one thread and on two.
+    #[test]
+    fn parallel_areas_match_serial_sums() {
+        let m = 60;
+        let mut x = Vec::new();
+        for j in 0..=m {
+            for i in 0..=m {
+                let (u, v) = (i as f64, j as f64);
+                x.push(Vec3::new(
+                    u + 0.1 * (0.7 * v).sin(),
+                    v,
+                    0.3 * (0.2 * u).sin() * (0.3 * v).cos(),
+                ));
+            }
+        }
+        let mut quads = Vec::new();
+        for j in 0..m {
+            for i in 0..m {
+                let a = (j * (m + 1) + i) as u32;
+                quads.push([a, a + 1, a + 2 + m as u32, a + 1 + m as u32]);
+            }
+        }
+        assert!(quads.len() > BlankGeometry::PARALLEL_MIN_QUADS);
+        let mut expect_area = vec![0.0; x.len()];
+        let mut expect_normal = vec![Vec3::zeros(); x.len()];
+        let g0 = BlankGeometry::new(x.len(), &quads).unwrap();
+        for i in 0..x.len() {
+            let mut a = 0.0;
+            let mut n = Vec3::zeros();
+            for &e in g0.quads_around(i) {
+                let f = centre_frame(quads[e as usize].map(|k| x[k as usize])).unwrap();
+                a += 0.25 * f.area;
+                n += f.normal * f.area;
+            }
+            expect_area[i] = a;
+            expect_normal[i] = n / n.norm();
+        }
+        for threads in [1, 2] {
+            let mut g = g0.clone();
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| g.update_areas(&x));
+            assert_eq!(g.area, expect_area, "{threads} threads");
+            assert_eq!(g.normal, expect_normal, "{threads} threads");
+        }
     }
 
     #[test]

@@ -18,6 +18,12 @@ use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair};
 ///
 /// At the initial force computation (`Δt = 0`) contact adds nothing: a scene
 /// starts with its tools clear of the blank or just touching it.
+///
+/// With more than one rayon thread and a blank of more than
+/// [`BlankGeometry::PARALLEL_MIN_QUADS`] quads or a pair of more than
+/// [`ContactPair::PARALLEL_MIN_CANDIDATES`] nodes, the step runs on a thread
+/// of rayon's pool and its large loops (nodal areas, projections, friction)
+/// in parallel; the results are the same bits on any number of threads.
 pub struct ContactEffect {
     tools: Vec<Box<dyn ToolSurface>>,
     press: Option<Press>,
@@ -29,6 +35,9 @@ pub struct ContactEffect {
     reactions: Vec<Vec3>,
     /// Accumulated energies of pairs, including those of earlier press steps.
     energy: ContactEnergy,
+    /// Whether the blank or a pair is large enough for parallel loops (a
+    /// small model is not worth the hand-over to the pool every step).
+    parallel: bool,
 }
 
 impl std::fmt::Debug for ContactEffect {
@@ -81,7 +90,12 @@ impl ContactEffect {
         let flow_stress = needs
             .contains(PointNeeds::FLOW_STRESS)
             .then(|| (vec![0.0; n], vec![0.0; n]));
+        let parallel = geometry.quads().len() > BlankGeometry::PARALLEL_MIN_QUADS
+            || pairs
+                .iter()
+                .any(|p| p.nodes().len() > ContactPair::PARALLEL_MIN_CANDIDATES);
         Ok(Self {
+            parallel,
             reactions: vec![Vec3::zeros(); tools.len()],
             tools,
             press,
@@ -143,22 +157,14 @@ impl ContactEffect {
         e.stored = self.pairs.iter().map(|p| p.energy.stored).sum();
         e
     }
-}
 
-impl Effect for ContactEffect {
-    fn name(&self) -> &str {
-        "contact"
-    }
-
-    fn add_forces(
+    /// One contact step (`ctx.dt > 0`): press, nodal geometry, every pair.
+    fn step(
         &mut self,
         ctx: &StepContext,
         state: &NodalState,
         forces: &mut Forces,
     ) -> Result<(), FemError> {
-        if ctx.dt <= 0.0 {
-            return Ok(());
-        }
         if let Some(press) = &mut self.press {
             press.advance(ctx.time, ctx.dt, &self.reactions)?;
             for (i, tool) in self.tools.iter_mut().enumerate() {
@@ -203,6 +209,34 @@ impl Effect for ContactEffect {
         self.energy.tool_work += tool_work;
         self.energy.blank_work += blank_work;
         Ok(())
+    }
+}
+
+impl Effect for ContactEffect {
+    fn name(&self) -> &str {
+        "contact"
+    }
+
+    fn add_forces(
+        &mut self,
+        ctx: &StepContext,
+        state: &NodalState,
+        forces: &mut Forces,
+    ) -> Result<(), FemError> {
+        if ctx.dt <= 0.0 {
+            return Ok(());
+        }
+        if self.parallel
+            && rayon::current_num_threads() > 1
+            && rayon::current_thread_index().is_none()
+        {
+            // Run the whole step on a pool thread: its parallel loops then
+            // start at once on that thread (the others join when they wake),
+            // instead of the caller waking the pool and waiting for each loop.
+            rayon::scope(|_| self.step(ctx, state, forces))
+        } else {
+            self.step(ctx, state, forces)
+        }
     }
 
     fn stable_dt(&self, state: &NodalState) -> Option<StableDt> {

@@ -4,9 +4,10 @@
 
 use plugins_api::kinematics::cayley_rotate;
 use plugins_api::{
-    Mat3, PointIntegrator, PointNeeds, PointState, ProjectionHint, StepInput, StepKinematics,
-    StepOutput, ToolSurface, Vec3,
+    Mat3, PointIntegrator, PointNeeds, PointState, Projection, ProjectionHint, StepInput,
+    StepKinematics, StepOutput, ToolSurface, Vec3,
 };
+use rayon::prelude::*;
 
 use crate::penalty::{PenaltySettings, nodal_stiffness};
 use crate::{BlankGeometry, BlankView, ContactError};
@@ -30,6 +31,15 @@ pub struct PairSpec {
     /// Penetrations deeper than this many blank thicknesses are taken as a node
     /// on the far side of a thin tool feature, not as contact (-); default 3.
     pub max_penetration: f64,
+    /// Skip the projection of open nodes that provably cannot reach the tool
+    /// (default `true`). A node projected and found open keeps its distance
+    /// from the tool and its position in the tool's frame; in later steps it
+    /// is projected again only once its travel relative to the tool could have
+    /// brought it within reach (half its thickness, or `max_penetration`
+    /// thicknesses less half on the far side, plus `search_margin`). Touching
+    /// nodes are projected every step. `false` projects every node within the
+    /// bounding-box margin every step (for comparison and checks).
+    pub skip_far: bool,
 }
 
 impl PairSpec {
@@ -43,6 +53,53 @@ impl PairSpec {
             bulk_modulus,
             search_margin: 1.0,
             max_penetration: 3.0,
+            skip_far: true,
+        }
+    }
+}
+
+/// Candidate nodes per parallel task.
+const PARALLEL_CHUNK: usize = 64;
+
+/// Whether `n` points are worth a parallel loop: more than
+/// [`ContactPair::PARALLEL_MIN_CANDIDATES`] and more than one rayon thread
+/// (on one thread, handing the loop to the pool's worker only costs a
+/// wake-up and the data's trip to another core).
+fn parallel(n: usize) -> bool {
+    n > ContactPair::PARALLEL_MIN_CANDIDATES && rayon::current_num_threads() > 1
+}
+
+/// Contact points per parallel friction task.
+const FRICTION_CHUNK: usize = 256;
+
+/// Slack (mm) added to the reach of a skipped node, above the rounding of the
+/// local coordinates and of the projection's distance.
+const SKIP_TOL: f64 = 1e-9;
+
+/// What step 1 keeps of a projection.
+#[derive(Clone, Copy, Debug)]
+struct Near {
+    normal: Vec3,
+    distance: f64,
+    hint: ProjectionHint,
+}
+
+impl Near {
+    const NONE: Near = Near {
+        normal: Vec3::new(0.0, 0.0, 0.0),
+        distance: f64::NAN,
+        hint: ProjectionHint {
+            patch: 0,
+            u: f64::NAN,
+            v: f64::NAN,
+        },
+    };
+
+    fn of(pr: &Projection) -> Self {
+        Self {
+            normal: pr.normal,
+            distance: pr.distance,
+            hint: pr.hint(),
         }
     }
 }
@@ -104,6 +161,7 @@ pub struct ContactPair {
     penalty: PenaltySettings,
     search_margin: f64,
     max_penetration: f64,
+    skip_far: bool,
     /// Blank node of each pair point.
     nodes: Vec<u32>,
     /// Penalty stiffness per pair point (N/mm).
@@ -128,6 +186,19 @@ pub struct ContactPair {
     pub energy: ContactEnergy,
     /// Whether any point hit the clamp of its law during the last step.
     pub clamped: bool,
+    /// Projections on the tool so far (all steps).
+    pub projections: u64,
+    /// Projections skipped so far because the node could not reach the tool
+    /// ([`PairSpec::skip_far`]); nodes outside the bounding-box margin are not counted.
+    pub skipped: u64,
+    /// Per pair point: the unsigned distance from the tool at its last
+    /// projection (mm; `-∞` before the first) and its position then, in the
+    /// tool's local frame (mm).
+    far_dist: Vec<f64>,
+    far_local: Vec<Vec3>,
+    /// Scratch: the points to project this step and their answers.
+    cand: Vec<u32>,
+    near: Vec<Near>,
     // Scratch for the gathered friction batch (capacity = node count; no allocation per step).
     active: Vec<u32>,
     /// Per gathered point: lever arm of the contact point about the tool origin
@@ -151,6 +222,14 @@ impl std::fmt::Debug for ContactPair {
 }
 
 impl ContactPair {
+    /// A pair with more candidate nodes than this in a step projects them in
+    /// parallel (rayon's current pool, when it has more than one thread), in
+    /// chunks of 64; with more touching points than this it runs their
+    /// friction in parallel chunks of 256. Each point's answer lands in its
+    /// own slot and the sums are taken afterwards in node order, so the
+    /// results do not depend on the number of threads.
+    pub const PARALLEL_MIN_CANDIDATES: usize = 512;
+
     /// Build a pair over the blank `geometry` with initial positions `x0`.
     ///
     /// # Errors
@@ -212,6 +291,7 @@ impl ContactPair {
             penalty: spec.penalty,
             search_margin: spec.search_margin,
             max_penetration: spec.max_penetration,
+            skip_far: spec.skip_far,
             nodes,
             stiffness,
             hint: vec![None; m],
@@ -226,6 +306,12 @@ impl ContactPair {
             reaction: Reaction::default(),
             energy: ContactEnergy::default(),
             clamped: false,
+            projections: 0,
+            skipped: 0,
+            far_dist: vec![f64::NEG_INFINITY; m],
+            far_local: vec![Vec3::zeros(); m],
+            cand: Vec::with_capacity(m),
+            near: Vec::with_capacity(m),
             active: Vec::with_capacity(m),
             touch: Vec::with_capacity(m),
             inputs: Vec::with_capacity(m),
@@ -283,7 +369,9 @@ impl ContactPair {
         forces: &mut [Vec3],
     ) -> Result<(), ContactError> {
         let bbox = tool.bounding_box();
-        let origin = tool.pose().translation;
+        let pose = tool.pose();
+        let origin = pose.translation;
+        let to_local = pose.rotation.transpose();
         let tool_vel = tool.velocity();
         let tool_rotation = if self.needs.contains(PointNeeds::TOOL_ROTATION) {
             // The rigid rotation of the step (Hughes–Winget / Cayley of Δt ω).
@@ -309,7 +397,9 @@ impl ContactPair {
         let mut stored = 0.0;
         let k_t = self.integrator.stick_stiffness();
 
-        // 1. Projection, gap and pressure; gather the touching points.
+        // 1a. Candidates: inside the bounding-box margin, and not provably out
+        //     of reach since their last projection (`skip_far`).
+        self.cand.clear();
         for k in 0..self.nodes.len() {
             let i = self.nodes[k] as usize;
             let x = blank.x[i];
@@ -318,14 +408,37 @@ impl ContactPair {
                 self.open(k);
                 continue;
             }
-            let pr = tool
-                .project(&x, self.hint[k])
-                .map_err(|source| ContactError::Tool {
-                    pair: self.name.clone(),
-                    node: i,
-                    source: Box::new(source),
-                })?;
-            self.hint[k] = Some(pr.hint());
+            if self.skip_far && self.status[k] == PointStatus::Open {
+                // The distance from a rigidly moving surface is 1-Lipschitz in
+                // the point's position in the surface's own frame, so
+                // |d_now| ≥ |d_then| − |x_local,now − x_local,then|.
+                let moved = (to_local * (x - origin) - self.far_local[k]).norm();
+                let reach = half.max(self.max_penetration * blank.thickness[i] - half);
+                if self.far_dist[k] - moved > reach + self.search_margin + SKIP_TOL {
+                    self.skipped += 1;
+                    continue;
+                }
+            }
+            self.cand.push(k as u32);
+        }
+
+        // 1b. Project the candidates (in parallel for many: each answer lands
+        //     in its own slot, so the result does not depend on the threads).
+        self.project_candidates(tool, blank.x)?;
+        self.projections += self.cand.len() as u64;
+
+        // 1c. Gap and pressure, in node order; gather the touching points.
+        for j in 0..self.cand.len() {
+            let k = self.cand[j] as usize;
+            let i = self.nodes[k] as usize;
+            let x = blank.x[i];
+            let half = 0.5 * blank.thickness[i];
+            let pr = self.near[j];
+            self.hint[k] = Some(pr.hint);
+            if self.skip_far {
+                self.far_dist[k] = pr.distance.abs();
+                self.far_local[k] = to_local * (x - origin);
+            }
             let gap = pr.distance - half;
             if gap >= 0.0 || -gap > self.max_penetration * blank.thickness[i] {
                 self.open(k);
@@ -376,30 +489,39 @@ impl ContactPair {
             self.inputs.push(input);
         }
 
-        // 2. Friction for the gathered points, in one batch.
+        // 2. Friction for the gathered points: one batch, or chunks in
+        //    parallel for many (the points are independent, each lands in its
+        //    own slot).
         self.states.clear();
         self.states
             .extend(self.active.iter().map(|&k| self.friction[k as usize]));
         self.outputs.clear();
         self.outputs
             .resize(self.active.len(), StepOutput::default());
-        if let Err(source) =
-            self.integrator
-                .step_batch(&mut self.states, &self.inputs, &mut self.outputs)
-        {
-            // Name the first point the batch refused: re-run point by point.
-            let mut node = 0;
+        let integrator = self.integrator.as_ref();
+        let done = if parallel(self.active.len()) {
+            self.states
+                .par_chunks_mut(FRICTION_CHUNK)
+                .zip(self.inputs.par_chunks(FRICTION_CHUNK))
+                .zip(self.outputs.par_chunks_mut(FRICTION_CHUNK))
+                .try_for_each(|((s, i), o)| integrator.step_batch(s, i, o))
+        } else {
+            integrator.step_batch(&mut self.states, &self.inputs, &mut self.outputs)
+        };
+        if let Err(batch) = done {
+            // Name the first point refused, with its own error: re-run point by point.
+            let mut first = (0, batch);
             for (j, &k) in self.active.iter().enumerate() {
                 let mut s = self.friction[k as usize];
-                if self.integrator.step(&mut s, &self.inputs[j]).is_err() {
-                    node = self.nodes[k as usize] as usize;
+                if let Err(e) = integrator.step(&mut s, &self.inputs[j]) {
+                    first = (self.nodes[k as usize] as usize, e);
                     break;
                 }
             }
             return Err(ContactError::Friction {
                 pair: self.name.clone(),
-                node,
-                source: Box::new(source),
+                node: first.0,
+                source: Box::new(first.1),
             });
         }
 
@@ -454,6 +576,44 @@ impl ContactPair {
         self.energy.blank_work += blank_work;
         self.energy.tool_work += tool_work;
         self.energy.stored = stored;
+        Ok(())
+    }
+
+    /// Project the nodes of `self.cand` on `tool` into `self.near` (same
+    /// order), in parallel chunks when there are more than
+    /// [`ContactPair::PARALLEL_MIN_CANDIDATES`]. A failure names the first
+    /// failing node in candidate order, whatever the threads did.
+    fn project_candidates(
+        &mut self,
+        tool: &dyn ToolSurface,
+        x: &[Vec3],
+    ) -> Result<(), ContactError> {
+        let (nodes, hint, cand, near) = (&self.nodes, &self.hint, &self.cand, &mut self.near);
+        near.clear();
+        near.resize(cand.len(), Near::NONE);
+        let one = |k: u32| tool.project(&x[nodes[k as usize] as usize], hint[k as usize]);
+        if parallel(cand.len()) {
+            let done: Result<(), ()> = near
+                .par_chunks_mut(PARALLEL_CHUNK)
+                .zip(cand.par_chunks(PARALLEL_CHUNK))
+                .try_for_each(|(out, ks)| {
+                    for (o, &k) in out.iter_mut().zip(ks) {
+                        *o = Near::of(&one(k).map_err(|_| ())?);
+                    }
+                    Ok(())
+                });
+            if done.is_ok() {
+                return Ok(());
+            }
+        }
+        for (o, &k) in near.iter_mut().zip(cand.iter()) {
+            let pr = one(k).map_err(|source| ContactError::Tool {
+                pair: self.name.clone(),
+                node: nodes[k as usize] as usize,
+                source: Box::new(source),
+            })?;
+            *o = Near::of(&pr);
+        }
         Ok(())
     }
 
