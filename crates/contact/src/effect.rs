@@ -239,6 +239,19 @@ impl Effect for ContactEffect {
         }
     }
 
+    fn scale_mass(
+        &mut self,
+        _state: &NodalState,
+        target_dt: f64,
+        mass: &mut [f64],
+        _inertia: &mut [f64],
+    ) -> f64 {
+        self.pairs
+            .iter()
+            .map(|p| p.scale_mass(target_dt, mass, &self.geometry.area))
+            .sum()
+    }
+
     fn stable_dt(&self, state: &NodalState) -> Option<StableDt> {
         self.pairs
             .iter()

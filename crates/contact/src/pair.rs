@@ -640,6 +640,28 @@ impl ContactPair {
         best
     }
 
+    /// Fixed-step mass scaling of this pair's springs: add translational mass
+    /// to every touching node whose contact time step `2 √(m / k)`, with `k`
+    /// the penalty plus stick stiffness as in [`ContactPair::stable_dt`],
+    /// falls below `target_dt` (s). Returns the added mass (tonne).
+    pub fn scale_mass(&self, target_dt: f64, mass: &mut [f64], area: &[f64]) -> f64 {
+        let k_t = self.integrator.stick_stiffness();
+        let mut added = 0.0;
+        for (k, &node) in self.nodes.iter().enumerate() {
+            if self.status[k] == PointStatus::Open {
+                continue;
+            }
+            let i = node as usize;
+            let stiff = self.stiffness[k] + k_t * area[i];
+            let need = stiff * 0.25 * target_dt * target_dt;
+            if stiff > 0.0 && mass[i] > 0.0 && need > mass[i] {
+                added += need - mass[i];
+                mass[i] = need;
+            }
+        }
+        added
+    }
+
     /// Open every point (the pair is inactive in the current press step).
     pub fn release(&mut self) {
         for k in 0..self.nodes.len() {
