@@ -5,11 +5,12 @@
 //! through the explicit engine.
 
 use contact::{BlankGeometry, ContactEffect, ContactPair, PairSpec};
-use fem_core::{Amplitude, Control, Dof, Dofs, MotionKind, NodalLoad, Solver, SolverSettings};
+use fem_core::{
+    Amplitude, Control, Dof, Dofs, MotionKind, NodalLoad, Solver, SolverSettings, wrapped_strip,
+};
 use friction_laws::builtin;
 use plugins_api::{Params, TangentMode, ToolSurface, Vec3};
 use shell_elements::{BelytschkoTsay, Hardening, J2PlaneStress, Section, ShellSet};
-use std::collections::BTreeMap;
 use tools_nurbs::builders::primitives::cylinder;
 use tools_nurbs::builders::{Facing, Placement};
 
@@ -19,57 +20,12 @@ const WIDTH: f64 = 4.0;
 const TAIL: f64 = 20.0;
 const H: f64 = 1.0;
 
-/// Nodes, quads and node sets of the strip.
-type Strip = (Vec<Vec3>, Vec<[u32; 4]>, BTreeMap<String, Vec<u32>>);
-
-/// Nodes and quads of the strip: a horizontal tail on top of the drum (pull end
-/// at x = TAIL), a quarter arc over the drum, a vertical tail (hold end at z = -TAIL).
-fn strip() -> Strip {
-    let rm = R + 0.5 * T;
-    let mut centre = Vec::new();
-    let n1 = (TAIL / H).round() as usize;
-    for i in 0..=n1 {
-        centre.push((TAIL - i as f64 * TAIL / n1 as f64, rm));
-    }
-    let na = (rm * std::f64::consts::FRAC_PI_2 / H).ceil() as usize;
-    for j in 1..=na {
-        let a = std::f64::consts::FRAC_PI_2 * (1.0 + j as f64 / na as f64);
-        centre.push((rm * a.cos(), rm * a.sin()));
-    }
-    for k in 1..=n1 {
-        centre.push((-rm, -(k as f64) * TAIL / n1 as f64));
-    }
-    let ys = [-0.5 * WIDTH, 0.0, 0.5 * WIDTH];
-    let mut nodes = Vec::new();
-    for &(x, z) in &centre {
-        for &y in &ys {
-            nodes.push(Vec3::new(x, y, z));
-        }
-    }
-    let m = centre.len();
-    let mut quads = Vec::new();
-    for i in 0..m - 1 {
-        for j in 0..2 {
-            let a = (3 * i + j) as u32;
-            quads.push([a, a + 3, a + 4, a + 1]);
-        }
-    }
-    let mut sets = BTreeMap::new();
-    sets.insert("pull".to_string(), vec![0, 1, 2]);
-    let last = 3 * (m as u32 - 1);
-    sets.insert("hold".to_string(), vec![last, last + 1, last + 2]);
-    sets.insert(
-        "centre".to_string(),
-        (0..m as u32).map(|i| 3 * i + 1).collect(),
-    );
-    (nodes, quads, sets)
-}
-
 /// Returns the steady tension ratio `T_pull / T_hold`.
 fn tension_ratio(formulation: &str, mu: f64) -> f64 {
-    let (nodes, quads, sets) = strip();
+    let mesh = wrapped_strip(R + 0.5 * T, WIDTH, TAIL, std::f64::consts::FRAC_PI_2, H).unwrap();
+    let (nodes, quads) = (mesh.nodes.clone(), mesh.quads.clone());
     let n = nodes.len();
-    let mut solver = Solver::from_nodes(&nodes, sets, SolverSettings::default()).unwrap();
+    let mut solver = Solver::new(&mesh, SolverSettings::default()).unwrap();
     let material = J2PlaneStress::new(
         2.06e5,
         0.3,

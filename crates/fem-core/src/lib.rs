@@ -65,7 +65,7 @@ pub use boundary::{BoundaryCondition, Dof, Dofs, MotionKind, NodalLoad};
 pub use effect::{Effect, EnergyTally, StableDt};
 pub use energy::{EnergyLedger, History, HistoryRow};
 pub use error::FemError;
-pub use mesh::{Mesh, MeshQuality, rectangle};
+pub use mesh::{Mesh, MeshQuality, rectangle, wrapped_strip};
 pub use mesh_io::{read_inp, read_msh};
 pub use press::{Press, PressStep, StepChange, StepEnd, ToolMotion};
 pub use settings::SolverSettings;

@@ -294,9 +294,111 @@ pub fn rectangle(lx: f64, ly: f64, nx: usize, ny: usize) -> Result<Mesh, FemErro
     Ok(mesh)
 }
 
+/// A strip wrapped over a drum of axis `y` through the origin (the capstan,
+/// benchmarks.md §3): a horizontal tail of length `tail` on top of the drum
+/// from `x = tail` to the drum's top, an arc of `angle` (rad) in the x–z
+/// plane over the drum, a straight tail of length `tail` leaving it
+/// tangentially. Mid-surface radius `rm`; three nodes across `width`;
+/// element length about `h` along the strip.
+///
+/// Node sets: `pull` (the free end of the top tail), `hold` (the end of the
+/// leaving tail), `centre` (the centre line), `all`; element set `all`.
+///
+/// # Errors
+/// Non-positive or non-finite sizes, an angle outside `(0, π]`.
+pub fn wrapped_strip(rm: f64, width: f64, tail: f64, angle: f64, h: f64) -> Result<Mesh, FemError> {
+    for (field, value) in [
+        ("radius", rm),
+        ("width", width),
+        ("tail", tail),
+        ("element_size", h),
+    ] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(FemError::InvalidParameter {
+                field: field.into(),
+                value,
+                unit: "mm",
+                range: "finite and > 0",
+            });
+        }
+    }
+    if !(angle > 0.0 && angle <= std::f64::consts::PI) {
+        return Err(FemError::InvalidParameter {
+            field: "angle".into(),
+            value: angle,
+            unit: "rad",
+            range: "in (0, pi]",
+        });
+    }
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let n1 = ((tail / h).round() as usize).max(1);
+    let na = ((rm * angle / h).ceil() as usize).max(1);
+    let mut centre = Vec::with_capacity(2 * n1 + na + 1);
+    for i in 0..=n1 {
+        centre.push((tail - i as f64 * tail / n1 as f64, rm));
+    }
+    for j in 1..=na {
+        let a = half_pi + angle * j as f64 / na as f64;
+        centre.push((rm * a.cos(), rm * a.sin()));
+    }
+    let a_end = half_pi + angle;
+    let (ex, ez) = (rm * a_end.cos(), rm * a_end.sin());
+    let (tx, tz) = (-a_end.sin(), a_end.cos());
+    for k in 1..=n1 {
+        let s = k as f64 * tail / n1 as f64;
+        centre.push((ex + s * tx, ez + s * tz));
+    }
+    let ys = [-0.5 * width, 0.0, 0.5 * width];
+    let mut nodes = Vec::with_capacity(3 * centre.len());
+    for &(x, z) in &centre {
+        for &y in &ys {
+            nodes.push(Vec3::new(x, y, z));
+        }
+    }
+    let m = centre.len();
+    let mut quads = Vec::with_capacity(2 * (m - 1));
+    for i in 0..m - 1 {
+        for j in 0..2 {
+            let a = (3 * i + j) as u32;
+            quads.push([a, a + 3, a + 4, a + 1]);
+        }
+    }
+    let mut mesh = Mesh {
+        nodes,
+        quads,
+        ..Default::default()
+    };
+    let last = 3 * (m as u32 - 1);
+    let ns = &mut mesh.node_sets;
+    ns.insert("pull".into(), vec![0, 1, 2]);
+    ns.insert("hold".into(), vec![last, last + 1, last + 2]);
+    ns.insert("centre".into(), (0..m as u32).map(|i| 3 * i + 1).collect());
+    mesh.add_all_sets();
+    Ok(mesh)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wrapped_strip_lies_on_the_drum_and_leaves_it_tangentially() {
+        let (rm, angle) = (20.05, std::f64::consts::FRAC_PI_2);
+        let m = wrapped_strip(rm, 4.0, 20.0, angle, 1.0).unwrap();
+        let centre = m.node_set("centre").unwrap();
+        // 21 nodes on the top tail, 32 arc nodes (ceil(rm θ / h)), 20 on the leaving tail.
+        assert_eq!(centre.len(), 21 + 32 + 20);
+        assert_eq!(m.quads.len(), 2 * (centre.len() - 1));
+        for &n in &centre[20..=52] {
+            let p = m.nodes[n as usize];
+            assert!((p.x.hypot(p.z) - rm).abs() < 1e-12, "arc node off the drum");
+        }
+        // θ = 90°: the leaving tail hangs straight down at x = -rm.
+        let end = m.nodes[*centre.last().unwrap() as usize];
+        assert!((end.x + rm).abs() < 1e-12 && (end.z + 20.0).abs() < 1e-12);
+        assert!(wrapped_strip(rm, 4.0, 20.0, 4.0, 1.0).is_err());
+        assert!(wrapped_strip(rm, 0.0, 20.0, angle, 1.0).is_err());
+    }
 
     fn one_quad(p: [[f64; 3]; 4]) -> Mesh {
         Mesh {

@@ -186,7 +186,7 @@ fn wrap_90_over_punch_radius_at_largest_mass_scaled_step_stays_stable() {
     .collect();
     let loaded = scene::load(&root().join("scenes/square-cup.toml"), &sets).unwrap();
     let mut model = scene::build(&loaded).unwrap();
-    model.solver.initialize().unwrap();
+    model.initialize().unwrap();
     let end = model.end_time;
     let mut worst_balance: f64 = 0.0;
     let mut dt_min = f64::INFINITY;
@@ -225,4 +225,34 @@ fn wrap_90_over_punch_radius_at_largest_mass_scaled_step_stays_stable() {
     assert!(worst_balance < 0.02, "balance error {worst_balance}");
     // Contact springs take part in mass scaling: the run keeps the target step.
     assert!(dt_min > 0.999e-6, "the step fell to {dt_min} s");
+}
+
+/// Levanov reads the blank's flow stress (friction-math §3): the shells hand
+/// it to contact before the first step, so the law never sees σ_y = 0 when
+/// the holder closes on the blank (a regression: the first step used to fail).
+#[test]
+fn levanov_cup_reads_the_flow_stress_from_the_first_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let sets: Vec<String> = [
+        "blank.mesh.divisions=8",
+        "contact.law=levanov",
+        "solver.end_time=1.5e-3",
+        "output.frames=0",
+        "output.plots=false",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let loaded = scene::load(&root().join("scenes/square-cup.toml"), &sets).unwrap();
+    let r = run(
+        &loaded,
+        &RunOptions {
+            out: dir.path().to_path_buf(),
+            progress: false,
+        },
+    )
+    .unwrap();
+    assert_eq!(r.summary.law, "levanov");
+    assert_eq!(r.summary.status, "completed");
+    assert!(r.summary.energy.balance_error_rel < 0.02);
 }

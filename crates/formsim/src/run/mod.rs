@@ -97,7 +97,6 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         scene.output.punch_edge_distance,
     );
     let setup = model
-        .solver
         .initialize()
         .map_err(|e| loaded.key_error("solver", e.to_string()))?;
     let end = model.end_time;

@@ -17,7 +17,6 @@ use shell_elements::{
     BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, LogStrain, Section,
     ShellFormulation, ShellSet,
 };
-use std::collections::BTreeMap;
 
 /// Read access to the blank's shells, whichever element the scene chose.
 pub trait ShellView {
@@ -140,21 +139,24 @@ struct Coupling {
 impl Model {
     /// The blank's shells.
     pub fn shells(&self) -> &dyn ShellView {
-        match self.shells {
-            ShellHandle::BelytschkoTsay(id) => self
-                .solver
-                .effect::<ShellSet<BelytschkoTsay, J2PlaneStress>>(id)
-                .expect("shell effect"),
-            ShellHandle::FullyIntegrated(id) => self
-                .solver
-                .effect::<ShellSet<FullyIntegrated, J2PlaneStress>>(id)
-                .expect("shell effect"),
-        }
+        shells_of(&self.solver, self.shells)
     }
 
     /// The contact effect.
     pub fn contact(&self) -> Option<&ContactEffect> {
         self.contact.and_then(|id| self.solver.effect(id))
+    }
+
+    /// Initialise the solver (masses, mass scaling, initial forces) and hand
+    /// contact the blank's initial thickness and flow stress, so that a law
+    /// reading the flow stress (Levanov) sees it from the first step.
+    ///
+    /// # Errors
+    /// The solver's set-up errors.
+    pub fn initialize(&mut self) -> Result<fem_core::SetupReport, fem_core::FemError> {
+        let report = self.solver.initialize()?;
+        self.couple_shells_to_contact();
+        Ok(report)
     }
 
     /// Hand contact the blank's current nodal thickness (and outer-fibre flow
@@ -169,16 +171,7 @@ impl Model {
             c.bottom.iter_mut().for_each(|v| *v = 0.0);
         }
         {
-            let shells: &dyn ShellView = match self.shells {
-                ShellHandle::BelytschkoTsay(id) => self
-                    .solver
-                    .effect::<ShellSet<BelytschkoTsay, J2PlaneStress>>(id)
-                    .expect("shell effect"),
-                ShellHandle::FullyIntegrated(id) => self
-                    .solver
-                    .effect::<ShellSet<FullyIntegrated, J2PlaneStress>>(id)
-                    .expect("shell effect"),
-            };
+            let shells = shells_of(&self.solver, self.shells);
             for (e, q) in self.mesh.quads.iter().enumerate() {
                 let t = shells.thickness(e);
                 let f = if c.flow {
@@ -216,6 +209,18 @@ impl Model {
                 }
             }
         }
+    }
+}
+
+/// The shell effect behind `handle`, read through [`ShellView`].
+fn shells_of(solver: &Solver, handle: ShellHandle) -> &dyn ShellView {
+    match handle {
+        ShellHandle::BelytschkoTsay(id) => solver
+            .effect::<ShellSet<BelytschkoTsay, J2PlaneStress>>(id)
+            .expect("the model's shell effect has this type"),
+        ShellHandle::FullyIntegrated(id) => solver
+            .effect::<ShellSet<FullyIntegrated, J2PlaneStress>>(id)
+            .expect("the model's shell effect has this type"),
     }
 }
 
@@ -701,67 +706,15 @@ fn build_mesh(loaded: &LoadedScene) -> Result<Mesh, String> {
             tail,
             angle_deg,
             element_size,
-        } => wrapped_strip(
+        } => fem_core::wrapped_strip(
             *radius + 0.5 * loaded.scene.blank.thickness,
             *width,
             *tail,
             angle_deg.to_radians(),
             *element_size,
-        ),
+        )
+        .map_err(|e| e.to_string())?,
     };
     mesh.add_all_sets();
     Ok(mesh)
-}
-
-/// A strip over a drum of axis `y`: horizontal tail on top from `x = tail`
-/// to the top of the drum, an arc of `angle` in the x–z plane, a straight tail
-/// leaving tangentially. Mid-surface radius `rm`; three nodes across the width.
-fn wrapped_strip(rm: f64, width: f64, tail: f64, angle: f64, h: f64) -> Mesh {
-    let half_pi = std::f64::consts::FRAC_PI_2;
-    let mut centre = Vec::new();
-    let n1 = ((tail / h).round() as usize).max(1);
-    for i in 0..=n1 {
-        centre.push((tail - i as f64 * tail / n1 as f64, rm));
-    }
-    let na = ((rm * angle / h).ceil() as usize).max(1);
-    for j in 1..=na {
-        let a = half_pi + angle * j as f64 / na as f64;
-        centre.push((rm * a.cos(), rm * a.sin()));
-    }
-    let a_end = half_pi + angle;
-    let (ex, ez) = (rm * a_end.cos(), rm * a_end.sin());
-    let (tx, tz) = (-a_end.sin(), a_end.cos());
-    for k in 1..=n1 {
-        let s = k as f64 * tail / n1 as f64;
-        centre.push((ex + s * tx, ez + s * tz));
-    }
-    let ys = [-0.5 * width, 0.0, 0.5 * width];
-    let mut nodes = Vec::new();
-    for &(x, z) in &centre {
-        for &y in &ys {
-            nodes.push(Vec3::new(x, y, z));
-        }
-    }
-    let m = centre.len();
-    let mut quads = Vec::new();
-    for i in 0..m - 1 {
-        for j in 0..2 {
-            let a = (3 * i + j) as u32;
-            quads.push([a, a + 3, a + 4, a + 1]);
-        }
-    }
-    let mut node_sets = BTreeMap::new();
-    node_sets.insert("pull".to_string(), vec![0, 1, 2]);
-    let last = 3 * (m as u32 - 1);
-    node_sets.insert("hold".to_string(), vec![last, last + 1, last + 2]);
-    node_sets.insert(
-        "centre".to_string(),
-        (0..m as u32).map(|i| 3 * i + 1).collect(),
-    );
-    Mesh {
-        nodes,
-        quads,
-        node_sets,
-        ..Default::default()
-    }
 }
