@@ -10,7 +10,9 @@ pub struct SolverSettings {
     /// Fixed-time-step mass scaling: the time step to run at (s, safety
     /// factor included). Effects add mass to every element whose
     /// `safety_factor × stable dt` falls below it, at set-up and again during
-    /// the run whenever needed; the step is then `min(target, safety × stable dt)`.
+    /// the run whenever needed (then to 2 % above the target, see
+    /// [`MASS_SCALING_HEADROOM`](crate::solver::MASS_SCALING_HEADROOM)); the step is then
+    /// `min(target, safety × stable dt)`.
     /// `None`: no mass scaling.
     pub mass_scaling_dt: Option<f64>,
     /// Mass-proportional damping coefficient `c` (1/s) for dynamic relaxation
