@@ -14,8 +14,7 @@ use std::time::Instant;
 use contact::{BlankGeometry, BlankView, ContactPair, PairSpec};
 use friction_laws::builtin;
 use plugins_api::{Params, TangentMode, Vec3};
-use tools_nurbs::builders::square_cup::{DieParams, die};
-use tools_nurbs::builders::{Facing, Model, Placement};
+use tools_nurbs::builders::square_cup::benchmark_quarter_die;
 
 const N: usize = 50;
 const T0: f64 = 0.78;
@@ -35,16 +34,7 @@ fn blank_at(base: &[Vec3], k: usize) -> Vec<Vec3> {
 }
 
 fn main() {
-    let tool = die(
-        "die",
-        &DieParams::default(),
-        Model::Quarter,
-        &Placement {
-            origin: Vec3::zeros(),
-            facing: Facing::Up,
-        },
-    )
-    .unwrap();
+    let tool = benchmark_quarter_die().unwrap();
     let mesh = fem_core::rectangle(75.0, 75.0, N, N).unwrap();
     let base = mesh.nodes.clone();
     let nn = base.len();

@@ -5,8 +5,7 @@
 use contact::{BlankGeometry, BlankView, ContactPair, PairSpec, PointStatus};
 use friction_laws::builtin;
 use plugins_api::{Params, TangentMode, ToolSurface, Vec3};
-use tools_nurbs::builders::square_cup::{DieParams, die};
-use tools_nurbs::builders::{Facing, Model, Placement};
+use tools_nurbs::builders::square_cup::benchmark_quarter_die;
 
 /// A 0.2 mm square patch of blank (one quad) is carried along y = 10 from
 /// x = 50 on the die face, across the seam at x = 37 + 5 = 42, round the
@@ -19,16 +18,7 @@ use tools_nurbs::builders::{Facing, Model, Placement};
 #[test]
 fn traction_is_continuous_across_the_die_shoulder_seam() {
     for formulation in ["convective", "jaumann"] {
-        let die = die(
-            "die",
-            &DieParams::default(),
-            Model::Quarter,
-            &Placement {
-                origin: Vec3::zeros(),
-                facing: Facing::Up,
-            },
-        )
-        .unwrap();
+        let die = benchmark_quarter_die().unwrap();
         let thickness = 0.78;
         let h = 0.2;
         // The patch's reference points, offset by the surface frame each step.

@@ -11,8 +11,7 @@
 use contact::{BlankGeometry, BlankView, ContactEnergy, ContactPair, PairSpec, PointStatus};
 use friction_laws::builtin;
 use plugins_api::{Mat3, Params, RigidPose, RigidVelocity, TangentMode, ToolSurface, Vec3};
-use tools_nurbs::builders::square_cup::{DieParams, die};
-use tools_nurbs::builders::{Facing, Model, Placement};
+use tools_nurbs::builders::square_cup::benchmark_quarter_die;
 
 const CELLS: usize = 40;
 const STEPS: usize = 300;
@@ -115,16 +114,7 @@ fn die_pose(k: usize) -> RigidPose {
 /// `tight`, no search margin and `max_penetration` = 1 (the reach of a node is
 /// then exactly half its thickness: the skipping bound gets no slack).
 fn run(skip_far: bool, tight: bool) -> Run {
-    let mut tool = die(
-        "die",
-        &DieParams::default(),
-        Model::Quarter,
-        &Placement {
-            origin: Vec3::zeros(),
-            facing: Facing::Up,
-        },
-    )
-    .unwrap();
+    let mut tool = benchmark_quarter_die().unwrap();
     let (base, quads) = grid();
     let nn = base.len();
     let (x0, _) = blank_at(&base, 0);
@@ -326,16 +316,7 @@ fn two_threads_give_the_same_bits_as_one() {
 #[test]
 fn far_side_nodes_within_max_penetration_are_not_skipped() {
     let run = |skip_far: bool| {
-        let tool = die(
-            "die",
-            &DieParams::default(),
-            Model::Quarter,
-            &Placement {
-                origin: Vec3::zeros(),
-                facing: Facing::Up,
-            },
-        )
-        .unwrap();
+        let tool = benchmark_quarter_die().unwrap();
         let quads = [[0u32, 1, 2, 3]];
         let base = [(60.0, 60.0), (61.0, 60.0), (61.0, 61.0), (60.0, 61.0)];
         let at = |z: f64| -> Vec<Vec3> { base.iter().map(|&(x, y)| Vec3::new(x, y, z)).collect() };

@@ -1,7 +1,7 @@
 //! `formsim run` end to end on small versions of the ready scenes: every output
 //! file is written, finite and consistent, and the block on a plane slides at `μN`.
 
-use formsim::run::{RunOptions, run};
+use formsim::run::{RunOptions, RunResult, run};
 use formsim::scene;
 use std::path::{Path, PathBuf};
 
@@ -9,12 +9,11 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// Block on a plane (benchmarks.md §3): the friction force while sliding is
-/// `μ N` = 0.2 × 100 N; issue 5's tolerance 1 %.
-#[test]
-fn block_on_plane_slides_at_mu_n() {
+/// Run a ready scene with overrides into a fresh temporary directory.
+fn run_scene(name: &str, sets: &[&str]) -> (tempfile::TempDir, RunResult) {
     let dir = tempfile::tempdir().unwrap();
-    let loaded = scene::load(&root().join("scenes/block-on-plane.toml"), &[]).unwrap();
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let loaded = scene::load(&root().join(format!("scenes/{name}.toml")), &sets).unwrap();
     let r = run(
         &loaded,
         &RunOptions {
@@ -23,6 +22,14 @@ fn block_on_plane_slides_at_mu_n() {
         },
     )
     .unwrap();
+    (dir, r)
+}
+
+/// Block on a plane (benchmarks.md §3): the friction force while sliding is
+/// `μ N` = 0.2 × 100 N; issue 5's tolerance 1 %.
+#[test]
+fn block_on_plane_slides_at_mu_n() {
+    let (_dir, r) = run_scene("block-on-plane", &[]);
     let b = r.summary.block.expect("block result");
     assert!((b.analytic - 20.0).abs() < 1e-12);
     assert!(
@@ -39,27 +46,17 @@ fn block_on_plane_slides_at_mu_n() {
 /// finite values, and the energy balance closes within 2 % (issue 5).
 #[test]
 fn square_cup_coarse_writes_every_output() {
-    let dir = tempfile::tempdir().unwrap();
+    let (dir, r) = run_scene(
+        "square-cup",
+        &[
+            "blank.mesh.divisions=10",
+            "steps[2].duration=3e-3",
+            "steps[2].motions[1].distance=4.99",
+            "output.report_strokes=[2.0, 5.0]",
+            "output.frames=3",
+        ],
+    );
     let out = dir.path();
-    let sets: Vec<String> = [
-        "blank.mesh.divisions=10",
-        "steps[2].duration=3e-3",
-        "steps[2].motions[1].distance=4.99",
-        "output.report_strokes=[2.0, 5.0]",
-        "output.frames=3",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let loaded = scene::load(&root().join("scenes/square-cup.toml"), &sets).unwrap();
-    let r = run(
-        &loaded,
-        &RunOptions {
-            out: out.to_path_buf(),
-            progress: false,
-        },
-    )
-    .unwrap();
     assert!(
         (r.summary.stroke - 5.0).abs() < 1e-6,
         "stroke {}",
@@ -232,26 +229,16 @@ fn wrap_90_over_punch_radius_at_largest_mass_scaled_step_stays_stable() {
 /// the holder closes on the blank (a regression: the first step used to fail).
 #[test]
 fn levanov_cup_reads_the_flow_stress_from_the_first_step() {
-    let dir = tempfile::tempdir().unwrap();
-    let sets: Vec<String> = [
-        "blank.mesh.divisions=8",
-        "contact.law=levanov",
-        "solver.end_time=1.5e-3",
-        "output.frames=0",
-        "output.plots=false",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let loaded = scene::load(&root().join("scenes/square-cup.toml"), &sets).unwrap();
-    let r = run(
-        &loaded,
-        &RunOptions {
-            out: dir.path().to_path_buf(),
-            progress: false,
-        },
-    )
-    .unwrap();
+    let (_dir, r) = run_scene(
+        "square-cup",
+        &[
+            "blank.mesh.divisions=8",
+            "contact.law=levanov",
+            "solver.end_time=1.5e-3",
+            "output.frames=0",
+            "output.plots=false",
+        ],
+    );
     assert_eq!(r.summary.law, "levanov");
     assert_eq!(r.summary.status, "completed");
     assert!(r.summary.energy.balance_error_rel < 0.02);

@@ -5,23 +5,13 @@
 //! face's edge point (distance 0.3955 instead of 0.385) and lost contact.
 
 use plugins_api::{ToolSurface, Vec3};
-use tools_nurbs::builders::square_cup::{DieParams, die};
-use tools_nurbs::builders::{Facing, Model, Placement};
+use tools_nurbs::builders::square_cup::benchmark_quarter_die;
 
 /// Walk a point along the die face to the shoulder seam with warm starts, then
 /// step onto the shoulder: the warm answer equals the cold one (1e-12 mm).
 #[test]
 fn warm_start_from_an_edge_hint_crosses_the_seam() {
-    let die = die(
-        "die",
-        &DieParams::default(),
-        Model::Quarter,
-        &Placement {
-            origin: Vec3::zeros(),
-            facing: Facing::Up,
-        },
-    )
-    .unwrap();
+    let die = benchmark_quarter_die().unwrap();
     let mut hint = None;
     for i in 0..=80 {
         let q = Vec3::new(50.0 - 0.1 * f64::from(i), 10.0, 0.385);

@@ -366,6 +366,23 @@ pub fn die(
     assemble(name, &symmetric(die_parts(name, p)?, model), place)
 }
 
+/// The benchmark's quarter die (benchmarks.md §1, default dimensions) with its
+/// face at z = 0 facing up: the fixture of the contact and projection tests.
+///
+/// # Errors
+/// None for the default dimensions; the `Result` is [`die`]'s.
+pub fn benchmark_quarter_die() -> Result<NurbsTool, NurbsError> {
+    die(
+        "die",
+        &DieParams::default(),
+        Model::Quarter,
+        &Placement {
+            origin: plugins_api::Vec3::zeros(),
+            facing: super::Facing::Up,
+        },
+    )
+}
+
 /// Build the flat blankholder ring.
 pub fn blankholder(
     name: &str,
