@@ -463,6 +463,9 @@ fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
     let model = formsim::scene::build(&loaded).map_err(|e| e.to_string())?;
     let s = &loaded.scene;
     println!("{}: ok", path.display());
+    for w in formsim::scene::validate::warnings(&loaded) {
+        println!("  warning     {w}");
+    }
     println!(
         "  scene       {} ({:?}): {}",
         s.scene.name, s.scene.kind, s.scene.description
@@ -513,6 +516,9 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("results").join(&loaded.scene.scene.name));
+    for w in formsim::scene::validate::warnings(&loaded) {
+        eprintln!("warning: {w}");
+    }
     let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
     let result = formsim::run::run(
         &loaded,

@@ -161,3 +161,28 @@ fn cli_scene_check_summarises_and_bad_input_exits_1_with_one_line() {
         "{err}"
     );
 }
+
+/// Square cup at 25 × 25 (3 mm elements over the 5 mm die shoulder) localizes
+/// with one-point shells; 50 × 50 does not (issue 5's convergence runs): the
+/// check warns for the first and not for the second.
+#[test]
+fn coarse_mesh_over_small_radius_warns() {
+    let coarse = scene::load(&cup(), &["blank.mesh.divisions=25".into()]).unwrap();
+    let w = scene::validate::warnings(&coarse);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("tools.die.shoulder_radius") && w[0].contains("at least 45"),
+        "{w:?}"
+    );
+    let base = scene::load(&cup(), &[]).unwrap();
+    assert!(scene::validate::warnings(&base).is_empty());
+    let fi = scene::load(
+        &cup(),
+        &[
+            "blank.mesh.divisions=25".into(),
+            "blank.element=fully-integrated".into(),
+        ],
+    )
+    .unwrap();
+    assert!(scene::validate::warnings(&fi).is_empty());
+}

@@ -481,3 +481,53 @@ pub fn dof_from_name(name: &str) -> Option<fem_core::Dof> {
         _ => return None,
     })
 }
+
+/// Advice that does not stop a run: the blank's elements are longer than a
+/// third of the smallest tool radius it bends over (`profile_radius`,
+/// `shoulder_radius`, `radius`), where a one-point Belytschko–Tsay shell can
+/// hinge (the square cup at 25 × 25, 3 mm elements over the 5 mm die
+/// shoulder and 8 mm punch radius, localizes; 50 × 50 does not).
+pub fn warnings(loaded: &LoadedScene) -> Vec<String> {
+    let s = &loaded.scene;
+    let h = match &s.blank.mesh {
+        MeshSpec::Rectangle {
+            size, divisions, ..
+        } => {
+            let (nx, ny) = divisions.pair();
+            (size[0] / nx as f64).max(size[1] / ny as f64)
+        }
+        MeshSpec::WrappedStrip { element_size, .. } => *element_size,
+        MeshSpec::File { .. } => return Vec::new(),
+    };
+    let mut smallest: Option<(f64, String)> = None;
+    for (tool, value) in &s.tools {
+        let Some(table) = value.as_table() else {
+            continue;
+        };
+        for key in ["profile_radius", "shoulder_radius", "radius"] {
+            if let Some(r) = table
+                .get(key)
+                .and_then(|v| v.as_float().or(v.as_integer().map(|i| i as f64)))
+                && r > 0.0
+                && smallest.as_ref().is_none_or(|(best, _)| r < *best)
+            {
+                smallest = Some((r, format!("tools.{tool}.{key}")));
+            }
+        }
+    }
+    match smallest {
+        Some((r, key))
+            if s.blank.element == super::schema::ElementKind::BelytschkoTsay && h > r / 3.0 =>
+        {
+            vec![format!(
+                "blank.mesh: {h:.2} mm elements span more than a third of the {r} mm {key}: one-point shells may hinge over it (use at least {} elements per side, or blank.element = \"fully-integrated\")",
+                match &s.blank.mesh {
+                    MeshSpec::Rectangle { size, .. } =>
+                        ((3.0 * size[0].max(size[1]) / r).ceil() as i64).to_string(),
+                    _ => "finer".to_string(),
+                }
+            )]
+        }
+        _ => Vec::new(),
+    }
+}
