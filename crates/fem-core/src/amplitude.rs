@@ -23,6 +23,17 @@ pub enum Amplitude {
         /// End time (s), `> t0`.
         t1: f64,
     },
+    /// 0 before `t0`, `21ξ⁵ − 35ξ⁶ + 15ξ⁷` with `ξ = (t − t0)/(t1 − t0)`, 1
+    /// after `t1`: the integral of the speed profile `∝ ξ⁴(1 − ξ)²`. It starts
+    /// more gently than the smooth step (speed `∝ ξ⁴`, not `ξ²`) and peaks
+    /// later (at ξ = 2/3), so that a punch is slow while the blank's internal
+    /// energy is still small; at rest with zero acceleration at both ends.
+    SlowStart {
+        /// Start time (s).
+        t0: f64,
+        /// End time (s), `> t0`.
+        t1: f64,
+    },
     /// Piecewise linear through `(t, A)` points with strictly increasing `t`;
     /// held constant outside the table.
     Table(Vec<(f64, f64)>),
@@ -39,7 +50,9 @@ impl Amplitude {
         };
         match self {
             Amplitude::Constant => Ok(()),
-            Amplitude::Linear { t0, t1 } | Amplitude::SmoothStep { t0, t1 } => {
+            Amplitude::Linear { t0, t1 }
+            | Amplitude::SmoothStep { t0, t1 }
+            | Amplitude::SlowStart { t0, t1 } => {
                 if !t0.is_finite() {
                     return Err(bad("amplitude.t0", *t0, "finite"));
                 }
@@ -88,6 +101,11 @@ impl Amplitude {
                 let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
                 s * s * s * (s * (6.0 * s - 15.0) + 10.0)
             }
+            Amplitude::SlowStart { t0, t1 } => {
+                let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
+                let s5 = s * s * s * s * s;
+                s5 * (21.0 + s * (-35.0 + 15.0 * s))
+            }
             Amplitude::Table(p) => {
                 let Some(first) = p.first() else { return 0.0 };
                 if t <= first.0 {
@@ -123,6 +141,13 @@ impl Amplitude {
                 }
                 30.0 * s * s * (s - 1.0) * (s - 1.0) / (t1 - t0)
             }
+            Amplitude::SlowStart { t0, t1 } => {
+                let s = (t - t0) / (t1 - t0);
+                if !(0.0..=1.0).contains(&s) {
+                    return 0.0;
+                }
+                105.0 * s * s * s * s * (1.0 - s) * (1.0 - s) / (t1 - t0)
+            }
             Amplitude::Table(p) => {
                 if p.len() < 2 || t < p[0].0 || t >= p[p.len() - 1].0 {
                     return 0.0;
@@ -132,5 +157,33 @@ impl Amplitude {
                 (b.1 - a.1) / (b.0 - a.0)
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slow_start_goes_from_0_to_1_and_its_rate_is_its_derivative() {
+        // A(ξ) = 21ξ⁵ − 35ξ⁶ + 15ξ⁷ is the normalised integral of ξ⁴(1 − ξ)²
+        // (∫₀¹ ξ⁴(1 − ξ)² dξ = 1/105): A(0) = 0, A(1) = 1, A' = 105 ξ⁴(1 − ξ)².
+        let a = Amplitude::SlowStart { t0: 1.0, t1: 3.0 };
+        assert_eq!(a.value(0.5), 0.0);
+        assert!((a.value(3.0) - 1.0).abs() < 1e-15);
+        assert_eq!(a.value(4.0), 1.0);
+        for k in 1..20 {
+            let t = 1.0 + 0.1 * k as f64;
+            let h = 1e-6;
+            let fd = (a.value(t + h) - a.value(t - h)) / (2.0 * h);
+            assert!(
+                (fd - a.rate(t)).abs() < 1e-8,
+                "t = {t}: {fd} vs {}",
+                a.rate(t)
+            );
+        }
+        // Slower than the smooth step early on.
+        let s = Amplitude::SmoothStep { t0: 1.0, t1: 3.0 };
+        assert!(a.value(1.4) < 0.5 * s.value(1.4));
     }
 }

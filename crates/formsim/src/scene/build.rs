@@ -653,11 +653,17 @@ fn step_amplitude(a: &AmplitudeSpec, duration: f64) -> Amplitude {
                 t0: 0.0,
                 t1: duration,
             },
+            "slow-start" => Amplitude::SlowStart {
+                t0: 0.0,
+                t1: duration,
+            },
             _ => Amplitude::Constant,
         },
         AmplitudeSpec::Ramp { shape, t0, t1 } => {
             if shape == "linear" {
                 Amplitude::Linear { t0: *t0, t1: *t1 }
+            } else if shape == "slow-start" {
+                Amplitude::SlowStart { t0: *t0, t1: *t1 }
             } else {
                 Amplitude::SmoothStep { t0: *t0, t1: *t1 }
             }

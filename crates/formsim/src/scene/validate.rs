@@ -420,21 +420,21 @@ fn check_amplitude(
         None => Ok(()),
         Some(AmplitudeSpec::Named(n)) => match n.as_str() {
             "constant" => Ok(()),
-            "smooth-step" | "linear" if in_step => Ok(()),
+            "smooth-step" | "slow-start" | "linear" if in_step => Ok(()),
             _ => Err(loaded.key_error(
                 key,
                 if in_step {
-                    format!("\"{n}\": must be \"smooth-step\", \"linear\", \"constant\", a ramp or a table")
+                    format!("\"{n}\": must be \"smooth-step\", \"slow-start\", \"linear\", \"constant\", a ramp or a table")
                 } else {
                     format!("\"{n}\": must be \"constant\", a ramp {{ shape, t0, t1 }} or a table")
                 },
             )),
         },
         Some(AmplitudeSpec::Ramp { shape, t0, t1 }) => {
-            if shape != "smooth-step" && shape != "linear" {
+            if !matches!(shape.as_str(), "smooth-step" | "slow-start" | "linear") {
                 return Err(loaded.key_error(
                     key,
-                    format!("shape \"{shape}\": must be \"smooth-step\" or \"linear\""),
+                    format!("shape \"{shape}\": must be \"smooth-step\", \"slow-start\" or \"linear\""),
                 ));
             }
             if !(t0.is_finite() && t1.is_finite() && t1 > t0) {
