@@ -622,15 +622,9 @@ impl ContactPair {
     /// the penalty and the stick spring, the two added as if in one direction),
     /// with the node that limits it. `None` when nothing touches.
     pub fn stable_dt(&self, mass: &[f64], area: &[f64]) -> Option<(f64, usize)> {
-        let k_t = self.integrator.stick_stiffness();
         let mut best: Option<(f64, usize)> = None;
-        for (k, &node) in self.nodes.iter().enumerate() {
-            if self.status[k] == PointStatus::Open {
-                continue;
-            }
-            let i = node as usize;
-            let stiff = self.stiffness[k] + k_t * area[i];
-            if stiff > 0.0 && mass[i] > 0.0 {
+        for (i, stiff) in self.touching_springs(area) {
+            if mass[i] > 0.0 {
                 let dt = 2.0 * (mass[i] / stiff).sqrt();
                 if best.is_none_or(|(b, _)| dt < b) {
                     best = Some((dt, i));
@@ -645,21 +639,27 @@ impl ContactPair {
     /// the penalty plus stick stiffness as in [`ContactPair::stable_dt`],
     /// falls below `target_dt` (s). Returns the added mass (tonne).
     pub fn scale_mass(&self, target_dt: f64, mass: &mut [f64], area: &[f64]) -> f64 {
-        let k_t = self.integrator.stick_stiffness();
         let mut added = 0.0;
-        for (k, &node) in self.nodes.iter().enumerate() {
-            if self.status[k] == PointStatus::Open {
-                continue;
-            }
-            let i = node as usize;
-            let stiff = self.stiffness[k] + k_t * area[i];
+        for (i, stiff) in self.touching_springs(area) {
             let need = stiff * 0.25 * target_dt * target_dt;
-            if stiff > 0.0 && mass[i] > 0.0 && need > mass[i] {
+            if mass[i] > 0.0 && need > mass[i] {
                 added += need - mass[i];
                 mass[i] = need;
             }
         }
         added
+    }
+
+    /// `(node, penalty + stick stiffness (N/mm))` of every touching point with a positive spring.
+    fn touching_springs<'a>(&'a self, area: &'a [f64]) -> impl Iterator<Item = (usize, f64)> + 'a {
+        let k_t = self.integrator.stick_stiffness();
+        self.nodes
+            .iter()
+            .zip(&self.stiffness)
+            .zip(&self.status)
+            .filter(|(_, status)| **status != PointStatus::Open)
+            .map(move |((&node, &k_n), _)| (node as usize, k_n + k_t * area[node as usize]))
+            .filter(|&(_, stiff)| stiff > 0.0)
     }
 
     /// Open every point (the pair is inactive in the current press step).

@@ -42,6 +42,11 @@ impl Dof {
     pub fn name(self) -> &'static str {
         ["ux", "uy", "uz", "rx", "ry", "rz"][self as usize]
     }
+
+    /// The DOF named `name` (`ux` … `rz`, as [`Dof::name`] spells it).
+    pub fn from_name(name: &str) -> Option<Dof> {
+        Dof::ALL.into_iter().find(|d| d.name() == name)
+    }
 }
 
 /// A set of DOFs as a bit mask (bit `Dof::index`).

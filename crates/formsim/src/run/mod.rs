@@ -16,7 +16,7 @@ use crate::scene::schema::SceneKind;
 use crate::scene::validate::dof_from_name;
 use crate::scene::{LoadedScene, Model, SceneError};
 use post::{Post, Snapshot};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// How to run.
@@ -116,9 +116,9 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
     let mut states: Vec<(f64, Snapshot)> = Vec::new();
     let mut ki_max: f64 = 0.0;
     let mut force_max: f64 = 0.0;
-    let mut capstan_sum = (0.0, 0usize);
+    let mut pull_sum = (0.0, 0usize);
     let mut clamp_seen = false;
-    let bar = progress_bar(options.progress, end);
+    let bar = progress_bar(options.progress);
     let started = Instant::now();
     let mut stop: Option<String> = None;
     let vtk_dir = out.join("vtk");
@@ -128,7 +128,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
             source: e,
         })?;
     }
-    let pull = capstan_pull(loaded);
+    let pull = pulled_set(loaded);
     let dt0 = setup.dt_initial;
     loop {
         let time = model.solver.time();
@@ -152,8 +152,8 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
                 .solver
                 .reaction(set)
                 .map_err(|e| loaded.key_error("output", e.to_string()))?;
-            capstan_sum.0 += f[*dof].abs();
-            capstan_sum.1 += 1;
+            pull_sum.0 += f[*dof].abs();
+            pull_sum.1 += 1;
         }
         if time >= next_sample || time >= end {
             history.push(HistoryRow {
@@ -222,7 +222,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         states: &states,
         force_max,
         ki_max,
-        capstan: (capstan_sum.1 > 0).then(|| capstan_sum.0 / capstan_sum.1 as f64),
+        capstan: (pull_sum.1 > 0).then(|| pull_sum.0 / pull_sum.1 as f64),
         clamp_seen,
         stopped: stop.clone(),
         dt0,
@@ -258,8 +258,8 @@ fn stroke_and_force(model: &Model, symmetry: f64) -> (f64, f64) {
     }
 }
 
-/// The node set, DOF axis and start time of a capstan's or block's pull.
-fn capstan_pull(loaded: &LoadedScene) -> Option<(String, usize, f64)> {
+/// The node set, DOF axis and averaging start of a capstan's or block's pulled end.
+fn pulled_set(loaded: &LoadedScene) -> Option<(String, usize, f64)> {
     let o = &loaded.scene.output;
     match loaded.scene.scene.kind {
         SceneKind::Capstan => o.capstan.as_ref().map(|c| {
@@ -280,7 +280,7 @@ fn capstan_pull(loaded: &LoadedScene) -> Option<(String, usize, f64)> {
     }
 }
 
-fn progress_bar(show: bool, _end: f64) -> Option<indicatif::ProgressBar> {
+fn progress_bar(show: bool) -> Option<indicatif::ProgressBar> {
     if !show {
         return None;
     }
@@ -292,9 +292,4 @@ fn progress_bar(show: bool, _end: f64) -> Option<indicatif::ProgressBar> {
     .progress_chars("=> ");
     bar.set_style(style);
     Some(bar)
-}
-
-/// Where `path` lies relative to the output directory (for messages).
-pub fn display(path: &Path) -> String {
-    path.display().to_string()
 }

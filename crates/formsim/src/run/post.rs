@@ -26,7 +26,7 @@ pub fn section_index(mesh: &Mesh, line: &SectionLine) -> SectionIndex {
     let (ux, uy) = (dx / len, dy / len);
     let mut elements = Vec::new();
     for (e, q) in mesh.quads.iter().enumerate() {
-        let p: Vec<_> = q.iter().map(|&n| mesh.nodes[n as usize]).collect();
+        let p = q.map(|n| mesh.nodes[n as usize]);
         let cx = 0.25 * p.iter().map(|v| v.x).sum::<f64>();
         let cy = 0.25 * p.iter().map(|v| v.y).sum::<f64>();
         let area = 0.5 * ((p[2] - p[0]).cross(&(p[3] - p[1]))).norm();

@@ -311,8 +311,9 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     let tool_index = |name: &str| tool_names.iter().position(|n| n == name);
 
     // Press programme.
+    let entries = pair_entries(s);
     let mut press_steps = Vec::new();
-    for (i, step) in s.steps.iter().enumerate() {
+    for step in &s.steps {
         let (end, duration) = match (step.duration, &step.until) {
             (Some(d), _) => (StepEnd::Duration(d), d),
             (None, Some(u)) => (
@@ -369,14 +370,13 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
             motions.push((tool, m));
         }
         let active_pairs = step.pairs.as_ref().map(|tools_on| {
-            pair_tools(s)
+            entries
                 .iter()
                 .enumerate()
-                .filter(|(_, t)| tools_on.iter().any(|n| n == *t))
+                .filter(|(_, e)| tools_on.contains(&e.tool))
                 .map(|(k, _)| k)
                 .collect()
         });
-        let _ = i;
         press_steps.push(PressStep {
             name: step.name.clone(),
             end,
@@ -410,7 +410,6 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
             .map_err(|e| loaded.key_error("blank.mesh", e.to_string()))?;
         let bulk = m.youngs_modulus / (3.0 * (1.0 - 2.0 * m.poissons_ratio));
         let mut pairs = Vec::new();
-        let entries = pair_entries(s);
         for (k, entry) in entries.iter().enumerate() {
             let key = if s.contact.pairs.is_empty() {
                 "contact".to_string()
@@ -630,11 +629,6 @@ fn pair_entries(s: &Scene) -> Vec<super::schema::PairEntry> {
     } else {
         s.contact.pairs.clone()
     }
-}
-
-/// Tool name of each pair, in pair order.
-fn pair_tools(s: &Scene) -> Vec<String> {
-    pair_entries(s).into_iter().map(|p| p.tool).collect()
 }
 
 fn unit(d: &[f64; 3]) -> Vec3 {

@@ -470,16 +470,7 @@ pub fn axis_index(axis: &str) -> Option<usize> {
 
 /// `ux` … `rz` → the DOF.
 pub fn dof_from_name(name: &str) -> Option<fem_core::Dof> {
-    use fem_core::Dof;
-    Some(match name {
-        "ux" => Dof::Ux,
-        "uy" => Dof::Uy,
-        "uz" => Dof::Uz,
-        "rx" => Dof::Rx,
-        "ry" => Dof::Ry,
-        "rz" => Dof::Rz,
-        _ => return None,
-    })
+    fem_core::Dof::from_name(name)
 }
 
 /// Advice that does not stop a run: the blank's elements are longer than a
