@@ -76,12 +76,17 @@ struct RunArgs {
 struct CompareArgs {
     /// Scene file (TOML).
     scene: PathBuf,
-    /// Laws, comma-separated (the first, with the first formulation, is the reference).
-    #[arg(long, value_delimiter = ',', default_value = "ac,wvs,wh,levanov")]
-    laws: Vec<String>,
-    /// Formulations, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "convective,jaumann")]
-    formulations: Vec<String>,
+    /// Laws, comma-separated (default: ac,wvs,wh,levanov; with --case: the scene's own).
+    #[arg(long, value_delimiter = ',')]
+    laws: Option<Vec<String>>,
+    /// Formulations, comma-separated (default: convective,jaumann; with --case: the scene's own).
+    #[arg(long, value_delimiter = ',')]
+    formulations: Option<Vec<String>>,
+    /// A named variant with its own overrides, e.g.
+    /// `--case "bt-100:blank.mesh.divisions=100;solver.mass_scaling_dt=2.5e-7"`
+    /// (repeatable; crossed with the laws and formulations; the first row is the reference).
+    #[arg(long = "case", value_name = "NAME:KEY=VALUE;…")]
+    cases: Vec<String>,
     /// Output directory.
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
@@ -593,20 +598,38 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
 }
 
 fn compare(args: &CompareArgs) -> Result<ExitCode, String> {
-    let entries = formsim::compare::compare(
-        &args.scene,
-        &args.laws,
-        &args.formulations,
-        &args.set,
-        &args.out,
-        &|e| match &e.result {
+    use formsim::compare::{Case, Matrix};
+    let cases = args
+        .cases
+        .iter()
+        .map(|c| Case::parse(c))
+        .collect::<Result<Vec<_>, _>>()?;
+    let (default_laws, default_forms) = if cases.is_empty() {
+        (
+            vec!["ac", "wvs", "wh", "levanov"],
+            vec!["convective", "jaumann"],
+        )
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    let own = |v: Vec<&str>| v.into_iter().map(String::from).collect::<Vec<_>>();
+    let matrix = Matrix {
+        cases,
+        laws: args.laws.clone().unwrap_or_else(|| own(default_laws)),
+        formulations: args
+            .formulations
+            .clone()
+            .unwrap_or_else(|| own(default_forms)),
+        sets: args.set.clone(),
+    };
+    let entries =
+        formsim::compare::compare(&args.scene, &matrix, &args.out, &|e| match &e.result {
             Ok(r) => eprintln!(
-                "done {}-{}: {} increments, {:.1} s",
-                e.law, e.formulation, r.summary.increments, r.summary.wall_time_s
+                "done {}: {} increments, {:.1} s",
+                e.label, r.summary.increments, r.summary.wall_time_s
             ),
-            Err(m) => eprintln!("failed {}-{}: {m}", e.law, e.formulation),
-        },
-    )?;
+            Err(m) => eprintln!("failed {}: {m}", e.label),
+        })?;
     let failed = entries.iter().filter(|e| e.result.is_err()).count();
     println!(
         "{} runs ({} failed): {}/compare.md, compare.csv, plots/",
