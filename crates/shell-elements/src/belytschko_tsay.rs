@@ -29,10 +29,18 @@
 //! free of hourglass forces). Generalised forces accumulate
 //! `Q += C q̇ Δt` with `C_m = r E t A ΣB²/8`, `C_θ = r E t³ A ΣB²/192`,
 //! `C_w = r κ G t A ΣB²/8`.
+//!
+//! Drilling (relative penalty, after Hughes & Brezzi 1989): each node's
+//! moment about the normal follows `m_I += k (ω̂z_I − Ω) Δt`, with `Ω` the
+//! element's mean in-plane spin and `k = γ G t A / 4`, γ =
+//! [`drilling`](BelytschkoTsay::drilling) (default 1e-3); rigid motions and
+//! in-plane rotations give no drilling force. Its work is internal energy
+//! (see `formulation::drilling_penalty`).
 
+use crate::error::ShellError;
 use crate::formulation::{
-    ElementResult, ElementState, ShellFormulation, integrate_section, local_velocities,
-    new_thickness,
+    DEFAULT_DRILLING, ElementResult, ElementState, ShellFormulation, check_drilling,
+    drilling_penalty, integrate_section, local_velocities, new_thickness,
 };
 use crate::geometry::{Frame, H, V3, assumed_shear};
 use crate::material::Material;
@@ -47,6 +55,10 @@ pub struct BelytschkoTsay {
     /// (default on); off gives the original centre-point shear with
     /// node-averaged rotations.
     pub shear_projection: bool,
+    /// Drilling coefficient γ (-) of the relative drilling penalty
+    /// `k = γ G t A` (default [`DEFAULT_DRILLING`]; 0 turns it off; at most
+    /// [`MAX_DRILLING`](crate::formulation::MAX_DRILLING)).
+    pub drilling: f64,
 }
 
 impl Default for BelytschkoTsay {
@@ -54,7 +66,17 @@ impl Default for BelytschkoTsay {
         Self {
             warping_correction: false,
             shear_projection: true,
+            drilling: DEFAULT_DRILLING,
         }
+    }
+}
+
+impl BelytschkoTsay {
+    /// Replace the drilling coefficient γ (in [0, 0.1]).
+    pub fn with_drilling(mut self, gamma: f64) -> Result<Self, ShellError> {
+        check_drilling(gamma)?;
+        self.drilling = gamma;
+        Ok(self)
     }
 }
 
@@ -62,6 +84,10 @@ impl ShellFormulation for BelytschkoTsay {
     const NAME: &'static str = "belytschko-tsay";
     const IN_PLANE_POINTS: usize = 1;
     const HOURGLASS_VARS: usize = 5;
+
+    fn drilling(&self) -> f64 {
+        self.drilling
+    }
 
     #[inline]
     fn compute<M: Material>(
@@ -84,19 +110,7 @@ impl ShellFormulation for BelytschkoTsay {
         }
         let (vl, wl) = local_velocities(&fr, v, w);
         let (xl, yl) = (&fr.x, &fr.y);
-        let i2a = 0.5 / a;
-        let b1 = [
-            i2a * (yl[1] - yl[3]),
-            i2a * (yl[2] - yl[0]),
-            i2a * (yl[3] - yl[1]),
-            i2a * (yl[0] - yl[2]),
-        ];
-        let b2 = [
-            i2a * (xl[3] - xl[1]),
-            i2a * (xl[0] - xl[2]),
-            i2a * (xl[1] - xl[3]),
-            i2a * (xl[2] - xl[0]),
-        ];
+        let (b1, b2) = fr.mean_b();
         let (mut dxx, mut dyy, mut gxy, mut kxx, mut kyy, mut kxy) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
         for i in 0..4 {
             dxx += b1[i] * vl[i][0];
@@ -185,10 +199,23 @@ impl ShellFormulation for BelytschkoTsay {
             d_hg += 0.5 * (old + new) * q[k] * dt;
         }
 
+        // Relative drilling penalty.
+        let (md, d_drill) = drilling_penalty(
+            0.25 * self.drilling * g * t * a,
+            &b1,
+            &b2,
+            &vl,
+            &wl,
+            dt,
+            st.drilling,
+        );
+        let hmd = 0.5 * md;
+
         // Nodal forces (local, internal), then global forces on the nodes.
         let msum = 0.5 * (mr[0] + mr[1]);
         let mut out = ElementResult {
-            d_internal: a * (sr.work + shear_work),
+            d_internal: a * (sr.work + shear_work) + d_drill,
+            d_drilling: d_drill,
             d_hourglass: d_hg,
             d_plastic: a * sr.dissipation,
             length: fr.char_length(),
@@ -196,16 +223,18 @@ impl ShellFormulation for BelytschkoTsay {
         };
         for i in 0..4 {
             let fx = a * (nr[0] * b1[i] + nr[2] * b2[i] + c * (msum * b2[i] + mr[2] * b1[i]))
-                + gam[i] * qf[0];
+                + gam[i] * qf[0]
+                + hmd * b2[i];
             let fy = a * (nr[1] * b2[i] + nr[2] * b1[i] + c * (msum * b1[i] + mr[2] * b2[i]))
-                + gam[i] * qf[1];
+                + gam[i] * qf[1]
+                - hmd * b1[i];
             let fz = a * (qx * sb.xz[0][i] + qy * sb.yz[0][i]) + gam[i] * qf[4];
             let mx = a * (-mr[1] * b2[i] - mr[2] * b1[i] + qx * sb.xz[1][i] + qy * sb.yz[1][i])
                 + gam[i] * (qf[2] - 0.5 * yl[i] * qf[4]);
             let my = a * (mr[0] * b1[i] + mr[2] * b2[i] + qx * sb.xz[2][i] + qy * sb.yz[2][i])
                 + gam[i] * (qf[3] + 0.5 * xl[i] * qf[4]);
             let fg = fr.global([fx, fy, fz]);
-            let mg = fr.global([mx, my, 0.0]);
+            let mg = fr.global([mx, my, st.drilling[i]]);
             out.f[i] = [-fg[0], -fg[1], -fg[2]];
             out.m[i] = [-mg[0], -mg[1], -mg[2]];
         }

@@ -1,8 +1,29 @@
 //! The `ShellFormulation` trait (one element's force kernel) and the through-thickness integration both elements share.
 
+use crate::error::{ShellError, check};
 use crate::geometry::{Frame, V3};
 use crate::material::Material;
 use crate::section::{Section, ThroughThickness};
+
+/// Default drilling coefficient γ (-) of both formulations: the relative
+/// drilling penalty `k = γ G t A` per element (see [`ShellFormulation::drilling`]
+/// and `docs/shells.md` for the study that chose it).
+pub const DEFAULT_DRILLING: f64 = 1e-3;
+
+/// Largest drilling coefficient accepted: the drilling mode's frequency stays
+/// below the stable step's limit with a wide margin up to here (`docs/shells.md`).
+pub const MAX_DRILLING: f64 = 0.1;
+
+/// Check a drilling coefficient: finite, in [0, [`MAX_DRILLING`]].
+pub(crate) fn check_drilling(gamma: f64) -> Result<(), ShellError> {
+    check(
+        "drilling",
+        gamma,
+        "-",
+        "in [0, 0.1] (relative drilling penalty coefficient)",
+        (0.0..=MAX_DRILLING).contains(&gamma),
+    )
+}
 
 /// One element's state, borrowed from the shell set's arrays for the kernel.
 pub struct ElementState<'a, H> {
@@ -17,6 +38,8 @@ pub struct ElementState<'a, H> {
     pub shear: &'a mut [[f64; 2]],
     /// Hourglass generalised forces (N, N·mm), `HOURGLASS_VARS` entries.
     pub hourglass: &'a mut [f64],
+    /// Drilling moments (N·mm) about the element normal, one per node.
+    pub drilling: &'a mut [f64; 4],
 }
 
 /// What one element's kernel produces in one step.
@@ -26,8 +49,11 @@ pub struct ElementResult {
     pub f: [V3; 4],
     /// Moments on the element's nodes (N·mm), global frame.
     pub m: [V3; 4],
-    /// Internal (stress) work increment (mJ), hourglass excluded.
+    /// Internal work increment (mJ): stresses and the drilling penalty,
+    /// hourglass excluded.
     pub d_internal: f64,
+    /// The drilling penalty's share of `d_internal` (mJ).
+    pub d_drilling: f64,
     /// Hourglass work increment (mJ).
     pub d_hourglass: f64,
     /// Plastic dissipation increment (mJ).
@@ -45,6 +71,14 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
     const IN_PLANE_POINTS: usize;
     /// Number of hourglass generalised forces per element.
     const HOURGLASS_VARS: usize;
+
+    /// Drilling coefficient γ (-) of the relative drilling penalty.
+    fn drilling(&self) -> f64;
+
+    /// Check the formulation's parameters (called when a shell set is built).
+    fn validate(&self) -> Result<(), ShellError> {
+        check_drilling(self.drilling())
+    }
 
     /// Update the element's stresses from the nodal velocities (`v`, `w`: mm/s,
     /// rad/s, at `t_{n+1/2}`) over `dt` in the configuration `x` (`t_{n+1}`)
@@ -197,6 +231,46 @@ pub(crate) fn local_velocities(fr: &Frame, v: &[V3; 4], w: &[V3; 4]) -> ([V3; 4]
         wl[i] = fr.local(w[i]);
     }
     (vl, wl)
+}
+
+/// Relative drilling penalty (after Hughes & Brezzi 1989 and Allman 1984,
+/// lumped at the nodes): with the element's mean in-plane spin
+/// `Ω = ½ Σ (B1_I v̂y_I − B2_I v̂x_I)` (skew part of the mean in-plane
+/// velocity gradient, so the rigid rotation of the element about its normal)
+/// and the nodal drilling rates `ω̂z_I`, each node's drilling moment follows
+/// `m_I += k (ω̂z_I − Ω) Δt`, `k = γ G t A / 4` (the energy
+/// `½ γ G t ∫ (θz − Ω)² dA` with θz lumped at the nodes). Rigid motions and
+/// any in-plane rotation of the element leave `ω̂z_I − Ω = 0` and so no
+/// drilling force. The internal power `Σ m_I (ω̂z_I − Ω)` gives the nodal
+/// moments `m_I` about the normal and the in-plane forces
+/// `(½ M B2_J, −½ M B1_J)`, `M = Σ m_I`, which the caller adds.
+/// Returns `(M, work increment)`, the work trapezoidal in time (mJ).
+#[inline(always)]
+pub(crate) fn drilling_penalty(
+    k: f64,
+    b1: &[f64; 4],
+    b2: &[f64; 4],
+    vl: &[V3; 4],
+    wl: &[V3; 4],
+    dt: f64,
+    m: &mut [f64; 4],
+) -> (f64, f64) {
+    let mut spin = 0.0;
+    for i in 0..4 {
+        spin += b1[i] * vl[i][1] - b2[i] * vl[i][0];
+    }
+    spin *= 0.5;
+    let kdt = k * dt;
+    let (mut sum, mut work) = (0.0, 0.0);
+    for i in 0..4 {
+        let rate = wl[i][2] - spin;
+        let old = m[i];
+        let new = old + kdt * rate;
+        m[i] = new;
+        sum += new;
+        work += (old + new) * rate;
+    }
+    (sum, 0.5 * work * dt)
 }
 
 /// Thickness after a thickness-strain increment (second-order exponential).

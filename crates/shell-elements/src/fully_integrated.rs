@@ -6,21 +6,46 @@
 //! Gauss points (each with its own through-thickness stack), and the
 //! transverse shear is the edge-tied assumed field interpolated to each point.
 //! No zero-energy modes, so no hourglass control. One thickness per element:
-//! the 2×2 average of the thickness-strain increments updates it.
+//! the 2×2 average of the thickness-strain increments updates it. The
+//! relative drilling penalty is the Belytschko–Tsay one (nodal drilling rates
+//! against the element's mean in-plane spin, `k = γ G t A / 4` per node).
 
+use crate::error::ShellError;
 use crate::formulation::{
-    ElementResult, ElementState, ShellFormulation, integrate_section, local_velocities,
-    new_thickness,
+    DEFAULT_DRILLING, ElementResult, ElementState, ShellFormulation, check_drilling,
+    drilling_penalty, integrate_section, local_velocities, new_thickness,
 };
 use crate::geometry::{Frame, V3, assumed_shear, b_matrix};
 use crate::material::Material;
 use crate::section::Section;
 
 /// The fully integrated shell and its options.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FullyIntegrated {
     /// Warping (twist) correction of the curvature, as in [`BelytschkoTsay`](crate::BelytschkoTsay); default off.
     pub warping_correction: bool,
+    /// Drilling coefficient γ (-) of the relative drilling penalty
+    /// `k = γ G t A`, as in [`BelytschkoTsay`](crate::BelytschkoTsay)
+    /// (default [`DEFAULT_DRILLING`]; 0 turns it off).
+    pub drilling: f64,
+}
+
+impl Default for FullyIntegrated {
+    fn default() -> Self {
+        Self {
+            warping_correction: false,
+            drilling: DEFAULT_DRILLING,
+        }
+    }
+}
+
+impl FullyIntegrated {
+    /// Replace the drilling coefficient γ (in [0, 0.1]).
+    pub fn with_drilling(mut self, gamma: f64) -> Result<Self, ShellError> {
+        check_drilling(gamma)?;
+        self.drilling = gamma;
+        Ok(self)
+    }
 }
 
 const G: f64 = 0.577_350_269_189_625_8;
@@ -30,6 +55,10 @@ impl ShellFormulation for FullyIntegrated {
     const NAME: &'static str = "fully-integrated";
     const IN_PLANE_POINTS: usize = 4;
     const HOURGLASS_VARS: usize = 0;
+
+    fn drilling(&self) -> f64 {
+        self.drilling
+    }
 
     #[inline]
     fn compute<M: Material>(
@@ -125,9 +154,25 @@ impl ShellFormulation for FullyIntegrated {
                     det * (mr[0] * b1[i] + mr[2] * b2[i] + qx * sb.xz[2][i] + qy * sb.yz[2][i]);
             }
         }
+        // Relative drilling penalty on the element's mean spin.
+        let (b1, b2) = fr.mean_b();
+        let (md, d_drill) = drilling_penalty(
+            0.25 * self.drilling * g * t * fr.area,
+            &b1,
+            &b2,
+            &vl,
+            &wl,
+            dt,
+            st.drilling,
+        );
+        out.d_internal += d_drill;
+        out.d_drilling = d_drill;
+        let hmd = 0.5 * md;
         for i in 0..4 {
+            fl[i][0] += hmd * b2[i];
+            fl[i][1] -= hmd * b1[i];
             let fg = fr.global(fl[i]);
-            let mg = fr.global([ml[i][0], ml[i][1], 0.0]);
+            let mg = fr.global([ml[i][0], ml[i][1], st.drilling[i]]);
             out.f[i] = [-fg[0], -fg[1], -fg[2]];
             out.m[i] = [-mg[0], -mg[1], -mg[2]];
         }

@@ -107,6 +107,29 @@ impl Frame {
         ]
     }
 
+    /// Mean (one-point) B-matrix `∂N/∂x`, `∂N/∂y` over the projected
+    /// element, `(1/A) ∫ ∂N/∂x dA` (Flanagan & Belytschko 1981): exact for
+    /// linear fields on any quad.
+    #[inline(always)]
+    pub fn mean_b(&self) -> ([f64; 4], [f64; 4]) {
+        let (xl, yl) = (&self.x, &self.y);
+        let i2a = 0.5 / self.area;
+        (
+            [
+                i2a * (yl[1] - yl[3]),
+                i2a * (yl[2] - yl[0]),
+                i2a * (yl[3] - yl[1]),
+                i2a * (yl[0] - yl[2]),
+            ],
+            [
+                i2a * (xl[3] - xl[1]),
+                i2a * (xl[0] - xl[2]),
+                i2a * (xl[1] - xl[3]),
+                i2a * (xl[2] - xl[0]),
+            ],
+        )
+    }
+
     /// Characteristic length for the time step: area / longest side (mm).
     #[inline(always)]
     pub fn char_length(&self) -> f64 {

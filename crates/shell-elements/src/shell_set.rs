@@ -34,6 +34,8 @@ pub struct ShellSet<E: ShellFormulation, M: Material> {
     history: Vec<M::History>,
     shear: Vec<[f64; 2]>,
     hourglass: Vec<f64>,
+    drilling: Vec<[f64; 4]>,
+    drilling_energy: f64,
     density_scale: Vec<f64>,
     results: Vec<ElementResult>,
     energy: EnergyTally,
@@ -67,6 +69,7 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             "> 0",
             section.thickness > 0.0,
         )?;
+        formulation.validate()?;
         for (e, q) in quads.iter().enumerate() {
             for (k, &n) in q.iter().enumerate() {
                 if n as usize >= nodes.len() {
@@ -123,6 +126,8 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             history: vec![material.initial_history(); ne * ip * np],
             shear: vec![[0.0; 2]; ne * ip],
             hourglass: vec![0.0; ne * E::HOURGLASS_VARS.max(1)],
+            drilling: vec![[0.0; 4]; ne],
+            drilling_energy: 0.0,
             density_scale: vec![1.0; ne],
             results: vec![ElementResult::default(); ne],
             energy: EnergyTally::default(),
@@ -213,6 +218,16 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
     /// Material history at a point (see [`ShellSet::stress`] for the indices).
     pub fn history(&self, e: usize, p: usize, k: usize) -> &M::History {
         &self.history[self.point_index(e, p, k)]
+    }
+    /// Drilling moments (N·mm) about the normal of element `e` at its four
+    /// nodes (the relative drilling penalty's state).
+    pub fn drilling_moments(&self, e: usize) -> [f64; 4] {
+        self.drilling[e]
+    }
+    /// Work stored in the drilling penalty since the start (mJ); part of
+    /// the internal energy the set reports.
+    pub fn drilling_energy(&self) -> f64 {
+        self.drilling_energy
     }
     /// Von Mises (equivalent) stress at a point (MPa).
     pub fn von_mises(&self, e: usize, p: usize, k: usize) -> f64 {
@@ -331,8 +346,9 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
 
     /// Translational mass ρ A t0 / 4 per node; rotational inertia
     /// `(ρ A t0 / 4)(t0²/12 + A/8)` per node: the `A/8` term scales the
-    /// rotary inertia so that rotations (bending, transverse shear) never
-    /// control the time step, which stays the membrane one.
+    /// rotary inertia so that rotations (bending, transverse shear, and the
+    /// drilling penalty: `ω_drill Δt ≲ 2√(γ(1−ν))`, below 0.6 for γ ≤ 0.1)
+    /// never control the time step, which stays the membrane one.
     fn add_lumped_mass(&self, state: &NodalState, mass: &mut [f64], inertia: &mut [f64]) {
         let rho = self.material.density();
         let t = self.section.thickness;
@@ -403,6 +419,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                       h: &mut [M::History],
                       sh: &mut [[f64; 2]],
                       hg: &mut [f64],
+                      dr: &mut [f64; 4],
                       r: &mut ElementResult| {
             let x = q.map(|n| v3(&xs[n as usize]));
             let v = q.map(|n| v3(&vs[n as usize]));
@@ -420,6 +437,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                     history: h,
                     shear: sh,
                     hourglass: &mut hg[..E::HOURGLASS_VARS],
+                    drilling: dr,
                 },
             );
         };
@@ -431,9 +449,12 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                 .zip(self.history.par_chunks_mut(nsp))
                 .zip(self.shear.par_chunks_mut(ip))
                 .zip(self.hourglass.par_chunks_mut(nhg))
+                .zip(self.drilling.par_iter_mut())
                 .zip(self.results.par_iter_mut())
                 .with_min_len(128)
-                .for_each(|((((((q, t), s), h), sh), hg), r)| kernel(q, t, s, h, sh, hg, r));
+                .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| {
+                    kernel(q, t, s, h, sh, hg, dr, r)
+                });
         } else {
             self.conn
                 .iter()
@@ -442,8 +463,11 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                 .zip(self.history.chunks_mut(nsp))
                 .zip(self.shear.chunks_mut(ip))
                 .zip(self.hourglass.chunks_mut(nhg))
+                .zip(self.drilling.iter_mut())
                 .zip(self.results.iter_mut())
-                .for_each(|((((((q, t), s), h), sh), hg), r)| kernel(q, t, s, h, sh, hg, r));
+                .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| {
+                    kernel(q, t, s, h, sh, hg, dr, r)
+                });
         }
         // Serial scatter, energies and the stable time step.
         let mut best = StableDt {
@@ -451,7 +475,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             element: 0,
             what: "shell area / longest side / plate wave speed",
         };
-        let (mut di, mut dh, mut dp) = (0.0, 0.0, 0.0);
+        let (mut di, mut dh, mut dp, mut dd) = (0.0, 0.0, 0.0, 0.0);
         for (e, (q, r)) in self.conn.iter().zip(&self.results).enumerate() {
             if r.length.is_nan() || r.length <= 0.0 {
                 self.cached_dt = Some(StableDt {
@@ -480,6 +504,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             di += r.d_internal;
             dh += r.d_hourglass;
             dp += r.d_plastic;
+            dd += r.d_drilling;
             let dte = r.length * self.density_scale[e].sqrt() / self.wave_speed;
             if dte < best.dt {
                 best.dt = dte;
@@ -489,6 +514,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         self.energy.internal += di;
         self.energy.hourglass += dh;
         self.energy.plastic += dp;
+        self.drilling_energy += dd;
         self.cached_dt = if self.conn.is_empty() {
             None
         } else {
@@ -499,5 +525,323 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
 
     fn energies(&self) -> EnergyTally {
         self.energy
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress};
+    use fem_core::Vec3;
+    use nalgebra::{DMatrix, SymmetricEigen};
+
+    /// Highest natural frequency ω_max (rad/s) of one free element (its
+    /// 24×24 stiffness probed column by column with unit velocities over
+    /// one step from rest, lumped mass of `add_lumped_mass`) and the
+    /// element's stable step (s).
+    fn omega_max_and_dt<E: ShellFormulation>(form: E, nodes: &[Vec3], t: f64) -> (f64, f64) {
+        let mat = J2PlaneStress::new(
+            206_000.0,
+            0.3,
+            7.85e-9,
+            Hardening::swift(1e30, 1.0, 0.0).unwrap(),
+        )
+        .unwrap();
+        let set0 = ShellSet::new(
+            "one",
+            nodes,
+            &[[0, 1, 2, 3]],
+            Section::new(t).unwrap(),
+            form,
+            mat,
+        )
+        .unwrap();
+        let state0 = NodalState::at_rest(nodes);
+        let (mut mass, mut inertia) = (vec![0.0; 4], vec![0.0; 4]);
+        set0.add_lumped_mass(&state0, &mut mass, &mut inertia);
+        let dt = 1e-9;
+        let ctx = StepContext {
+            time: dt,
+            dt,
+            step: 1,
+        };
+        let mut k = DMatrix::<f64>::zeros(24, 24);
+        for j in 0..24 {
+            let (node, dof) = (j / 6, j % 6);
+            let mut st = NodalState::at_rest(nodes);
+            if dof < 3 {
+                st.v[node][dof] = 1.0;
+            } else {
+                st.w[node][dof - 3] = 1.0;
+            }
+            let mut set = set0.clone();
+            let mut f = Forces::zeros(4);
+            set.add_forces(&ctx, &st, &mut f).unwrap();
+            for n in 0..4 {
+                for c in 0..3 {
+                    k[(6 * n + c, j)] = -f.f[n][c] / dt;
+                    k[(6 * n + 3 + c, j)] = -f.m[n][c] / dt;
+                }
+            }
+        }
+        let scale = k.amax();
+        let asym = (&k - k.transpose()).amax() / scale;
+        assert!(asym < 1e-6, "{}: stiffness asymmetry {asym:e}", E::NAME);
+        let mut a = 0.5 * (&k + k.transpose());
+        for i in 0..24 {
+            for j in 0..24 {
+                let mi = if i % 6 < 3 {
+                    mass[i / 6]
+                } else {
+                    inertia[i / 6]
+                };
+                let mj = if j % 6 < 3 {
+                    mass[j / 6]
+                } else {
+                    inertia[j / 6]
+                };
+                a[(i, j)] /= (mi * mj).sqrt();
+            }
+        }
+        let lmax = SymmetricEigen::new(a).eigenvalues.max();
+        (lmax.sqrt(), set0.stable_dt(&state0).unwrap().dt)
+    }
+
+    fn steel() -> J2PlaneStress {
+        J2PlaneStress::new(
+            206_000.0,
+            0.3,
+            7.85e-9,
+            Hardening::swift(1e30, 1.0, 0.0).unwrap(),
+        )
+        .unwrap()
+    }
+
+    /// One step of `dt` from rest at `x0` with nodal velocities `v`, `w`:
+    /// the forces and the set after it.
+    fn one_step<E: ShellFormulation>(
+        form: E,
+        x0: &[Vec3],
+        v: &[Vec3],
+        w: &[Vec3],
+        dt: f64,
+    ) -> (Forces, ShellSet<E, J2PlaneStress>) {
+        let mut set = ShellSet::new(
+            "one",
+            x0,
+            &[[0, 1, 2, 3]],
+            Section::new(0.8).unwrap(),
+            form,
+            steel(),
+        )
+        .unwrap();
+        let mut st = NodalState::at_rest(x0);
+        st.v = v.to_vec();
+        st.w = w.to_vec();
+        let mut f = Forces::zeros(x0.len());
+        let ctx = StepContext {
+            time: dt,
+            dt,
+            step: 1,
+        };
+        set.add_forces(&ctx, &st, &mut f).unwrap();
+        (f, set)
+    }
+
+    /// The relative drilling penalty (Hughes & Brezzi 1989) must leave
+    /// every rigid motion free: a distorted, tilted element spun rigidly
+    /// about its normal, about an in-plane axis and about a skew axis (with
+    /// a translation) over one step gets no force, moment or drilling
+    /// moment (tolerance 1e-9 of the drilling force of a unit relative
+    /// drill). A nodal drill against a still element gives the moment
+    /// `k ω Δt`, `k = γ G t A / 4`, at that node (1e-12 relative) and the
+    /// in-plane forces that balance it.
+    #[test]
+    fn drilling_penalty_ignores_rigid_motion_and_resists_relative_drill() {
+        // Distorted quad in the plane z = 0.3 x + 0.2 y (tilted).
+        let xy = [[0.0, 0.0], [1.2, 0.1], [1.0, 0.9], [0.2, 1.1]];
+        let x0: Vec<Vec3> = xy
+            .iter()
+            .map(|p| Vec3::new(p[0], p[1], 0.3 * p[0] + 0.2 * p[1]))
+            .collect();
+        let normal = Vec3::new(-0.3, -0.2, 1.0).normalize();
+        let (dt, g) = (1e-7, crate::formulation::MAX_DRILLING);
+        let form = BelytschkoTsay::default().with_drilling(g).unwrap();
+        let fi = FullyIntegrated::default().with_drilling(g).unwrap();
+        // Reference: drill node 2 at 1 rad/s about the normal, element still.
+        let mut w = vec![Vec3::zeros(); 4];
+        w[2] = normal;
+        let still = vec![Vec3::zeros(); 4];
+        let (f_ref, set) = one_step(form, &x0, &still, &w, dt);
+        let fr = Frame::new(&x0.iter().map(v3).collect::<Vec<_>>().try_into().unwrap());
+        let k = 0.25 * g * steel().shear_modulus() * 0.8 * fr.area;
+        let m = set.drilling_moments(0);
+        assert!((m[2] / (k * dt) - 1.0).abs() < 1e-12, "{m:?} vs {}", k * dt);
+        assert!(m[0] == 0.0 && m[1] == 0.0 && m[3] == 0.0, "{m:?}");
+        assert!((f_ref.m[2].dot(&normal) / (-k * dt) - 1.0).abs() < 1e-12);
+        let fsum: Vec3 = f_ref.f.iter().sum();
+        let scale = f_ref.f.iter().map(|v| v.norm()).fold(0.0, f64::max);
+        assert!(scale > 0.0 && fsum.norm() < 1e-12 * scale);
+        // Rigid rotations (rates ω about axes through the node average) plus a translation.
+        let c: Vec3 = x0.iter().sum::<Vec3>() / 4.0;
+        for axis in [
+            normal,
+            (x0[1] - x0[0]).normalize(),
+            Vec3::new(0.3, -0.5, 0.8),
+        ] {
+            let om = 2.0 * axis;
+            let v: Vec<Vec3> = x0
+                .iter()
+                .map(|p| om.cross(&(p - c)) + Vec3::new(0.1, -0.2, 0.3))
+                .collect();
+            let w = vec![om; 4];
+            for (name, (f, m)) in [
+                ("BT", {
+                    let (f, s) = one_step(form, &x0, &v, &w, dt);
+                    (f, s.drilling_moments(0))
+                }),
+                ("FI", {
+                    let (f, s) = one_step(fi, &x0, &v, &w, dt);
+                    (f, s.drilling_moments(0))
+                }),
+            ] {
+                let worst =
+                    f.f.iter()
+                        .chain(f.m.iter())
+                        .map(|v| v.norm())
+                        .fold(0.0, f64::max);
+                let md = m.iter().map(|x| x.abs()).fold(0.0, f64::max);
+                assert!(
+                    worst < 1e-9 * scale && md < 1e-9 * k * dt,
+                    "{name}, axis {axis:?}: force/moment {worst:e}, drilling {md:e}"
+                );
+            }
+        }
+    }
+
+    /// Free vibration of a free 10 × 10 × 1 mm steel plate of 4 × 4
+    /// elements released with nodal drilling rates and in-plane velocities
+    /// that do not match (ω_z = 200 sin(x) rad/s, v = 100 (y, 0) mm/s):
+    /// the worst energy balance error over the steps and the largest share
+    /// of the set's internal energy held by the drilling penalty.
+    fn drilling_vibration<E: ShellFormulation>(form: E) -> (f64, f64) {
+        use fem_core::{Control, Solver, SolverSettings, rectangle};
+        let mesh = rectangle(10.0, 10.0, 4, 4).unwrap();
+        let set = ShellSet::from_mesh(
+            "plate",
+            &mesh,
+            "all",
+            Section::new(1.0).unwrap(),
+            form,
+            steel(),
+        )
+        .unwrap();
+        let mut s = Solver::new(&mesh, SolverSettings::default()).unwrap();
+        let id = s.add_effect(set);
+        for (i, p) in mesh.nodes.iter().enumerate() {
+            s.state_mut().w[i].z = 200.0 * p.x.sin();
+            s.state_mut().v[i].x = 100.0 * p.y;
+        }
+        let (mut worst, mut share): (f64, f64) = (0.0, 0.0);
+        s.run_until(1e-4, &mut |sv, r| {
+            worst = worst.max(r.energy.balance_error);
+            let set = sv.effect::<ShellSet<E, J2PlaneStress>>(id).unwrap();
+            let internal = set.energies().internal;
+            if internal > 0.0 {
+                share = share.max(set.drilling_energy() / internal);
+            }
+            Control::Continue
+        })
+        .unwrap();
+        (worst, share)
+    }
+
+    /// Energy balance with the drilling mode excited (issue 4 requirement
+    /// < 0.5 %, here held to 1e-3) at the largest drilling coefficient: the
+    /// penalty's work is booked as internal energy, so the ledger must
+    /// balance at every step while the penalty holds a large share of the
+    /// strain energy (> 5 %, else the test would not test it).
+    #[test]
+    fn energy_balances_with_drilling_mode_excited() {
+        let g = crate::formulation::MAX_DRILLING;
+        let bt = drilling_vibration(BelytschkoTsay::default().with_drilling(g).unwrap());
+        let fi = drilling_vibration(FullyIntegrated::default().with_drilling(g).unwrap());
+        for (name, (worst, share)) in [("BT", bt), ("FI", fi)] {
+            println!("{name}: energy balance error {worst:.2e}, drilling share ≤ {share:.3}");
+            assert!(worst < 1e-3, "{name}: {worst}");
+            assert!(share > 0.05, "{name}: drilling mode not excited ({share})");
+        }
+    }
+
+    /// A drilling coefficient outside [0, 0.1] (or NaN) is refused with an
+    /// error naming the field, both by `with_drilling` and, for a struct
+    /// literal, when the set is built.
+    #[test]
+    fn bad_drilling_coefficient_is_refused_naming_the_field() {
+        for g in [-1e-3, 0.2, f64::NAN] {
+            let e = BelytschkoTsay::default().with_drilling(g).unwrap_err();
+            assert!(e.to_string().contains("`drilling`"), "{e}");
+            assert!(FullyIntegrated::default().with_drilling(g).is_err());
+            let form = BelytschkoTsay {
+                drilling: g,
+                ..Default::default()
+            };
+            let nodes = quad([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
+            let r = ShellSet::new(
+                "one",
+                &nodes,
+                &[[0, 1, 2, 3]],
+                Section::new(1.0).unwrap(),
+                form,
+                steel(),
+            );
+            assert!(r.unwrap_err().to_string().contains("`drilling`"));
+        }
+    }
+
+    fn quad(p: [[f64; 2]; 4]) -> Vec<Vec3> {
+        p.iter().map(|q| Vec3::new(q[0], q[1], 0.0)).collect()
+    }
+
+    /// Central-difference stability (ω_max Δt ≤ 2, Belytschko, Liu & Moran,
+    /// *Nonlinear Finite Elements*, §6.3; the free element's ω_max bounds the
+    /// mesh's): the drilling penalty must not raise one free element's
+    /// highest frequency, so the step the set reports stays valid. For each
+    /// shape (square, 4:1 rectangle, distorted quad) and thickness (thin and
+    /// thick), ω_max Δt at the default and at the largest drilling
+    /// coefficient must stay within 1 % of its value without drilling. (The
+    /// undrilled value itself, ≈ 2.28 for the square, is the membrane
+    /// element's: the solver's safety factor 0.9 and the sharing of nodal
+    /// masses in a mesh bring it under 2; not this test's subject.)
+    #[test]
+    fn drilling_penalty_does_not_limit_the_stable_step() {
+        let shapes = [
+            quad([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+            quad([[0.0, 0.0], [4.0, 0.0], [4.0, 1.0], [0.0, 1.0]]),
+            quad([[0.0, 0.0], [1.2, 0.1], [1.0, 0.9], [0.2, 1.1]]),
+        ];
+        for nodes in &shapes {
+            for t in [0.05, 0.5] {
+                for g in [
+                    crate::formulation::DEFAULT_DRILLING,
+                    crate::formulation::MAX_DRILLING,
+                ] {
+                    let bt = |g| BelytschkoTsay::default().with_drilling(g).unwrap();
+                    let fi = |g| FullyIntegrated::default().with_drilling(g).unwrap();
+                    let (w0, dt) = omega_max_and_dt(bt(0.0), nodes, t);
+                    let (w1, _) = omega_max_and_dt(bt(g), nodes, t);
+                    let (v0, dtf) = omega_max_and_dt(fi(0.0), nodes, t);
+                    let (v1, _) = omega_max_and_dt(fi(g), nodes, t);
+                    println!(
+                        "t = {t}, γ = {g}: BT ω_max Δt {:.4} → {:.4}, FI {:.4} → {:.4}",
+                        w0 * dt,
+                        w1 * dt,
+                        v0 * dtf,
+                        v1 * dtf
+                    );
+                    assert!(w1 / w0 < 1.01 && v1 / v0 < 1.01);
+                }
+            }
+        }
     }
 }
