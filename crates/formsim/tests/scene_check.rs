@@ -57,6 +57,36 @@ fn overrides_change_any_value() {
     assert_eq!(pair.friction_model(), ("wvs", "jaumann"));
 }
 
+/// The shells' drilling coefficient and warping correction are scene keys,
+/// checked for range and for the element they apply to.
+#[test]
+fn drilling_and_warping_options_are_checked() {
+    let load = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        scene::load(&cup(), &sets).and_then(|l| scene::build(&l).map(|_| ()))
+    };
+    load(&[
+        "blank.mesh.divisions=4",
+        "blank.drilling=0.01",
+        "blank.warping_correction=true",
+    ])
+    .unwrap();
+    let e = load(&["blank.drilling=0.5"]).unwrap_err().to_string();
+    assert!(
+        e.contains("blank.drilling: 0.5: must be in [0, 0.1]"),
+        "{e}"
+    );
+    let e = load(&["blank.drilling=-1e-3"]).unwrap_err().to_string();
+    assert!(e.contains("blank.drilling"), "{e}");
+    let e = load(&[
+        "blank.element=fully-integrated",
+        "blank.warping_correction=true",
+    ])
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("blank.warping_correction"), "{e}");
+}
+
 #[test]
 fn unknown_key_names_its_line() {
     let text = std::fs::read_to_string(cup()).unwrap();

@@ -274,7 +274,12 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
                     &mesh.nodes,
                     &mesh.quads,
                     section,
-                    BelytschkoTsay::default(),
+                    BelytschkoTsay {
+                        warping_correction: s.blank.warping_correction,
+                        ..BelytschkoTsay::default()
+                    }
+                    .with_drilling(s.blank.drilling)
+                    .map_err(|e| loaded.key_error("blank.drilling", e.to_string()))?,
                     material,
                 )
                 .map_err(|e| loaded.key_error("blank", e.to_string()))?,
@@ -287,7 +292,9 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
                     &mesh.nodes,
                     &mesh.quads,
                     section,
-                    FullyIntegrated::default(),
+                    FullyIntegrated::default()
+                        .with_drilling(s.blank.drilling)
+                        .map_err(|e| loaded.key_error("blank.drilling", e.to_string()))?,
                     material,
                 )
                 .map_err(|e| loaded.key_error("blank", e.to_string()))?,

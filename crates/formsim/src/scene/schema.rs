@@ -100,6 +100,15 @@ pub struct Blank {
     /// Hourglass coefficient of the Belytschko–Tsay shell (default 0.05).
     #[serde(default = "default_hourglass")]
     pub hourglass: f64,
+    /// Drilling coefficient γ of both shells: a penalty `γ G t A` on the nodal
+    /// rotation about the normal relative to the element's in-plane spin
+    /// (default 1e-3, range [0, 0.1]; docs/shells.md).
+    #[serde(default = "default_drilling")]
+    pub drilling: f64,
+    /// Belytschko–Wong–Chiang warping correction of the Belytschko–Tsay shell
+    /// (default off).
+    #[serde(default)]
+    pub warping_correction: bool,
     /// `[blank.material]`.
     pub material: Material,
 }
@@ -109,6 +118,9 @@ fn default_points() -> usize {
 }
 fn default_hourglass() -> f64 {
     0.05
+}
+fn default_drilling() -> f64 {
+    shell_elements::formulation::DEFAULT_DRILLING
 }
 
 /// Shell element formulation.

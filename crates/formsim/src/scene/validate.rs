@@ -5,7 +5,9 @@
 
 use super::LoadedScene;
 use super::SceneError;
-use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, Scene, SceneKind};
+use super::schema::{
+    AmplitudeSpec, Boundary, ElementKind, HardeningSpec, MeshSpec, Motion, Scene, SceneKind,
+};
 
 /// Check `loaded.scene`.
 ///
@@ -56,6 +58,19 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
         );
     }
     non_negative("blank.hourglass", b.hourglass, "-")?;
+    let max_drill = shell_elements::formulation::MAX_DRILLING;
+    if !(b.drilling.is_finite() && (0.0..=max_drill).contains(&b.drilling)) {
+        return err(
+            "blank.drilling",
+            format!("{}: must be in [0, {max_drill}]", b.drilling),
+        );
+    }
+    if b.warping_correction && b.element != ElementKind::BelytschkoTsay {
+        return err(
+            "blank.warping_correction",
+            "true: only the belytschko-tsay element has a warping correction".to_string(),
+        );
+    }
     match &b.mesh {
         MeshSpec::Rectangle {
             size,
@@ -507,9 +522,7 @@ pub fn warnings(loaded: &LoadedScene) -> Vec<String> {
         }
     }
     match smallest {
-        Some((r, key))
-            if s.blank.element == super::schema::ElementKind::BelytschkoTsay && h > r / 3.0 =>
-        {
+        Some((r, key)) if s.blank.element == ElementKind::BelytschkoTsay && h > r / 3.0 => {
             vec![format!(
                 "blank.mesh: {h:.2} mm elements span more than a third of the {r} mm {key}: one-point shells may hinge over it (use at least {} elements per side, or blank.element = \"fully-integrated\")",
                 match &s.blank.mesh {
