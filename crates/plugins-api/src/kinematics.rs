@@ -35,6 +35,26 @@ pub fn axial(m: &Mat3) -> Vec3 {
     )
 }
 
+/// Whether `m` is exactly the identity, bit for bit (an OR tree over the
+/// entries' bit patterns, no chain of floating-point compares). Cheap enough to
+/// pick, per point, the fast path of a fixed tool (`tool_rotation = I`).
+#[inline(always)]
+#[must_use]
+pub fn is_identity(m: &Mat3) -> bool {
+    let one = 1f64.to_bits();
+    let [a, b, c] = m.data.0;
+    ((a[0].to_bits() ^ one)
+        | a[1].to_bits()
+        | a[2].to_bits()
+        | b[0].to_bits()
+        | (b[1].to_bits() ^ one)
+        | b[2].to_bits()
+        | c[0].to_bits()
+        | c[1].to_bits()
+        | (c[2].to_bits() ^ one))
+        == 0
+}
+
 /// Apply the minimal rotation that takes unit vector `a` to unit vector `b`
 /// (rotation about `a × b`) to `v`. Exact for all `a ≠ -b`; for antiparallel
 /// normals (no unique minimal rotation) `v` is returned unchanged.

@@ -9,6 +9,8 @@
 //! `[0, |t_tr|/k_T]` (where `f(0) > 0 ≥ f(|t_tr|/k_T)`). Here `c = φ_tr·d ∈ (0, 1]`
 //! is the share of the slip along the traction, so that `ΔD = t·(-Δu_sl) = c τ Δγ`.
 
+mod batch;
+
 use crate::kinematics::{tangent_part, tangent_projector};
 use crate::{
     DirectionInputs, FrictionError, FrictionLaw, KinematicFormulation, Mat3, PointNeeds,
@@ -293,7 +295,7 @@ fn check_input(input: &StepInput, needs: PointNeeds) -> Result<(), FrictionError
     Ok(())
 }
 
-#[inline]
+#[inline(always)]
 fn evaluate<L: FrictionLaw + ?Sized>(
     law: &L,
     x: &ShearInputs,
@@ -304,7 +306,7 @@ fn evaluate<L: FrictionLaw + ?Sized>(
 /// A law's answer checked against its contract: `τ_c` and its derivatives
 /// finite, `τ_c ≥ 0`; otherwise an error naming the law (`name` is called only
 /// then) and the pressure `p`.
-#[inline]
+#[inline(always)]
 pub(crate) fn check_shear(
     cs: crate::CriticalShear,
     p: f64,
@@ -315,23 +317,30 @@ pub(crate) fn check_shear(
     {
         return Ok(cs);
     }
+    Err(shear_error(&cs, p, name()))
+}
+
+/// The error of [`check_shear`] (out of line: never on the hot path).
+#[cold]
+#[inline(never)]
+fn shear_error(cs: &crate::CriticalShear, p: f64, component: String) -> FrictionError {
     if let Some(value) = [cs.tau, cs.dtau_dp, cs.dtau_domega, cs.dtau_dspeed]
         .into_iter()
         .find(|v| !v.is_finite())
     {
-        return Err(FrictionError::NonFiniteResult {
-            component: name(),
+        return FrictionError::NonFiniteResult {
+            component,
             what: "a non-finite critical shear stress or derivative",
             value,
             p,
-        });
+        };
     }
-    Err(FrictionError::NonFiniteResult {
-        component: name(),
+    FrictionError::NonFiniteResult {
+        component,
         what: "a negative critical shear stress",
         value: cs.tau,
         p,
-    })
+    }
 }
 
 /// Integrate one contact point over one step (friction-math §2) and update its state.
@@ -557,7 +566,7 @@ impl<F: KinematicFormulation + ?Sized> Frame<'_, F> {
     /// Unit slip direction `d`, share `c = φ_tr·d`, and whether the formulation
     /// chose `d` (rather than the backward-Euler fallback `φ_tr`), for a trial
     /// `t_tr` (norm `norm_tr > 0`), start-of-step `τ_c` and pressure `p`.
-    #[inline]
+    #[inline(always)]
     fn direction(&self, t_tr: Vec3, norm_tr: f64, tau_c: f64, p: f64) -> (Vec3, f64, bool) {
         let phi = t_tr * norm_tr.recip();
         let t_end = phi * tau_c.min(norm_tr);
@@ -768,6 +777,10 @@ impl<L: FrictionLaw, F: KinematicFormulation> PointIntegrator for PairedIntegrat
         inputs: &[StepInput],
         outputs: &mut [StepOutput],
     ) -> Result<(), FrictionError> {
+        if self.tangent == TangentMode::None {
+            // Explicit dynamics: the lean kernel (same bits as `step_into`).
+            return batch::explicit_batch(&self.law, &self.formulation, states, inputs, outputs);
+        }
         for ((state, input), output) in states.iter_mut().zip(inputs).zip(outputs.iter_mut()) {
             step_into(
                 &self.law,

@@ -1,6 +1,6 @@
 //! The `convective` formulation: parallel transport of the history with the tool surface (friction-math §4).
 
-use plugins_api::kinematics::rotate_minimal;
+use plugins_api::kinematics::{is_identity, rotate_minimal};
 use plugins_api::{DirectionInputs, KinematicFormulation, PointNeeds, StepKinematics, Vec3};
 
 /// Name as typed in scenes.
@@ -38,27 +38,14 @@ impl KinematicFormulation for Convective {
         PointNeeds::TOOL_ROTATION
     }
 
-    #[inline]
+    #[inline(always)]
     fn transport(&self, t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
-        let r = &kin.tool_rotation;
-        // Exactly the identity, tested on the bit patterns (an OR tree, no
-        // chain of floating-point adds on the critical path).
-        let one = 1f64.to_bits();
-        let [a, b, c] = r.data.0;
-        let off_identity = (a[0].to_bits() ^ one)
-            | a[1].to_bits()
-            | a[2].to_bits()
-            | b[0].to_bits()
-            | (b[1].to_bits() ^ one)
-            | b[2].to_bits()
-            | c[0].to_bits()
-            | c[1].to_bits()
-            | (c[2].to_bits() ^ one);
-        if off_identity == 0 {
+        if is_identity(&kin.tool_rotation) {
             // A fixed tool (the common case): skip two matrix-vector products.
-            return rotate_minimal(&kin.n_old, &kin.n_new, t_old);
+            rotate_minimal(&kin.n_old, &kin.n_new, t_old)
+        } else {
+            rotating_tool(t_old, kin)
         }
-        rotate_minimal(&(r * kin.n_old), &kin.n_new, &(r * t_old))
     }
 
     #[inline]
@@ -70,6 +57,14 @@ impl KinematicFormulation for Convective {
     fn backward_euler(&self) -> bool {
         true
     }
+}
+
+/// [`Convective::transport`] for a tool that rotates over the step (kept out
+/// of line: the fixed tool is the hot case).
+#[inline(never)]
+fn rotating_tool(t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
+    let r = &kin.tool_rotation;
+    rotate_minimal(&(r * kin.n_old), &kin.n_new, &(r * t_old))
 }
 
 /// Build the formulation (registry factory).

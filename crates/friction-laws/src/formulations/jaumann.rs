@@ -44,7 +44,7 @@ impl KinematicFormulation for Jaumann {
         PointNeeds::SPIN
     }
 
-    #[inline]
+    #[inline(always)]
     fn transport(&self, t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
         // R_W = cay(Δt W) applied in closed form: a = ½Δt w, w = axial(W).
         let a = (0.5 * kin.dt) * axial(&kin.vel_grad);

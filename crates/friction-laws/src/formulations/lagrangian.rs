@@ -43,7 +43,7 @@ impl KinematicFormulation for Lagrangian {
         PointNeeds::DEFORMATION_GRADIENT
     }
 
-    #[inline]
+    #[inline(always)]
     fn transport(&self, t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
         if !(admissible(&kin.f_old) && admissible(&kin.f_new)) {
             return not_transportable();

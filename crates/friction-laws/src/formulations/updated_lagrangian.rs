@@ -48,7 +48,7 @@ impl KinematicFormulation for UpdatedLagrangian {
         PointNeeds::VELOCITY_GRADIENT
     }
 
-    #[inline]
+    #[inline(always)]
     fn transport(&self, t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
         // ΔF t = (I - ½ΔtL)⁻¹ (I + ½ΔtL) t, with det ΔF = det(I + ½ΔtL)/det(I - ½ΔtL).
         let half = (0.5 * kin.dt) * kin.vel_grad;
