@@ -14,7 +14,7 @@
 //! it. `DIR/plots/` overlays the strain curves.
 
 use crate::plot::{Panel, Series, draw_panels};
-use crate::run::{RunOptions, RunResult, run};
+use crate::run::{Progress, RunOptions, RunResult, run};
 use crate::scene;
 use rayon::prelude::*;
 use std::fmt::Write as _;
@@ -92,7 +92,8 @@ pub struct Entry {
     pub result: Result<RunResult, String>,
 }
 
-/// Run the rows of `matrix` on `scene_path` and write the table and plots to `out`.
+/// Run the rows of `matrix` on `scene_path` and write the table and plots to
+/// `out`; with `progress`, one bar per row on the terminal.
 ///
 /// # Errors
 /// The scene does not load with some row's overrides; two cases share a
@@ -101,6 +102,7 @@ pub fn compare(
     scene_path: &Path,
     matrix: &Matrix,
     out: &Path,
+    progress: bool,
     on_done: &(dyn Fn(&Entry) + Sync),
 ) -> Result<Vec<Entry>, String> {
     for (i, c) in matrix.cases.iter().enumerate() {
@@ -157,15 +159,17 @@ pub fn compare(
         }
     }
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let bars = progress_bars(progress, jobs.iter().map(|(row, _)| row.0.as_str()));
     let entries: Vec<Entry> = jobs
         .into_par_iter()
-        .map(|((label, case, law, formulation), loaded)| {
+        .zip(bars)
+        .map(|(((label, case, law, formulation), loaded), bar)| {
             let dir: PathBuf = out.join(&label);
             let result = run(
                 &loaded,
                 &RunOptions {
                     out: dir,
-                    progress: false,
+                    progress: bar.map_or(Progress::Hidden, Progress::Bar),
                 },
             )
             .map_err(|e| e.to_string());
@@ -186,6 +190,29 @@ pub fn compare(
     write_table(out, &entries)?;
     write_plots(out, &entries)?;
     Ok(entries)
+}
+
+/// One bar per row, labelled, in a `MultiProgress` (or none at all).
+fn progress_bars<'a>(
+    show: bool,
+    labels: impl ExactSizeIterator<Item = &'a str>,
+) -> Vec<Option<indicatif::ProgressBar>> {
+    let style = indicatif::ProgressStyle::with_template(
+        "{prefix:>24} {elapsed_precise} [{bar:30}] {percent:>3}% eta {eta}  {msg}",
+    )
+    .map(|s| s.progress_chars("=> "));
+    let (true, Ok(style)) = (show, style) else {
+        return labels.map(|_| None).collect();
+    };
+    let multi = indicatif::MultiProgress::new();
+    labels
+        .map(|label| {
+            let bar = multi.add(indicatif::ProgressBar::new(1000));
+            bar.set_style(style.clone());
+            bar.set_prefix(label.to_string());
+            Some(bar)
+        })
+        .collect()
 }
 
 /// A column of the table: name and value of a run.

@@ -93,6 +93,9 @@ struct CompareArgs {
     /// Override a scene value for every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// No progress bars.
+    #[arg(long)]
+    quiet: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -529,7 +532,11 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
         &loaded,
         &formsim::run::RunOptions {
             out: out.clone(),
-            progress,
+            progress: if progress {
+                formsim::run::Progress::Terminal
+            } else {
+                formsim::run::Progress::Hidden
+            },
         },
     )
     .map_err(|e| e.to_string())?;
@@ -622,14 +629,27 @@ fn compare(args: &CompareArgs) -> Result<ExitCode, String> {
             .unwrap_or_else(|| own(default_forms)),
         sets: args.set.clone(),
     };
-    let entries =
-        formsim::compare::compare(&args.scene, &matrix, &args.out, &|e| match &e.result {
+    // With bars on the terminal, each run's bar says when it is done.
+    let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let entries = formsim::compare::compare(&args.scene, &matrix, &args.out, progress, &|e| {
+        if progress {
+            return;
+        }
+        match &e.result {
             Ok(r) => eprintln!(
                 "done {}: {} increments, {:.1} s",
                 e.label, r.summary.increments, r.summary.wall_time_s
             ),
             Err(m) => eprintln!("failed {}: {m}", e.label),
-        })?;
+        }
+    })?;
+    if progress {
+        for e in &entries {
+            if let Err(m) = &e.result {
+                eprintln!("failed {}: {m}", e.label);
+            }
+        }
+    }
     let failed = entries.iter().filter(|e| e.result.is_err()).count();
     println!(
         "{} runs ({} failed): {}/compare.md, compare.csv, plots/",

@@ -43,7 +43,7 @@ fn compare_crosses_cases_with_formulations() {
         formulations: strings(&["convective", "jaumann"]),
         sets: Vec::new(),
     };
-    let entries = compare(&scene(), &matrix, dir.path(), &|_| {}).unwrap();
+    let entries = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap();
     let labels: Vec<&str> = entries.iter().map(|e| e.label.as_str()).collect();
     assert_eq!(
         labels,
@@ -83,7 +83,7 @@ fn compare_rejects_a_bad_case_before_running() {
         ],
         ..Default::default()
     };
-    let e = compare(&scene(), &matrix, dir.path(), &|_| {}).unwrap_err();
+    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap_err();
     assert!(
         e.starts_with("case bad:") && e.contains("blank.thickness"),
         "{e}"
@@ -93,6 +93,6 @@ fn compare_rejects_a_bad_case_before_running() {
         cases: vec![Case::parse("a").unwrap(), Case::parse("a").unwrap()],
         ..Default::default()
     };
-    let e = compare(&scene(), &twice, dir.path(), &|_| {}).unwrap_err();
+    let e = compare(&scene(), &twice, dir.path(), false, &|_| {}).unwrap_err();
     assert!(e.contains("used twice"), "{e}");
 }

@@ -18,7 +18,7 @@ fn run_scene(name: &str, sets: &[&str]) -> (tempfile::TempDir, RunResult) {
         &loaded,
         &RunOptions {
             out: dir.path().to_path_buf(),
-            progress: false,
+            progress: Default::default(),
         },
     )
     .unwrap();

@@ -24,8 +24,21 @@ use std::time::Instant;
 pub struct RunOptions {
     /// Output directory (created).
     pub out: PathBuf,
-    /// Draw a progress bar on the terminal.
-    pub progress: bool,
+    /// Progress display.
+    pub progress: Progress,
+}
+
+/// How a run shows its progress.
+#[derive(Debug, Clone, Default)]
+pub enum Progress {
+    /// Nothing.
+    #[default]
+    Hidden,
+    /// Its own bar on the terminal (stderr), cleared at the end.
+    Terminal,
+    /// A bar the caller made (one line of a `MultiProgress`, say); it is left
+    /// finished, with `done` or `stopped` as its message.
+    Bar(indicatif::ProgressBar),
 }
 
 /// Errors of a run.
@@ -118,7 +131,11 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
     let mut force_max: f64 = 0.0;
     let mut pull_sum = (0.0, 0usize);
     let mut clamp_seen = false;
-    let bar = progress_bar(options.progress);
+    let bar = match &options.progress {
+        Progress::Hidden => None,
+        Progress::Terminal => progress_bar(),
+        Progress::Bar(b) => Some(b.clone()),
+    };
     let started = Instant::now();
     let mut stop: Option<String> = None;
     let vtk_dir = out.join("vtk");
@@ -203,8 +220,12 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
             ));
         }
     }
-    if let Some(b) = &bar {
-        b.finish_and_clear();
+    match (&options.progress, &bar) {
+        (Progress::Bar(b), _) => {
+            b.finish_with_message(if stop.is_some() { "stopped" } else { "done" })
+        }
+        (_, Some(b)) => b.finish_and_clear(),
+        _ => {}
     }
     let wall = started.elapsed().as_secs_f64();
     let time = model.solver.time();
@@ -280,10 +301,7 @@ fn pulled_set(loaded: &LoadedScene) -> Option<(String, usize, f64)> {
     }
 }
 
-fn progress_bar(show: bool) -> Option<indicatif::ProgressBar> {
-    if !show {
-        return None;
-    }
+fn progress_bar() -> Option<indicatif::ProgressBar> {
     let bar = indicatif::ProgressBar::new(1000);
     let style = indicatif::ProgressStyle::with_template(
         "{elapsed_precise} [{bar:30}] {percent:>3}% eta {eta}  {msg}",
