@@ -9,6 +9,12 @@
 //! when the physical step `|S_u δu + S_v δv|` falls below [`STEP_TOL`], and
 //! returns the last evaluated point with its derivatives (so the caller has the
 //! second derivatives for the curvature without another evaluation).
+//!
+//! On an affine piece (flat, linear parametrisation: `S_ab = 0`) Newton's step
+//! is exact, so a step that stays inside the piece ends the iteration at once,
+//! its point and derivatives taken from the step rather than a new evaluation
+//! (a plane or a straight wall costs one evaluation). The current and trial
+//! evaluations alternate between two slots, so accepting a step copies nothing.
 
 use crate::surface::{Derivs, NurbsSurface};
 use plugins_api::Vec3;
@@ -42,24 +48,72 @@ pub struct ParamBox {
     pub v: [f64; 2],
 }
 
+/// Whether a step `step` from `t` leaves the interval `b` at once: `t` sits on
+/// a bound (within `eps`, see [`bound_eps`]) and the step points outwards.
 #[inline]
-fn pushes_out(t: f64, step: f64, b: [f64; 2]) -> bool {
-    // A parameter a rounding error inside a bound counts as on it (a hint
-    // saved from an edge answer comes back as 1e-17 inside).
-    let eps = 1e-12 * (b[1] - b[0]);
+fn pushes_out(t: f64, step: f64, b: [f64; 2], eps: f64) -> bool {
     (t <= b[0] + eps && step < 0.0) || (t >= b[1] - eps && step > 0.0)
+}
+
+/// A parameter a rounding error inside a bound counts as on it (a hint
+/// saved from an edge answer comes back as 1e-17 inside).
+#[inline]
+fn bound_eps(b: [f64; 2]) -> f64 {
+    1e-12 * (b[1] - b[0])
 }
 
 /// Local closest point of `surf` to `x` starting from `(u0, v0)`.
 #[inline]
 pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -> PatchHit {
+    let (mut d0, mut d1) = (Derivs::ZERO, Derivs::ZERO);
+    let end = newton_in(surf, dom, x, u0, v0, [&mut d0, &mut d1]);
+    PatchHit {
+        u: end.u,
+        v: end.v,
+        d: if end.slot == 0 { d0 } else { d1 },
+        dist2: end.dist2,
+        on_edge: end.on_edge,
+    }
+}
+
+/// Where [`newton_in`] stopped; the derivatives there are `ds[slot]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct NewtonEnd {
+    /// Parameter u.
+    pub u: f64,
+    /// Parameter v.
+    pub v: f64,
+    /// Squared distance (mm²), as [`PatchHit::dist2`].
+    pub dist2: f64,
+    /// As [`PatchHit::on_edge`].
+    pub on_edge: bool,
+    /// Which slot (0 or 1) holds the derivatives at `(u, v)`.
+    pub slot: usize,
+}
+
+/// [`newton`] on a caller's pair of evaluation slots: the current point's
+/// derivatives and the trial point's alternate between `ds[0]` and `ds[1]`,
+/// so an accepted step moves no data. (Two separate slots rather than one
+/// array: each is small enough to be cleared inline.)
+#[inline(always)]
+pub(crate) fn newton_in(
+    surf: &NurbsSurface,
+    dom: &ParamBox,
+    x: &Vec3,
+    u0: f64,
+    v0: f64,
+    ds: [&mut Derivs; 2],
+) -> NewtonEnd {
     let mut u = u0.clamp(dom.u[0], dom.u[1]);
     let mut v = v0.clamp(dom.v[0], dom.v[1]);
-    let mut d = surf.eval(u, v);
-    let mut r = d.s - x;
+    let (eu, ev) = (bound_eps(dom.u), bound_eps(dom.v));
+    let mut k = 0;
+    let mut flat = surf.eval_into(u, v, &mut *ds[0]);
+    let mut r = ds[0].s - x;
     let mut f = r.norm_squared();
     let mut on_edge = false;
     for _ in 0..MAX_ITER {
+        let d = &*ds[k];
         let gu = r.dot(&d.su);
         let gv = r.dot(&d.sv);
         let (uu, uv, vv) = (d.su.norm_squared(), d.su.dot(&d.sv), d.sv.norm_squared());
@@ -71,8 +125,8 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
         let idet = 1.0 / (huu * hvv - huv * huv);
         let mut su = -(hvv * gu - huv * gv) * idet;
         let mut sv = -(huu * gv - huv * gu) * idet;
-        let fix_u = pushes_out(u, su, dom.u);
-        let fix_v = pushes_out(v, sv, dom.v);
+        let fix_u = pushes_out(u, su, dom.u, eu);
+        let fix_v = pushes_out(v, sv, dom.v, ev);
         on_edge = false;
         if fix_u && fix_v {
             on_edge = true;
@@ -81,14 +135,14 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
             su = 0.0;
             sv = -gv / hvv;
             on_edge = true;
-            if pushes_out(v, sv, dom.v) {
+            if pushes_out(v, sv, dom.v, ev) {
                 break;
             }
         } else if fix_v {
             sv = 0.0;
             su = -gu / huu;
             on_edge = true;
-            if pushes_out(u, su, dom.u) {
+            if pushes_out(u, su, dom.u, eu) {
                 break;
             }
         }
@@ -98,20 +152,44 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
         // (e.g. a hint a rounding error inside an edge, pushed out by Newton).
         let cut = un != u + su || vn != v + sv;
         let (su, sv) = (un - u, vn - v);
-        let step = (d.su * su + d.sv * sv).norm();
+        // |S_u δu + S_v δv| from the first fundamental form already at hand.
+        let step = (su * su * uu + 2.0 * su * sv * uv + sv * sv * vv)
+            .max(0.0)
+            .sqrt();
         if step < STEP_TOL * (1.0 + f.sqrt()) || !step.is_finite() {
             on_edge |= cut;
             break;
+        }
+        // On an affine piece Newton's step is exact: when it stays strictly
+        // inside the piece, the new point and its (unchanged) derivatives
+        // follow without an evaluation, and no further step is needed.
+        if let Some(piece) = flat.filter(|_| !cut) {
+            let b = surf.piece_bounds(piece);
+            if un > b[0] && un < b[1] && vn > b[2] && vn < b[3] {
+                let (s, dsu, dsv) = (d.s + d.su * su + d.sv * sv, d.su, d.sv);
+                *ds[1 - k] = Derivs {
+                    s,
+                    su: dsu,
+                    sv: dsv,
+                    ..Derivs::ZERO
+                };
+                (u, v, k) = (un, vn, 1 - k);
+                r = s - x;
+                f = r.norm_squared();
+                break;
+            }
         }
         // Near the minimum f no longer resolves the tangential error (it
         // changes by less than its rounding), so a step that keeps f within
         // rounding and reduces the tangential residual is accepted too.
         let mut t = 1.0;
         let mut accepted = false;
+        let mut flat_t = None;
         for _ in 0..12 {
             let ut = u + t * su;
             let vt = v + t * sv;
-            let dt = surf.eval(ut, vt);
+            flat_t = surf.eval_into(ut, vt, &mut *ds[1 - k]);
+            let dt = &*ds[1 - k];
             let rt = dt.s - x;
             let ft = rt.norm_squared();
             let ok = ft <= f || {
@@ -122,12 +200,19 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
                         < gu * gu / uu + gv * gv / vv
             };
             if ok {
-                (u, v, d, r, f) = (ut, vt, dt, rt, ft);
+                (u, v, r, f) = (ut, vt, rt, ft);
+                k = 1 - k;
                 accepted = true;
                 break;
             }
             t *= 0.5;
         }
+        // A full, uncut step within one affine piece reached the exact
+        // minimum: the next step would vanish to rounding, so skip it.
+        if accepted && t == 1.0 && !cut && flat.is_some() && flat == flat_t {
+            break;
+        }
+        flat = flat_t;
         if !accepted || step * t < STEP_TOL {
             on_edge |= cut;
             break;
@@ -137,18 +222,19 @@ pub fn newton(surf: &NurbsSurface, dom: &ParamBox, x: &Vec3, u0: f64, v0: f64) -
     let at_bound = u <= dom.u[0] || u >= dom.u[1] || v <= dom.v[0] || v >= dom.v[1];
     if !on_edge && at_bound {
         // A point on the boundary whose gradient points out of the box.
+        let d = &*ds[k];
         let eps = 1e-12 * (1.0 + f.sqrt());
         let gu = r.dot(&d.su) / d.su.norm();
         let gv = r.dot(&d.sv) / d.sv.norm();
         let gu = if gu.abs() <= eps { 0.0 } else { gu };
         let gv = if gv.abs() <= eps { 0.0 } else { gv };
-        on_edge = pushes_out(u, -gu, dom.u) || pushes_out(v, -gv, dom.v);
+        on_edge = pushes_out(u, -gu, dom.u, eu) || pushes_out(v, -gv, dom.v, ev);
     }
-    PatchHit {
+    NewtonEnd {
         u,
         v,
-        d,
         dist2: f,
         on_edge,
+        slot: k,
     }
 }

@@ -40,22 +40,39 @@ pub fn local_geometry(d: &Derivs, sign: f64) -> LocalGeometry {
 /// `rot` (a tool's pose, local → global) when one is given: the tensor is
 /// assembled once, directly in the rotated frame, from the rotated tangents
 /// (`R K Rᵀ` without the two matrix products).
-#[inline]
+#[inline(always)]
 pub fn local_geometry_rotated(d: &Derivs, sign: f64, rot: Option<&Mat3>) -> LocalGeometry {
     let cross = d.su.cross(&d.sv);
-    let normal = cross * (sign / cross.norm());
+    // |S_u × S_v|⁻¹ once: it scales the normal and gives b22 below.
+    let ic = 1.0 / cross.norm();
+    let normal = cross * (sign * ic);
     let lu = d.su.norm();
     let i11 = 1.0 / lu;
     let e1 = d.su * i11;
     let e2 = normal.cross(&e1);
-    // J = T B with T = [e1 e2], B upper triangular (b11 = |S_u|).
-    let b12 = d.sv.dot(&e1);
-    let b22 = d.sv.dot(&e2);
+    // J = T B with T = [e1 e2], B upper triangular: b11 = |S_u|,
+    // b12 = S_v · e1, b22 = S_v · e2 = n · (S_u × S_v) / |S_u| = sign |S_u × S_v| / |S_u|.
+    let b12 = d.sv.dot(&d.su) * i11;
     let l = d.suu.dot(&normal);
     let m = d.suv.dot(&normal);
     let nn = d.svv.dot(&normal);
+    let (normal, e1, e2) = match rot {
+        Some(rot) => (rot * normal, rot * e1, rot * e2),
+        None => (normal, e1, e2),
+    };
+    if l == 0.0 && m == 0.0 && nn == 0.0 {
+        // Flat to rounding (a plane's zero second derivatives): K = 0.
+        return LocalGeometry {
+            normal,
+            e1,
+            e2,
+            curvature: Mat3::zeros(),
+            k1: 0.0,
+            k2: 0.0,
+        };
+    }
     // A = -B⁻ᵀ II B⁻¹, with B⁻¹ = [[1/b11, -b12/(b11 b22)], [0, 1/b22]].
-    let i22 = 1.0 / b22;
+    let i22 = sign * lu * ic;
     let i12 = -b12 * i11 * i22;
     // C = II B⁻¹ (first row and the second column are what A needs).
     let c11 = l * i11;
@@ -67,10 +84,6 @@ pub fn local_geometry_rotated(d: &Derivs, sign: f64, rot: Option<&Mat3>) -> Loca
     let a22 = -(i12 * c12 + i22 * c22);
     let mean = 0.5 * (a11 + a22);
     let r = (0.25 * (a11 - a22) * (a11 - a22) + a12 * a12).sqrt();
-    let (normal, e1, e2) = match rot {
-        Some(rot) => (rot * normal, rot * e1, rot * e2),
-        None => (normal, e1, e2),
-    };
     // K = a11 e1⊗e1 + a12 (e1⊗e2 + e2⊗e1) + a22 e2⊗e2 = e1⊗f + e2⊗g with
     // f = a11 e1 + a12 e2, g = a12 e1 + a22 e2; symmetric.
     let f = e1 * a11 + e2 * a12;

@@ -24,11 +24,15 @@
 //! A small rational tensor-product evaluator (degree ≤ [`basis::MAX_DEGREE`])
 //! is a few hundred lines, allocation-free and fast: at build time every
 //! patch is split by knot insertion into its Bézier pieces (exact up to
-//! rounding: the surface, its patch index and its `(u, v)` are unchanged), so an evaluation
-//! locates its piece and runs the closed-form Bernstein basis with first and
-//! second derivatives on stack buffers, monomorphised for the degrees the
-//! builders use. The Cox–de Boor basis ([`basis::basis_ders`]) stays as the
-//! reference the extraction is tested against. The exactness checks
+//! rounding: the surface, its patch index and its `(u, v)` are unchanged) and
+//! every piece is rewritten as a polynomial about its centre, so an
+//! evaluation locates its piece and runs two short Horner schemes for the
+//! point and its first and second derivatives on stack buffers, monomorphised
+//! for the degrees the builders use; flat pieces with a linear
+//! parametrisation (planes, straight walls) are recognised and evaluated, and
+//! Newton-stepped, in closed form. The Cox–de Boor basis
+//! ([`basis::basis_ders`]) stays as the reference the extraction and the
+//! polynomial pieces are tested against. The exactness checks
 //! (plane, cylinder, sphere, torus against closed forms to 1e-9) verify it
 //! directly, so curvo is not a dependency.
 //!

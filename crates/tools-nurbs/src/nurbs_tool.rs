@@ -16,10 +16,10 @@
 //!   gets the same one.
 
 use crate::bvh::Bvh;
-use crate::closest_point::{ParamBox, PatchHit, newton};
+use crate::closest_point::{ParamBox, PatchHit, newton, newton_in};
 use crate::differential::local_geometry_rotated;
 use crate::error::NurbsError;
-use crate::surface::{NurbsSurface, PatchDef};
+use crate::surface::{Derivs, NurbsSurface, PatchDef};
 use plugins_api::{
     Aabb, Mat3, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface, Vec3,
 };
@@ -67,6 +67,31 @@ pub struct NurbsTool {
     /// translation and the frames map without matrix products).
     rotated: bool,
     velocity: RigidVelocity,
+}
+
+/// The local closest point an answer is built from (its derivatives are kept apart).
+#[derive(Debug, Clone, Copy)]
+struct Found {
+    patch: usize,
+    u: f64,
+    v: f64,
+    dist: f64,
+    /// Which of the caller's two derivative slots holds the answer's.
+    slot: usize,
+}
+
+impl Found {
+    /// A search result, its derivatives copied into `ds[0]`.
+    fn from_best(b: &Best, ds: [&mut Derivs; 2]) -> Self {
+        *ds[0] = b.hit.d;
+        Self {
+            patch: b.patch,
+            u: b.hit.u,
+            v: b.hit.v,
+            dist: b.dist,
+            slot: 0,
+        }
+    }
 }
 
 /// The local closest point found by a search.
@@ -208,25 +233,46 @@ impl NurbsTool {
         })
     }
 
-    /// Closest point in the local frame.
+    /// Closest point in the local frame; its derivatives are `ds[slot]` of the answer.
     #[inline]
-    fn project_local(&self, x: &Vec3, hint: Option<ProjectionHint>) -> Best {
+    fn project_local(&self, x: &Vec3, hint: Option<ProjectionHint>, ds: [&mut Derivs; 2]) -> Found {
         if let Some(h) = hint {
             let pi = h.patch as usize;
             if pi < self.patches.len() && h.u.is_finite() && h.v.is_finite() {
-                let hit = newton(&self.patches[pi].surface, &self.domains[pi], x, h.u, h.v);
-                let best = Best {
-                    patch: pi,
-                    dist: hit.dist2.sqrt(),
-                    hit,
-                };
-                if !hit.on_edge {
-                    return best;
+                let [d0, d1] = ds;
+                let end = newton_in(
+                    &self.patches[pi].surface,
+                    &self.domains[pi],
+                    x,
+                    h.u,
+                    h.v,
+                    [&mut *d0, &mut *d1],
+                );
+                let dist = end.dist2.sqrt();
+                if !end.on_edge {
+                    return Found {
+                        patch: pi,
+                        u: end.u,
+                        v: end.v,
+                        dist,
+                        slot: end.slot,
+                    };
                 }
-                return self.search(x, Some(best));
+                let warm = Best {
+                    patch: pi,
+                    dist,
+                    hit: PatchHit {
+                        u: end.u,
+                        v: end.v,
+                        d: if end.slot == 0 { *d0 } else { *d1 },
+                        dist2: end.dist2,
+                        on_edge: true,
+                    },
+                };
+                return Found::from_best(&self.search(x, Some(warm)), [d0, d1]);
             }
         }
-        self.search(x, None)
+        Found::from_best(&self.search(x, None), ds)
     }
 
     /// The closest point of one patch only (local frame), from the best seed of
@@ -252,28 +298,40 @@ impl NurbsTool {
             );
             self.consider(&mut best, patch, hit);
         }
-        best.map(|b| self.finish(x, &b, &RigidPose::default(), false))
+        best.map(|b| {
+            let (mut d0, mut d1) = (Derivs::ZERO, Derivs::ZERO);
+            let f = Found::from_best(&b, [&mut d0, &mut d1]);
+            self.finish(x, &f, &d0, &RigidPose::default(), false)
+        })
     }
 
     /// Projection in the tool's local frame (no pose applied).
     pub fn project_local_frame(&self, x: &Vec3, hint: Option<ProjectionHint>) -> Projection {
-        let b = self.project_local(x, hint);
-        self.finish(x, &b, &RigidPose::default(), false)
+        let (mut d0, mut d1) = (Derivs::ZERO, Derivs::ZERO);
+        let f = self.project_local(x, hint, [&mut d0, &mut d1]);
+        let d = if f.slot == 0 { &d0 } else { &d1 };
+        self.finish(x, &f, d, &RigidPose::default(), false)
     }
 
-    #[inline]
-    fn finish(&self, x_local: &Vec3, b: &Best, pose: &RigidPose, rotated: bool) -> Projection {
+    #[inline(always)]
+    fn finish(
+        &self,
+        x_local: &Vec3,
+        b: &Found,
+        d: &Derivs,
+        pose: &RigidPose,
+        rotated: bool,
+    ) -> Projection {
         let sign = self.patches[b.patch].sign;
         // The signed distance needs the local normal's side only: r · (S_u × S_v).
-        let r = x_local - b.hit.d.s;
-        let side = r.dot(&b.hit.d.su.cross(&b.hit.d.sv)) * sign;
+        let side = (x_local - d.s).dot(&d.su.cross(&d.sv)) * sign;
+        let g = local_geometry_rotated(d, sign, rotated.then_some(&pose.rotation));
         let distance = if side < 0.0 { -b.dist } else { b.dist };
-        let g = local_geometry_rotated(&b.hit.d, sign, rotated.then_some(&pose.rotation));
         Projection {
             point: if rotated {
-                pose.to_global(&b.hit.d.s)
+                pose.to_global(&d.s)
             } else {
-                b.hit.d.s + pose.translation
+                d.s + pose.translation
             },
             normal: g.normal,
             distance,
@@ -281,8 +339,8 @@ impl NurbsTool {
             k1: g.k1,
             k2: g.k2,
             patch: b.patch as u32,
-            u: b.hit.u,
-            v: b.hit.v,
+            u: b.u,
+            v: b.v,
         }
     }
 
@@ -373,8 +431,10 @@ impl ToolSurface for NurbsTool {
         } else {
             x - self.pose.translation
         };
-        let b = self.project_local(&xl, hint);
-        Ok(self.finish(&xl, &b, &self.pose, self.rotated))
+        let (mut d0, mut d1) = (Derivs::ZERO, Derivs::ZERO);
+        let f = self.project_local(&xl, hint, [&mut d0, &mut d1]);
+        let d = if f.slot == 0 { &d0 } else { &d1 };
+        Ok(self.finish(&xl, &f, d, &self.pose, self.rotated))
     }
 
     fn project_batch(

@@ -3,7 +3,7 @@
 // Numeric kernels index several arrays with one counter.
 #![allow(clippy::needless_range_loop)]
 
-use crate::basis::{MAX_DEGREE, ORDER, bernstein_ders_inv, find_span};
+use crate::basis::{MAX_DEGREE, ORDER, find_span};
 use crate::error::NurbsError;
 use plugins_api::Vec3;
 
@@ -48,6 +48,18 @@ pub struct Derivs {
     pub svv: Vec3,
 }
 
+impl Derivs {
+    /// All six vectors zero.
+    pub const ZERO: Self = Self {
+        s: Vec3::new(0.0, 0.0, 0.0),
+        su: Vec3::new(0.0, 0.0, 0.0),
+        sv: Vec3::new(0.0, 0.0, 0.0),
+        suu: Vec3::new(0.0, 0.0, 0.0),
+        suv: Vec3::new(0.0, 0.0, 0.0),
+        svv: Vec3::new(0.0, 0.0, 0.0),
+    };
+}
+
 /// A validated NURBS surface ready for fast evaluation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NurbsSurface {
@@ -63,21 +75,49 @@ pub struct NurbsSurface {
     bu: Vec<f64>,
     /// Distinct knots along v.
     bv: Vec<f64>,
-    /// Inverse widths `1 / (bu[i + 1] - bu[i])` of the pieces along u.
-    iwu: Vec<f64>,
-    /// Inverse widths of the pieces along v.
-    iwv: Vec<f64>,
+    /// Parameter domain `[u_min, u_max, v_min, v_max]`.
+    lim: [f64; 4],
     /// Number of pieces along v.
     pv: usize,
-    /// Bézier extraction of the net: the homogeneous control points of piece
-    /// `(a, b)` (span `a` along u, `b` along v) are the `(p + 1)(q + 1)`
-    /// consecutive entries from `(a * pv + b) * (p + 1) * (q + 1)`, u-major.
-    /// Every evaluation uses the Bernstein basis of one piece.
-    bez: Vec<[f64; 4]>,
-    /// Per piece: all its weights are equal (a polynomial piece). Its entries
-    /// in `bez` then hold the Cartesian points with weight 1 (the same surface),
-    /// and evaluation skips the weight channel and the quotient rule.
-    poly: Vec<bool>,
+    /// The Bézier pieces, `(a, b)` (span `a` along u, `b` along v) at `a * pv + b`.
+    pieces: Vec<Piece>,
+    /// Every non-affine piece as a polynomial in `(Δu, Δv)`, the offsets from
+    /// the piece's centre, from the Bézier extraction of the net: the
+    /// homogeneous coefficients `M[i][j]` of `Δu^i Δv^j` and those of its first
+    /// and second `v` derivatives, `(j + 1) M[i][j + 1]` and
+    /// `(j + 2)(j + 1) M[i][j + 2]`, so that an evaluation is two nested Horner
+    /// schemes (about a third of the operations of the tensor-product
+    /// Bernstein sums). `(p + 1) 3 q` entries per piece from [`Piece::off`],
+    /// row `i` at `3 q i`: `q + 1`, `q` and `q - 1` entries.
+    mono: Vec<[f64; 4]>,
+}
+
+/// One Bézier piece of a surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Piece {
+    /// How it is evaluated.
+    kind: Kind,
+    /// Its centre `(u, v)`.
+    centre: [f64; 2],
+    /// Its parameter box `[u_0, u_1, v_0, v_1]`.
+    bounds: [f64; 4],
+    /// Its coefficients' offset in [`NurbsSurface`]'s `mono` (non-affine pieces).
+    off: usize,
+    /// Affine pieces: `S(centre)`, `S_u`, `S_v` (zero otherwise).
+    affine: [Vec3; 3],
+}
+
+/// How a Bézier piece is evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// Equal weights and `S = M[0][0] + M[1][0] Δu + M[0][1] Δv` (a flat piece
+    /// with a linear parametrisation, such as a plane or a straight wall):
+    /// three coefficients, no basis, zero second derivatives.
+    Affine,
+    /// Equal weights: Cartesian coefficients (weight 1), no quotient rule.
+    Poly,
+    /// Homogeneous coefficients and the quotient rule.
+    Rational,
 }
 
 fn check_knots(
@@ -233,7 +273,8 @@ fn extract_curve(pts: &[[f64; 4]], p: usize, knots: &[f64]) -> Vec<[f64; 4]> {
 }
 
 /// Bézier extraction of a tensor-product net (u-major, `nu × nv`) into the
-/// piece layout of [`NurbsSurface`]'s `bez`.
+/// Bézier pieces: `(p + 1)(q + 1)` points per piece (u-major), piece `(a, b)`
+/// (span `a` along u, `b` along v) at `(a * pieces_v + b) * (p + 1)(q + 1)`.
 fn extract(
     cw: &[[f64; 4]],
     nu: usize,
@@ -319,23 +360,32 @@ impl NurbsSurface {
         let (p, q) = (def.degree_u, def.degree_v);
         let bu = breakpoints(&def.knots_u, p, nu);
         let bv = breakpoints(&def.knots_v, q, nv);
-        let mut bez = extract(&cw, nu, nv, p, q, &def.knots_u, &def.knots_v);
-        let block = (p + 1) * (q + 1);
-        let poly: Vec<bool> = bez
-            .chunks_exact_mut(block)
-            .map(|piece| {
-                let w0 = piece[0][3];
-                let equal = piece
-                    .iter()
-                    .all(|c| (c[3] - w0).abs() <= 4.0 * f64::EPSILON * w0);
-                if equal {
-                    for c in piece.iter_mut() {
-                        *c = [c[0] / c[3], c[1] / c[3], c[2] / c[3], 1.0];
-                    }
-                }
-                equal
-            })
-            .collect();
+        let bez = extract(&cw, nu, nv, p, q, &def.knots_u, &def.knots_v);
+        let pv = bv.len() - 1;
+        let (tp, tq) = (centred_bernstein(p), centred_bernstein(q));
+        let mut mono = Vec::new();
+        let mut pieces = Vec::with_capacity(bez.len() / ((p + 1) * (q + 1)));
+        for (k, piece) in bez.chunks_exact((p + 1) * (q + 1)).enumerate() {
+            let (a, b) = (k / pv, k % pv);
+            let widths = (bu[a + 1] - bu[a], bv[b + 1] - bv[b]);
+            let (m, kind) = monomial_piece(piece, p, q, &tp, &tq, widths);
+            let v3 = |x: &[f64; 4]| Vec3::new(x[0], x[1], x[2]);
+            let affine = if kind == Kind::Affine {
+                [v3(&m[0]), v3(&m[3 * q]), v3(&m[1])]
+            } else {
+                [Vec3::zeros(); 3]
+            };
+            pieces.push(Piece {
+                kind,
+                centre: [0.5 * (bu[a] + bu[a + 1]), 0.5 * (bv[b] + bv[b + 1])],
+                bounds: [bu[a], bu[a + 1], bv[b], bv[b + 1]],
+                off: mono.len(),
+                affine,
+            });
+            if kind != Kind::Affine {
+                mono.extend_from_slice(&m);
+            }
+        }
         let s = Self {
             p,
             q,
@@ -344,13 +394,12 @@ impl NurbsSurface {
             ku: def.knots_u.clone(),
             kv: def.knots_v.clone(),
             cw,
-            pv: bv.len() - 1,
-            iwu: bu.windows(2).map(|w| 1.0 / (w[1] - w[0])).collect(),
-            iwv: bv.windows(2).map(|w| 1.0 / (w[1] - w[0])).collect(),
+            lim: [bu[0], bu[bu.len() - 1], bv[0], bv[bv.len() - 1]],
+            pv,
             bu,
             bv,
-            bez,
-            poly,
+            pieces,
+            mono,
         };
         s.check_regular(patch)?;
         Ok(s)
@@ -433,81 +482,6 @@ impl NurbsSurface {
         })
     }
 
-    /// Homogeneous derivatives on one Bézier piece for fixed degrees
-    /// (monomorphised and unrolled; derivative orders above the degree, which
-    /// vanish, are skipped).
-    #[inline(always)]
-    fn accumulate<const P: usize, const Q: usize, const C: usize>(
-        &self,
-        off: usize,
-        bu: &[[f64; ORDER]; 3],
-        bv: &[[f64; ORDER]; 3],
-    ) -> [[[f64; 4]; 3]; 3] {
-        let net = &self.bez[off..off + (P + 1) * (Q + 1)];
-        let mut a = [[[0.0f64; 4]; 3]; 3];
-        for i in 0..=P {
-            let row = &net[i * (Q + 1)..(i + 1) * (Q + 1)];
-            let mut t = [[0.0f64; 4]; 3];
-            for j in 0..=Q {
-                let c = &row[j];
-                for l in 0..3 {
-                    if l <= Q {
-                        let b = bv[l][j];
-                        for m in 0..C {
-                            t[l][m] += b * c[m];
-                        }
-                    }
-                }
-            }
-            for k in 0..3 {
-                if k <= P {
-                    let bk = bu[k][i];
-                    for l in 0..(3 - k) {
-                        if l <= Q {
-                            for m in 0..C {
-                                a[k][l][m] += bk * t[l][m];
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        a
-    }
-
-    /// Homogeneous derivatives on one Bézier piece for any degrees.
-    fn accumulate_any(
-        &self,
-        off: usize,
-        bu: &[[f64; ORDER]; 3],
-        bv: &[[f64; ORDER]; 3],
-    ) -> [[[f64; 4]; 3]; 3] {
-        let (p, q) = (self.p, self.q);
-        let mut a = [[[0.0f64; 4]; 3]; 3];
-        for i in 0..=p {
-            let row = off + i * (q + 1);
-            let mut t = [[0.0f64; 4]; 3];
-            for j in 0..=q {
-                let c = &self.bez[row + j];
-                for (l, tl) in t.iter_mut().enumerate() {
-                    let b = bv[l][j];
-                    for m in 0..4 {
-                        tl[m] += b * c[m];
-                    }
-                }
-            }
-            for k in 0..3 {
-                let bk = bu[k][i];
-                for l in 0..(3 - k) {
-                    for m in 0..4 {
-                        a[k][l][m] += bk * t[l][m];
-                    }
-                }
-            }
-        }
-        a
-    }
-
     /// Point only (mm).
     pub fn point(&self, u: f64, v: f64) -> Vec3 {
         self.eval(u, v).s
@@ -517,96 +491,292 @@ impl NurbsSurface {
     ///
     /// Evaluates the Bézier piece holding `(u, v)` (the knot span with
     /// `knots[s] <= t < knots[s + 1]`, the last one at the end of the domain)
-    /// in its Bernstein basis.
+    /// from its centred polynomial coefficients.
     #[inline]
     pub fn eval(&self, u: f64, v: f64) -> Derivs {
+        let mut d = Derivs::ZERO;
+        self.eval_into(u, v, &mut d);
+        d
+    }
+
+    /// [`Self::eval`] written into `out` (no copy of the result). Returns the
+    /// index of the evaluated Bézier piece when that piece is affine (flat with
+    /// a linear parametrisation: zero second derivatives, and Newton's step
+    /// from any of its points lands on the plane's closest point exactly).
+    #[inline(never)]
+    pub(crate) fn eval_into(&self, u: f64, v: f64, out: &mut Derivs) -> Option<usize> {
+        let (index, u, v) = self.locate(u, v);
+        let piece = &self.pieces[index];
+        let (du, dv) = (u - piece.centre[0], v - piece.centre[1]);
+        match piece.kind {
+            Kind::Affine => {
+                let [c, mu, mv] = piece.affine;
+                *out = Derivs {
+                    s: c + mu * du + mv * dv,
+                    su: mu,
+                    sv: mv,
+                    suu: Vec3::zeros(),
+                    suv: Vec3::zeros(),
+                    svv: Vec3::zeros(),
+                };
+                return Some(index);
+            }
+            Kind::Poly => *out = polynomial(&self.homogeneous(piece.off, du, dv)),
+            Kind::Rational => *out = rational(&self.homogeneous(piece.off, du, dv)),
+        }
+        None
+    }
+
+    /// The parameter box `[u_0, u_1, v_0, v_1]` of the piece `index` (as
+    /// [`Self::eval_into`] returns it).
+    #[inline]
+    pub(crate) fn piece_bounds(&self, index: usize) -> [f64; 4] {
+        self.pieces[index].bounds
+    }
+
+    /// Homogeneous derivatives `[A, A_u, A_v, A_uu, A_uv, A_vv]` of the piece
+    /// at `off`, monomorphised for the degrees the builders use (the slice
+    /// lengths are constants there, so the unrolled loops check no bounds).
+    #[inline(always)]
+    fn homogeneous(&self, off: usize, du: f64, dv: f64) -> [[f64; 4]; 6] {
+        let m = &self.mono[off..];
         match (self.p, self.q) {
-            (1, 1) => self.eval_pq::<1, 1>(u, v),
-            (1, 2) => self.eval_pq::<1, 2>(u, v),
-            (2, 1) => self.eval_pq::<2, 1>(u, v),
-            (2, 2) => self.eval_pq::<2, 2>(u, v),
-            _ => self.eval_any(u, v),
+            (1, 1) => horner2(&m[..6], 1, 1, du, dv),
+            (1, 2) => horner2(&m[..12], 1, 2, du, dv),
+            (2, 1) => horner2(&m[..9], 2, 1, du, dv),
+            (2, 2) => horner2(&m[..18], 2, 2, du, dv),
+            (p, q) => horner_any(&m[..(p + 1) * 3 * q], p, q, du, dv),
         }
     }
 
-    /// The piece `(iu, iv)` holding the clamped `(u, v)`, with the clamped parameters.
+    /// The piece holding the clamped `(u, v)`, with the clamped parameters.
     #[inline(always)]
-    fn locate(&self, u: f64, v: f64) -> (usize, usize, f64, f64) {
-        let (nbu, nbv) = (self.bu.len() - 1, self.bv.len() - 1);
-        let u = u.clamp(self.bu[0], self.bu[nbu]);
-        let v = v.clamp(self.bv[0], self.bv[nbv]);
-        let iu = if nbu == 1 {
+    fn locate(&self, u: f64, v: f64) -> (usize, f64, f64) {
+        let u = u.clamp(self.lim[0], self.lim[1]);
+        let v = v.clamp(self.lim[2], self.lim[3]);
+        let iu = if self.bu.len() == 2 {
             0
         } else {
-            self.bu[1..nbu].partition_point(|&k| k <= u)
+            self.bu[1..self.bu.len() - 1].partition_point(|&k| k <= u)
         };
-        let iv = if nbv == 1 {
+        let iv = if self.pv == 1 {
             0
         } else {
-            self.bv[1..nbv].partition_point(|&k| k <= v)
+            self.bv[1..self.pv].partition_point(|&k| k <= v)
         };
-        (iu, iv, u, v)
+        (iu * self.pv + iv, u, v)
     }
+}
 
-    /// [`Self::eval`] for fixed degrees.
-    #[inline(always)]
-    fn eval_pq<const P: usize, const Q: usize>(&self, u: f64, v: f64) -> Derivs {
-        let (iu, iv, u, v) = self.locate(u, v);
-        let mut bu = [[0.0; ORDER]; 3];
-        let mut bv = [[0.0; ORDER]; 3];
-        bernstein_ders_inv(u, self.bu[iu], self.iwu[iu], P, &mut bu);
-        bernstein_ders_inv(v, self.bv[iv], self.iwv[iv], Q, &mut bv);
-        let piece = iu * self.pv + iv;
-        let off = piece * (P + 1) * (Q + 1);
-        if self.poly[piece] {
-            polynomial(&self.accumulate::<P, Q, 3>(off, &bu, &bv))
-        } else {
-            rational(&self.accumulate::<P, Q, 4>(off, &bu, &bv))
+/// `T[i][a]`: the coefficient of `σ^a` in the Bernstein polynomial
+/// `B_i^p(1/2 + σ)` (exact: binomials times powers of 1/2).
+fn centred_bernstein(p: usize) -> [[f64; ORDER]; ORDER] {
+    let mut t = [[0.0; ORDER]; ORDER];
+    for (i, row) in t.iter_mut().enumerate().take(p + 1) {
+        // C(p, i) (1/2 + σ)^i (1/2 - σ)^(p - i), multiplied out.
+        let mut c = [0.0; ORDER];
+        c[0] = (0..i).fold(1.0, |b, k| b * (p - k) as f64 / (k + 1) as f64);
+        for k in 0..p {
+            let sign = if k < i { 1.0 } else { -1.0 };
+            for a in (0..=k + 1).rev() {
+                let lower = if a > 0 { c[a - 1] } else { 0.0 };
+                c[a] = 0.5 * c[a] + sign * lower;
+            }
+        }
+        *row = c;
+    }
+    t
+}
+
+/// The centred coefficients of one Bézier piece (`(p + 1)(q + 1)` homogeneous
+/// points, u-major, of parameter widths `w`) in the layout of
+/// [`NurbsSurface`]'s `mono`, and how the piece is evaluated.
+fn monomial_piece(
+    piece: &[[f64; 4]],
+    p: usize,
+    q: usize,
+    tp: &[[f64; ORDER]; ORDER],
+    tq: &[[f64; ORDER]; ORDER],
+    w: (f64, f64),
+) -> (Vec<[f64; 4]>, Kind) {
+    let w0 = piece[0][3];
+    let equal = piece
+        .iter()
+        .all(|c| (c[3] - w0).abs() <= 4.0 * f64::EPSILON * w0);
+    // Equal weights: the Cartesian points with weight 1 (the same surface).
+    let pts: Vec<[f64; 4]> = piece
+        .iter()
+        .map(|c| {
+            if equal {
+                [c[0] / c[3], c[1] / c[3], c[2] / c[3], 1.0]
+            } else {
+                *c
+            }
+        })
+        .collect();
+    // Coefficients of σ^a τ^b (σ, τ: offsets from the centre in units of the widths).
+    let mut sig = vec![[[0.0; 4]; ORDER]; p + 1];
+    let mut size = 0.0f64;
+    for a in 0..=p {
+        for b in 0..=q {
+            let mut c = [0.0; 4];
+            for i in 0..=p {
+                for j in 0..=q {
+                    let f = tp[i][a] * tq[j][b];
+                    if f != 0.0 {
+                        for ch in 0..4 {
+                            c[ch] += f * pts[i * (q + 1) + j][ch];
+                        }
+                    }
+                }
+            }
+            sig[a][b] = c;
         }
     }
-
-    /// [`Self::eval`] for any degrees.
-    fn eval_any(&self, u: f64, v: f64) -> Derivs {
-        let (p, q) = (self.p, self.q);
-        let (iu, iv, u, v) = self.locate(u, v);
-        let mut bu = [[0.0; ORDER]; 3];
-        let mut bv = [[0.0; ORDER]; 3];
-        bernstein_ders_inv(u, self.bu[iu], self.iwu[iu], p, &mut bu);
-        bernstein_ders_inv(v, self.bv[iv], self.iwv[iv], q, &mut bv);
-        let off = (iu * self.pv + iv) * (p + 1) * (q + 1);
-        rational(&self.accumulate_any(off, &bu, &bv))
+    for c in &pts {
+        size = size.max(c[0].abs()).max(c[1].abs()).max(c[2].abs());
     }
+    // Affine: every term but 1, σ and τ vanishes to rounding (at most 1/2^(a+b)
+    // of the coefficient on the piece).
+    let affine = equal
+        && (0..=p).all(|a| {
+            (0..=q).all(|b| {
+                a + b <= 1 || {
+                    let c = &sig[a][b];
+                    let scale = 0.5f64.powi((a + b) as i32);
+                    (0..3).all(|ch| c[ch].abs() * scale <= 16.0 * f64::EPSILON * size)
+                }
+            })
+        });
+    let (iu, iv) = (1.0 / w.0, 1.0 / w.1);
+    let mut out = Vec::with_capacity((p + 1) * 3 * q);
+    for (a, row) in sig.iter().enumerate() {
+        let sa = iu.powi(a as i32);
+        let m: Vec<[f64; 4]> = (0..=q)
+            .map(|b| {
+                let f = sa * iv.powi(b as i32);
+                let keep = !affine || a + b <= 1;
+                row[b].map(|x| if keep { x * f } else { 0.0 })
+            })
+            .collect();
+        out.extend_from_slice(&m);
+        out.extend((0..q).map(|b| m[b + 1].map(|x| x * (b + 1) as f64)));
+        out.extend(
+            (0..q.saturating_sub(1)).map(|b| m[b + 2].map(|x| x * ((b + 2) * (b + 1)) as f64)),
+        );
+    }
+    let kind = if affine {
+        Kind::Affine
+    } else if equal {
+        Kind::Poly
+    } else {
+        Kind::Rational
+    };
+    (out, kind)
+}
+
+#[inline(always)]
+fn madd(h: [f64; 4], x: f64, c: [f64; 4]) -> [f64; 4] {
+    [
+        h[0] * x + c[0],
+        h[1] * x + c[1],
+        h[2] * x + c[2],
+        h[3] * x + c[3],
+    ]
+}
+
+#[inline(always)]
+fn scaled(h: [f64; 4], k: f64) -> [f64; 4] {
+    [h[0] * k, h[1] * k, h[2] * k, h[3] * k]
+}
+
+/// `Σ c[i] x^i` for `i = 0..n` (Horner; `n ≥ 1`).
+#[inline(always)]
+fn poly(c: &[[f64; 4]], n: usize, x: f64) -> [f64; 4] {
+    let mut h = c[n - 1];
+    for i in (0..n - 1).rev() {
+        h = madd(h, x, c[i]);
+    }
+    h
+}
+
+/// `Σ k(k-1)…(k-d+1) c[k] x^(k-d)` for `k = d..n` (the `d`-th derivative of
+/// [`poly`]; `n > d`).
+#[inline(always)]
+fn poly_der(c: &[[f64; 4]], n: usize, d: usize, x: f64) -> [f64; 4] {
+    let f = |k: usize| (k + 1 - d..=k).product::<usize>() as f64;
+    let mut h = scaled(c[n - 1], f(n - 1));
+    for k in (d..n - 1).rev() {
+        h = madd(h, x, scaled(c[k], f(k)));
+    }
+    h
+}
+
+/// Homogeneous derivatives `[A, A_u, A_v, A_uu, A_uv, A_vv]` at `(Δu, Δv)`
+/// from a piece's centred coefficients `m` (layout of [`NurbsSurface`]'s
+/// `mono`). Inlined with constant degrees, the loops unroll completely.
+#[inline(always)]
+fn horner2(m: &[[f64; 4]], p: usize, q: usize, du: f64, dv: f64) -> [[f64; 4]; 6] {
+    // Rows along v: r0 = Σ_j M[i][j] Δv^j and its first two v derivatives.
+    let mut r0 = [[0.0; 4]; ORDER];
+    let mut r1 = [[0.0; 4]; ORDER];
+    let mut r2 = [[0.0; 4]; ORDER];
+    for i in 0..=p {
+        let row = &m[3 * q * i..3 * q * (i + 1)];
+        r0[i] = poly(&row[..=q], q + 1, dv);
+        r1[i] = poly(&row[q + 1..2 * q + 1], q, dv);
+        if q >= 2 {
+            r2[i] = poly(&row[2 * q + 1..3 * q], q - 1, dv);
+        }
+    }
+    let zero = [0.0; 4];
+    let a00 = poly(&r0, p + 1, du);
+    let a10 = poly_der(&r0, p + 1, 1, du);
+    let a20 = if p >= 2 {
+        poly_der(&r0, p + 1, 2, du)
+    } else {
+        zero
+    };
+    let a01 = poly(&r1, p + 1, du);
+    let a11 = poly_der(&r1, p + 1, 1, du);
+    let a02 = if q >= 2 { poly(&r2, p + 1, du) } else { zero };
+    [a00, a10, a01, a20, a11, a02]
+}
+
+/// [`horner2`] for any degrees (not inlined).
+fn horner_any(m: &[[f64; 4]], p: usize, q: usize, du: f64, dv: f64) -> [[f64; 4]; 6] {
+    horner2(m, p, q, du, dv)
 }
 
 /// Cartesian derivatives of a polynomial piece (weights 1: `a` holds them).
 #[inline(always)]
-fn polynomial(a: &[[[f64; 4]; 3]; 3]) -> Derivs {
+fn polynomial(a: &[[f64; 4]; 6]) -> Derivs {
     let v3 = |x: &[f64; 4]| Vec3::new(x[0], x[1], x[2]);
     Derivs {
-        s: v3(&a[0][0]),
-        su: v3(&a[1][0]),
-        sv: v3(&a[0][1]),
-        suu: v3(&a[2][0]),
-        suv: v3(&a[1][1]),
-        svv: v3(&a[0][2]),
+        s: v3(&a[0]),
+        su: v3(&a[1]),
+        sv: v3(&a[2]),
+        suu: v3(&a[3]),
+        suv: v3(&a[4]),
+        svv: v3(&a[5]),
     }
 }
 
-/// Cartesian derivatives from homogeneous ones (`a[k][l]`: order `k` in u,
-/// `l` in v), by the quotient rule (*The NURBS Book* A4.4).
+/// Cartesian derivatives from homogeneous ones (`[A, A_u, A_v, A_uu, A_uv,
+/// A_vv]`), by the quotient rule (*The NURBS Book* A4.4).
 #[inline(always)]
-fn rational(a: &[[[f64; 4]; 3]; 3]) -> Derivs {
+fn rational(a: &[[f64; 4]; 6]) -> Derivs {
     let v3 = |x: &[f64; 4]| Vec3::new(x[0], x[1], x[2]);
-    let w = a[0][0][3];
+    let w = a[0][3];
     let inv = 1.0 / w;
-    let (wu, wv) = (a[1][0][3], a[0][1][3]);
-    let (wuu, wuv, wvv) = (a[2][0][3], a[1][1][3], a[0][2][3]);
-    let s = v3(&a[0][0]) * inv;
-    let s_u = (v3(&a[1][0]) - s * wu) * inv;
-    let s_v = (v3(&a[0][1]) - s * wv) * inv;
-    let suu = (v3(&a[2][0]) - s_u * (2.0 * wu) - s * wuu) * inv;
-    let suv = (v3(&a[1][1]) - s_u * wv - s_v * wu - s * wuv) * inv;
-    let svv = (v3(&a[0][2]) - s_v * (2.0 * wv) - s * wvv) * inv;
+    let (wu, wv) = (a[1][3], a[2][3]);
+    let (wuu, wuv, wvv) = (a[3][3], a[4][3], a[5][3]);
+    let s = v3(&a[0]) * inv;
+    let s_u = (v3(&a[1]) - s * wu) * inv;
+    let s_v = (v3(&a[2]) - s * wv) * inv;
+    let suu = (v3(&a[3]) - s_u * (2.0 * wu) - s * wuu) * inv;
+    let suv = (v3(&a[4]) - s_u * wv - s_v * wu - s * wuv) * inv;
+    let svv = (v3(&a[5]) - s_v * (2.0 * wv) - s * wvv) * inv;
     Derivs {
         s,
         su: s_u,
@@ -647,30 +817,61 @@ mod extraction_tests {
         a
     }
 
-    /// Knot insertion to full multiplicity leaves the surface unchanged: a
-    /// cubic × quadratic with single, double and uneven interior knots, rational
-    /// and with unit weights (the polynomial pieces' path), evaluates (point,
-    /// first and second derivatives) like Cox–de Boor on the original net, to
-    /// rounding (1e-12 relative).
+    /// How the test net is built.
+    #[derive(Clone, Copy, PartialEq)]
+    enum Net {
+        /// Points on a plane at the Greville abscissae, unit weights: a linear
+        /// parametrisation, so every piece must be found affine.
+        Affine,
+        /// A wavy net with unit weights (the polynomial pieces' path).
+        Poly,
+        /// The wavy net with uneven weights.
+        Rational,
+    }
+
+    /// Knot insertion to full multiplicity and the centred polynomial form
+    /// leave the surface unchanged: patches of degrees 1–5 (every pair the
+    /// evaluator monomorphises, and others) with single, double and uneven
+    /// interior knots, flat-affine, polynomial and rational, evaluate (point,
+    /// first and second derivatives) like Cox–de Boor on the original net
+    /// (*The NURBS Book* A2.3 + A4.4), to rounding (1e-12 relative).
     #[test]
     fn bezier_extraction_matches_cox_de_boor_on_multi_span_patch() {
-        for rational in [true, false] {
-            extraction_case(rational);
+        for (p, q) in [(1, 1), (1, 2), (2, 1), (2, 2), (3, 2), (2, 3), (5, 4)] {
+            for net in [Net::Affine, Net::Poly, Net::Rational] {
+                extraction_case(p, q, net);
+            }
         }
     }
 
-    fn extraction_case(rational: bool) {
-        let (p, q) = (3, 2);
-        let knots_u = vec![0.0, 0.0, 0.0, 0.0, 0.2, 0.5, 0.5, 0.9, 1.0, 1.0, 1.0, 1.0];
-        let knots_v = vec![-1.0, -1.0, -1.0, 0.3, 2.0, 2.0, 2.0];
+    fn extraction_case(p: usize, q: usize, net: Net) {
+        let mut knots_u = vec![0.0; p + 1];
+        knots_u.push(0.2);
+        knots_u.extend(vec![0.5; p.min(2)]);
+        knots_u.push(0.9);
+        knots_u.extend(vec![1.0; p + 1]);
+        let mut knots_v = vec![-1.0; q + 1];
+        knots_v.push(0.3);
+        knots_v.extend(vec![2.0; q + 1]);
         let (nu, nv) = (knots_u.len() - p - 1, knots_v.len() - q - 1);
+        let greville =
+            |k: &[f64], d: usize, i: usize| k[i + 1..=i + d].iter().sum::<f64>() / d as f64;
         let mut points = Vec::new();
         let mut weights = Vec::new();
         for i in 0..nu {
             for j in 0..nv {
-                let (x, y) = (i as f64 * 10.0, j as f64 * 7.0);
-                points.push(Vec3::new(x, y, (0.3 * x).sin() * 4.0 + 0.05 * x * y));
-                weights.push(if rational {
+                if net == Net::Affine {
+                    let (a, b) = (greville(&knots_u, p, i), greville(&knots_v, q, j));
+                    points.push(Vec3::new(
+                        40.0 * a + 3.0 * b,
+                        7.0 * b,
+                        5.0 * a - 2.0 * b + 1.0,
+                    ));
+                } else {
+                    let (x, y) = (i as f64 * 10.0, j as f64 * 7.0);
+                    points.push(Vec3::new(x, y, (0.3 * x).sin() * 4.0 + 0.05 * x * y));
+                }
+                weights.push(if net == Net::Rational {
                     1.0 + 0.3 * ((i * 7 + j * 3) % 5) as f64 / 4.0
                 } else {
                     1.0
@@ -688,7 +889,12 @@ mod extraction_tests {
         };
         let s = NurbsSurface::new(0, &def).unwrap();
         assert_eq!((s.bu.len(), s.bv.len()), (5, 3));
-        assert_eq!(s.poly.iter().all(|&b| b), !rational);
+        let want = match net {
+            Net::Affine => Kind::Affine,
+            Net::Poly => Kind::Poly,
+            Net::Rational => Kind::Rational,
+        };
+        assert!(s.pieces.iter().all(|c| c.kind == want), "{p}×{q}");
         for a in 0..=23 {
             for b in 0..=17 {
                 let u = a as f64 / 23.0;
@@ -698,7 +904,7 @@ mod extraction_tests {
                 let x = Vec3::new(r[0][0][0], r[0][0][1], r[0][0][2]) / w;
                 let d = s.eval(u, v);
                 let scale = 1.0 + x.norm();
-                assert!((d.s - x).norm() < 1e-12 * scale, "u={u} v={v}");
+                assert!((d.s - x).norm() < 1e-12 * scale, "{p}×{q} u={u} v={v}");
                 // Homogeneous derivatives from the pieces, rebuilt from `d`.
                 let (wu, wv) = (r[1][0][3], r[0][1][3]);
                 let su = (Vec3::new(r[1][0][0], r[1][0][1], r[1][0][2]) - x * wu) / w;
@@ -725,7 +931,7 @@ mod extraction_tests {
                 ] {
                     assert!(
                         (got - want).norm() < 1e-11 * (1.0 + want.norm()) * scale,
-                        "u={u} v={v}: {got} vs {want}"
+                        "{p}×{q} u={u} v={v}: {got} vs {want}"
                     );
                 }
             }
