@@ -39,10 +39,12 @@
 
 use crate::error::ShellError;
 use crate::formulation::{
-    DEFAULT_DRILLING, ElementResult, ElementState, ShellFormulation, check_drilling,
-    drilling_penalty, integrate_section, local_velocities, new_thickness,
+    DEFAULT_DRILLING, ElementBlock, ElementResult, ElementState, SectionResult, ShellFormulation,
+    check_drilling, drilling_penalty, integrate_section, integrate_section_x4, lane_nodes,
+    local_velocities, new_thickness,
 };
-use crate::geometry::{Frame, H, V3, assumed_shear};
+use crate::geometry::{Frame, H, ShearB, V3, assumed_shear};
+use crate::lanes::{F4, Real};
 use crate::material::Material;
 use crate::section::Section;
 
@@ -100,18 +102,352 @@ impl ShellFormulation for BelytschkoTsay {
         dt: f64,
         st: ElementState<'_, M::History>,
     ) -> ElementResult {
+        let ElementState {
+            thickness,
+            stress,
+            history,
+            shear,
+            hourglass,
+            drilling,
+        } = st;
+        let rt = match self.rates(x, v, w, dt) {
+            Ok(rt) => rt,
+            Err(a) => {
+                return ElementResult {
+                    length: a,
+                    ..Default::default()
+                };
+            }
+        };
+        let hourglass = hourglass
+            .first_chunk_mut::<5>()
+            .expect("a shell set gives BT its 5 hourglass forces");
+        let sr = integrate_section(
+            mat,
+            &sec.rule,
+            *thickness,
+            rt.membrane,
+            rt.bending,
+            stress,
+            history,
+        );
+        self.forces(
+            &Moduli::of(mat, sec),
+            &rt,
+            sr,
+            dt,
+            Lanes {
+                thickness,
+                shear: &mut shear[0],
+                hourglass,
+                drilling,
+            },
+        )
+    }
+
+    #[inline]
+    fn compute_x4<M: Material>(
+        &self,
+        mat: &M,
+        sec: &Section,
+        x: &[[F4; 3]; 4],
+        v: &[[F4; 3]; 4],
+        w: &[[F4; 3]; 4],
+        dt: f64,
+        st: ElementBlock<'_, M::History>,
+        out: &mut [ElementResult; 4],
+    ) {
+        match sec.rule.n {
+            5 => self.lanes_dispatch::<M, 5>(mat, sec, x, v, w, dt, st, out),
+            3 => self.lanes_dispatch::<M, 3>(mat, sec, x, v, w, dt, st, out),
+            7 => self.lanes_dispatch::<M, 7>(mat, sec, x, v, w, dt, st, out),
+            _ => {
+                for_each_element(self, mat, sec, x, v, w, dt, st, out);
+            }
+        }
+    }
+}
+
+/// The material and section constants the kernel reads.
+struct Moduli {
+    /// Young's modulus E (MPa).
+    young: f64,
+    /// Shear modulus G (MPa).
+    shear: f64,
+    /// Transverse shear correction factor (-).
+    ks: f64,
+    /// Hourglass coefficient (-).
+    hourglass: f64,
+}
+
+impl Moduli {
+    #[inline(always)]
+    fn of<M: Material>(mat: &M, sec: &Section) -> Self {
+        Self {
+            young: mat.young(),
+            shear: mat.shear_modulus(),
+            ks: sec.shear_factor,
+            hourglass: sec.hourglass,
+        }
+    }
+}
+
+/// What the first half of the kernel hands the second (see
+/// [`BelytschkoTsay::rates`]).
+struct Rates<T: Real> {
+    fr: Frame<T>,
+    valid: T::Mask,
+    vl: [[T; 3]; 4],
+    wl: [[T; 3]; 4],
+    b1: [T; 4],
+    b2: [T; 4],
+    /// Twist of the warping correction (0 without it).
+    c: T,
+    sb: ShearB<T>,
+    gxz: T,
+    gyz: T,
+    /// Membrane strain increments `[Δε_xx, Δε_yy, Δγ_xy]` (-).
+    membrane: [T; 3],
+    /// Curvature increments `[Δκ_xx, Δκ_yy, 2Δκ_xy]` (1/mm).
+    bending: [T; 3],
+}
+
+/// The element state the kernel updates besides the section's points.
+struct Lanes<'a, T> {
+    thickness: &'a mut T,
+    shear: &'a mut [T; 2],
+    hourglass: &'a mut [T; 5],
+    drilling: &'a mut [T; 4],
+}
+
+/// Elements one after the other (the trait's default four-element path).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn for_each_element<M: Material>(
+    bt: &BelytschkoTsay,
+    mat: &M,
+    sec: &Section,
+    x: &[[F4; 3]; 4],
+    v: &[[F4; 3]; 4],
+    w: &[[F4; 3]; 4],
+    dt: f64,
+    st: ElementBlock<'_, M::History>,
+    out: &mut [ElementResult; 4],
+) {
+    let nsp = st.stress.len() / 4;
+    for (l, (((s, h), t), r)) in st
+        .stress
+        .chunks_mut(nsp)
+        .zip(st.history.chunks_mut(nsp))
+        .zip(st.thickness.iter_mut())
+        .zip(out.iter_mut())
+        .enumerate()
+    {
+        *r = bt.compute(
+            mat,
+            sec,
+            &lane_nodes(x, l),
+            &lane_nodes(v, l),
+            &lane_nodes(w, l),
+            dt,
+            ElementState {
+                thickness: t,
+                stress: s,
+                history: h,
+                shear: &mut st.shear[l..l + 1],
+                hourglass: &mut st.hourglass[5 * l..5 * l + 5],
+                drilling: &mut st.drilling[l],
+            },
+        );
+    }
+}
+
+impl BelytschkoTsay {
+    /// Four elements in SIMD lanes: with AVX2 where the processor has it
+    /// (checked once, cached by the standard library), else the same lane
+    /// code in baseline SSE2.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn lanes_dispatch<M: Material, const N: usize>(
+        &self,
+        mat: &M,
+        sec: &Section,
+        x: &[[F4; 3]; 4],
+        v: &[[F4; 3]; 4],
+        w: &[[F4; 3]; 4],
+        dt: f64,
+        st: ElementBlock<'_, M::History>,
+        out: &mut [ElementResult; 4],
+    ) {
+        if st.stress.len() != 4 * N || st.shear.len() != 4 || st.hourglass.len() != 20 {
+            return for_each_element(self, mat, sec, x, v, w, dt, st, out);
+        }
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2 (checked just above).
+            return unsafe { self.lanes_avx2::<M, N>(mat, sec, x, v, w, dt, st, out) };
+        }
+        self.lanes::<M, N>(mat, sec, x, v, w, dt, st, out)
+    }
+
+    /// [`Self::lanes`] compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[allow(clippy::too_many_arguments)]
+    #[target_feature(enable = "avx2")]
+    unsafe fn lanes_avx2<M: Material, const N: usize>(
+        &self,
+        mat: &M,
+        sec: &Section,
+        x: &[[F4; 3]; 4],
+        v: &[[F4; 3]; 4],
+        w: &[[F4; 3]; 4],
+        dt: f64,
+        st: ElementBlock<'_, M::History>,
+        out: &mut [ElementResult; 4],
+    ) {
+        self.lanes::<M, N>(mat, sec, x, v, w, dt, st, out)
+    }
+
+    /// Four elements with `N` points each through the kernel in lanes:
+    /// gather the block's state into lanes, run, and write back the lanes
+    /// of the elements that did not degenerate (a degenerate element keeps
+    /// its state, as in [`compute`](ShellFormulation::compute)).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn lanes<M: Material, const N: usize>(
+        &self,
+        mat: &M,
+        sec: &Section,
+        x: &[[F4; 3]; 4],
+        v: &[[F4; 3]; 4],
+        w: &[[F4; 3]; 4],
+        dt: f64,
+        st: ElementBlock<'_, M::History>,
+        out: &mut [ElementResult; 4],
+    ) {
+        let rt = match self.rates(x, v, w, dt) {
+            Ok(rt) => rt,
+            Err(a) => {
+                for l in 0..4 {
+                    out[l] = ElementResult {
+                        length: a.0[l],
+                        ..Default::default()
+                    };
+                }
+                return;
+            }
+        };
+        let ElementBlock {
+            thickness,
+            stress,
+            history,
+            shear,
+            hourglass,
+            drilling,
+        } = st;
+        let (Some(stress), Some(history)) = (
+            stress.as_chunks_mut::<N>().0.first_chunk_mut::<4>(),
+            history.as_chunks_mut::<N>().0.first_chunk_mut::<4>(),
+        ) else {
+            unreachable!("lanes_dispatch checked the block's sizes");
+        };
+        let mut s = [[F4::default(); 3]; N];
+        for k in 0..N {
+            for c in 0..3 {
+                s[k][c] = F4([
+                    stress[0][k][c],
+                    stress[1][k][c],
+                    stress[2][k][c],
+                    stress[3][k][c],
+                ]);
+            }
+        }
+        let mut t = F4(*thickness);
+        let mut sh = [F4::default(); 2];
+        for c in 0..2 {
+            sh[c] = F4([shear[0][c], shear[1][c], shear[2][c], shear[3][c]]);
+        }
+        let mut hg = [F4::default(); 5];
+        for k in 0..5 {
+            hg[k] = F4([
+                hourglass[k],
+                hourglass[5 + k],
+                hourglass[10 + k],
+                hourglass[15 + k],
+            ]);
+        }
+        let mut dr = [F4::default(); 4];
+        for i in 0..4 {
+            dr[i] = F4([
+                drilling[0][i],
+                drilling[1][i],
+                drilling[2][i],
+                drilling[3][i],
+            ]);
+        }
+        let all_valid = rt.valid.all();
+        let saved = if all_valid { None } else { Some(*history) };
+        let sr = integrate_section_x4(mat, &sec.rule, t, rt.membrane, rt.bending, &mut s, history);
+        let r = self.forces(
+            &Moduli::of(mat, sec),
+            &rt,
+            sr,
+            dt,
+            Lanes {
+                thickness: &mut t,
+                shear: &mut sh,
+                hourglass: &mut hg,
+                drilling: &mut dr,
+            },
+        );
+        for l in 0..4 {
+            if let Some(saved) = &saved
+                && !rt.valid.lane(l)
+            {
+                history[l] = saved[l];
+                out[l] = ElementResult {
+                    length: r.length.0[l],
+                    ..Default::default()
+                };
+                continue;
+            }
+            out[l] = r.lane(l);
+            for k in 0..N {
+                stress[l][k] = [s[k][0].0[l], s[k][1].0[l], s[k][2].0[l]];
+            }
+            thickness[l] = t.0[l];
+            shear[l] = [sh[0].0[l], sh[1].0[l]];
+            for k in 0..5 {
+                hourglass[5 * l + k] = hg[k].0[l];
+            }
+            drilling[l] = [dr[0].0[l], dr[1].0[l], dr[2].0[l], dr[3].0[l]];
+        }
+    }
+
+    /// First half of the element kernel over [`Real`] (one element, `f64`,
+    /// or four in lanes, `F4`): frame, local velocities and the rates;
+    /// `None` when every lane degenerated (area ≤ 0 or NaN). The caller
+    /// updates the section's points with `rates.membrane`, `rates.bending`
+    /// and hands the result to [`Self::forces`].
+    #[inline(always)]
+    fn rates<T: Real>(
+        &self,
+        x: &[[T; 3]; 4],
+        v: &[[T; 3]; 4],
+        w: &[[T; 3]; 4],
+        dt: f64,
+    ) -> Result<Rates<T>, T> {
         let fr = Frame::new(x);
         let a = fr.area;
-        if a.is_nan() || a <= 0.0 {
-            return ElementResult {
-                length: a,
-                ..Default::default()
-            };
+        let zero = T::splat(0.0);
+        let valid = a.gt(zero);
+        if !T::any(valid) {
+            return Err(a);
         }
         let (vl, wl) = local_velocities(&fr, v, w);
-        let (xl, yl) = (&fr.x, &fr.y);
         let (b1, b2) = fr.mean_b();
-        let (mut dxx, mut dyy, mut gxy, mut kxx, mut kyy, mut kxy) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut dxx, mut dyy, mut gxy, mut kxx, mut kyy, mut kxy) =
+            (zero, zero, zero, zero, zero, zero);
         for i in 0..4 {
             dxx += b1[i] * vl[i][0];
             dyy += b2[i] * vl[i][1];
@@ -123,102 +459,140 @@ impl ShellFormulation for BelytschkoTsay {
         let c = if self.warping_correction {
             fr.twist()
         } else {
-            0.0
+            zero
         };
-        kxx += 0.5 * c * gxy;
-        kyy += 0.5 * c * gxy;
+        kxx += c * 0.5 * gxy;
+        kyy += c * 0.5 * gxy;
         kxy += c * (dxx + dyy);
         // Transverse shear coefficients: [w, θx, θy] per node.
         let sb = if self.shear_projection {
             assumed_shear(&fr, 0.0, 0.0)
         } else {
-            crate::geometry::ShearB {
-                xz: [b1, [0.0; 4], [0.25; 4]],
-                yz: [b2, [-0.25; 4], [0.0; 4]],
+            ShearB {
+                xz: [b1, [zero; 4], [T::splat(0.25); 4]],
+                yz: [b2, [T::splat(-0.25); 4], [zero; 4]],
             }
         };
-        let (mut gxz, mut gyz) = (0.0, 0.0);
+        let (mut gxz, mut gyz) = (zero, zero);
         for i in 0..4 {
             gxz += sb.xz[0][i] * vl[i][2] + sb.xz[1][i] * wl[i][0] + sb.xz[2][i] * wl[i][1];
             gyz += sb.yz[0][i] * vl[i][2] + sb.yz[1][i] * wl[i][0] + sb.yz[2][i] * wl[i][1];
         }
 
-        // Stress update through the thickness.
+        Ok(Rates {
+            fr,
+            valid,
+            vl,
+            wl,
+            b1,
+            b2,
+            c,
+            sb,
+            gxz,
+            gyz,
+            membrane: [dxx * dt, dyy * dt, gxy * dt],
+            bending: [kxx * dt, kyy * dt, kxy * dt],
+        })
+    }
+
+    /// Second half of the element kernel: transverse shear, hourglass and
+    /// drilling updates, nodal forces and energies from the section result.
+    #[inline(always)]
+    fn forces<T: Real>(
+        &self,
+        md: &Moduli,
+        rt: &Rates<T>,
+        sr: SectionResult<T>,
+        dt: f64,
+        st: Lanes<'_, T>,
+    ) -> ElementResult<T> {
+        let Rates {
+            fr,
+            valid,
+            vl,
+            wl,
+            b1,
+            b2,
+            c,
+            sb,
+            gxz,
+            gyz,
+            ..
+        } = rt;
+        let (c, gxz, gyz) = (*c, *gxz, *gyz);
+        let a = fr.area;
+        let zero = T::splat(0.0);
+        let (xl, yl) = (&fr.x, &fr.y);
         let t = *st.thickness;
-        let sr = integrate_section(
-            mat,
-            &sec.rule,
-            t,
-            [dxx * dt, dyy * dt, gxy * dt],
-            [kxx * dt, kyy * dt, kxy * dt],
-            st.stress,
-            st.history,
-        );
-        let g = mat.shear_modulus();
-        let ks = sec.shear_factor;
-        let tau_old = st.shear[0];
+        let (g, ks) = (md.shear, md.ks);
+        let tau_old = *st.shear;
         let tau = [
-            tau_old[0] + ks * g * gxz * dt,
-            tau_old[1] + ks * g * gyz * dt,
+            tau_old[0] + gxz * (ks * g) * dt,
+            tau_old[1] + gyz * (ks * g) * dt,
         ];
-        st.shear[0] = tau;
+        *st.shear = tau;
         let shear_work = t * 0.5 * ((tau_old[0] + tau[0]) * gxz + (tau_old[1] + tau[1]) * gyz) * dt;
         let (nr, mr) = (sr.n, sr.m);
         let (qx, qy) = (t * tau[0], t * tau[1]);
 
         // Hourglass control.
-        let hx: f64 = (0..4).map(|i| H[i] * xl[i]).sum();
-        let hy: f64 = (0..4).map(|i| H[i] * yl[i]).sum();
-        let mut gam = [0.0; 4];
+        let (mut hx, mut hy) = (zero, zero);
         for i in 0..4 {
-            gam[i] = 0.5 * (H[i] - hx * b1[i] - hy * b2[i]);
+            hx += xl[i] * H[i];
+            hy += yl[i] * H[i];
         }
-        let mut q = [0.0; 5];
+        let mut gam = [zero; 4];
+        for i in 0..4 {
+            gam[i] = (T::splat(H[i]) - hx * b1[i] - hy * b2[i]) * 0.5;
+        }
+        let mut q = [zero; 5];
         for i in 0..4 {
             q[0] += gam[i] * vl[i][0];
             q[1] += gam[i] * vl[i][1];
             q[2] += gam[i] * wl[i][0];
             q[3] += gam[i] * wl[i][1];
-            q[4] += gam[i] * (vl[i][2] - 0.5 * (yl[i] * wl[i][0] - xl[i] * wl[i][1]));
+            q[4] += gam[i] * (vl[i][2] - (yl[i] * wl[i][0] - xl[i] * wl[i][1]) * 0.5);
         }
-        let bb: f64 = (0..4).map(|i| b1[i] * b1[i] + b2[i] * b2[i]).sum();
-        let r = sec.hourglass;
-        let e = mat.young();
-        let cm = r * e * t * a * bb / 8.0;
-        let ct = r * e * t * t * t * a * bb / 192.0;
-        let cw = r * ks * g * t * a * bb / 8.0;
+        let mut bb = zero;
+        for i in 0..4 {
+            bb += b1[i] * b1[i] + b2[i] * b2[i];
+        }
+        let (r, e) = (md.hourglass, md.young);
+        let cm = t * (r * e) * a * bb / 8.0;
+        let ct = t * (r * e) * t * t * a * bb / 192.0;
+        let cw = t * (r * ks * g) * a * bb / 8.0;
         let cs = [cm, cm, ct, ct, cw];
         let hg = st.hourglass;
-        let mut d_hg = 0.0;
-        let mut qf = [0.0; 5];
+        let mut d_hg = zero;
+        let mut qf = [zero; 5];
         for k in 0..5 {
             let old = hg[k];
             let new = old + cs[k] * q[k] * dt;
             hg[k] = new;
             qf[k] = new;
-            d_hg += 0.5 * (old + new) * q[k] * dt;
+            d_hg += (old + new) * 0.5 * q[k] * dt;
         }
 
         // Relative drilling penalty.
-        let (md, d_drill) = drilling_penalty(
-            0.25 * self.drilling * g * t * a,
-            &b1,
-            &b2,
-            &vl,
-            &wl,
+        let (md_sum, d_drill) = drilling_penalty(
+            t * (0.25 * self.drilling * g) * a,
+            b1,
+            b2,
+            vl,
+            wl,
             dt,
             st.drilling,
         );
-        let hmd = 0.5 * md;
+        let hmd = md_sum * 0.5;
 
         // Nodal forces (local, internal), then global forces on the nodes.
-        let msum = 0.5 * (mr[0] + mr[1]);
+        let msum = (mr[0] + mr[1]) * 0.5;
         let mut out = ElementResult {
             d_internal: a * (sr.work + shear_work) + d_drill,
             d_drilling: d_drill,
             d_hourglass: d_hg,
             d_plastic: a * sr.dissipation,
-            length: fr.char_length(),
+            length: T::select(*valid, fr.char_length(), a),
             ..Default::default()
         };
         for i in 0..4 {
@@ -230,9 +604,9 @@ impl ShellFormulation for BelytschkoTsay {
                 - hmd * b1[i];
             let fz = a * (qx * sb.xz[0][i] + qy * sb.yz[0][i]) + gam[i] * qf[4];
             let mx = a * (-mr[1] * b2[i] - mr[2] * b1[i] + qx * sb.xz[1][i] + qy * sb.yz[1][i])
-                + gam[i] * (qf[2] - 0.5 * yl[i] * qf[4]);
+                + gam[i] * (qf[2] - yl[i] * 0.5 * qf[4]);
             let my = a * (mr[0] * b1[i] + mr[2] * b2[i] + qx * sb.xz[2][i] + qy * sb.yz[2][i])
-                + gam[i] * (qf[3] + 0.5 * xl[i] * qf[4]);
+                + gam[i] * (qf[3] + xl[i] * 0.5 * qf[4]);
             let fg = fr.global([fx, fy, fz]);
             let mg = fr.global([mx, my, st.drilling[i]]);
             out.f[i] = [-fg[0], -fg[1], -fg[2]];

@@ -2,7 +2,8 @@
 
 use crate::error::{ShellError, check};
 use crate::geometry::{Frame, V3};
-use crate::material::Material;
+use crate::lanes::{F4, Real};
+use crate::material::{Material, PointUpdate};
 use crate::section::{Section, ThroughThickness};
 
 /// Default drilling coefficient γ (-) of both formulations: the relative
@@ -42,25 +43,60 @@ pub struct ElementState<'a, H> {
     pub drilling: &'a mut [f64; 4],
 }
 
-/// What one element's kernel produces in one step.
+/// What one element's kernel produces in one step (of four elements in
+/// lanes with `T = F4`).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ElementResult {
+pub struct ElementResult<T = f64> {
     /// Forces on the element's nodes (N), global frame (= −f_int).
-    pub f: [V3; 4],
+    pub f: [[T; 3]; 4],
     /// Moments on the element's nodes (N·mm), global frame.
-    pub m: [V3; 4],
+    pub m: [[T; 3]; 4],
     /// Internal work increment (mJ): stresses and the drilling penalty,
     /// hourglass excluded.
-    pub d_internal: f64,
+    pub d_internal: T,
     /// The drilling penalty's share of `d_internal` (mJ).
-    pub d_drilling: f64,
+    pub d_drilling: T,
     /// Hourglass work increment (mJ).
-    pub d_hourglass: f64,
+    pub d_hourglass: T,
     /// Plastic dissipation increment (mJ).
-    pub d_plastic: f64,
+    pub d_plastic: T,
     /// Characteristic length for the stable time step (mm); ≤ 0 or NaN
     /// when the element degenerated.
-    pub length: f64,
+    pub length: T,
+}
+
+impl ElementResult<F4> {
+    /// The result of the element in lane `l`.
+    #[inline(always)]
+    pub fn lane(&self, l: usize) -> ElementResult {
+        ElementResult {
+            f: lane_nodes(&self.f, l),
+            m: lane_nodes(&self.m, l),
+            d_internal: self.d_internal.0[l],
+            d_drilling: self.d_drilling.0[l],
+            d_hourglass: self.d_hourglass.0[l],
+            d_plastic: self.d_plastic.0[l],
+            length: self.length.0[l],
+        }
+    }
+}
+
+/// The state of four consecutive elements, borrowed from the shell set's
+/// arrays for a four-lane kernel (same layouts as [`ElementState`], the
+/// four elements one after the other).
+pub struct ElementBlock<'a, H> {
+    /// Current thicknesses (mm).
+    pub thickness: &'a mut [f64; 4],
+    /// Stresses, `4 × IN_PLANE_POINTS × n` entries.
+    pub stress: &'a mut [[f64; 3]],
+    /// Material histories, as `stress`.
+    pub history: &'a mut [H],
+    /// Transverse shear stresses, `4 × IN_PLANE_POINTS` entries.
+    pub shear: &'a mut [[f64; 2]],
+    /// Hourglass generalised forces, `4 × HOURGLASS_VARS` entries.
+    pub hourglass: &'a mut [f64],
+    /// Drilling moments (N·mm) of each element's four nodes.
+    pub drilling: &'a mut [[f64; 4]; 4],
 }
 
 /// An element formulation: what a shell set runs for each of its quads.
@@ -94,21 +130,81 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
         dt: f64,
         st: ElementState<'_, M::History>,
     ) -> ElementResult;
+
+    /// Four consecutive elements at once (`x[i][c]`: component `c` of node
+    /// `i`, element `l` in lane `l`; likewise `v`, `w`), results into `out`. By default one after the other
+    /// through [`compute`](Self::compute); a formulation that overrides it
+    /// must give each element the same bits as `compute`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn compute_x4<M: Material>(
+        &self,
+        mat: &M,
+        sec: &Section,
+        x: &[[F4; 3]; 4],
+        v: &[[F4; 3]; 4],
+        w: &[[F4; 3]; 4],
+        dt: f64,
+        st: ElementBlock<'_, M::History>,
+        out: &mut [ElementResult; 4],
+    ) {
+        let nsp = st.stress.len() / 4;
+        let ip = st.shear.len() / 4;
+        let nhg = st.hourglass.len() / 4;
+        for (l, ((((((t, s), h), sh), hg), dr), r)) in st
+            .thickness
+            .iter_mut()
+            .zip(st.stress.chunks_mut(nsp))
+            .zip(st.history.chunks_mut(nsp))
+            .zip(st.shear.chunks_mut(ip))
+            .zip(st.hourglass.chunks_mut(nhg))
+            .zip(st.drilling.iter_mut())
+            .zip(out.iter_mut())
+            .enumerate()
+        {
+            *r = self.compute(
+                mat,
+                sec,
+                &lane_nodes(x, l),
+                &lane_nodes(v, l),
+                &lane_nodes(w, l),
+                dt,
+                ElementState {
+                    thickness: t,
+                    stress: s,
+                    history: h,
+                    shear: sh,
+                    hourglass: &mut hg[..Self::HOURGLASS_VARS],
+                    drilling: dr,
+                },
+            );
+        }
+    }
+}
+
+/// Element `l`'s nodes out of a four-lane block.
+#[inline(always)]
+pub(crate) fn lane_nodes(a: &[[F4; 3]; 4], l: usize) -> [V3; 4] {
+    let mut o = [[0.0; 3]; 4];
+    for i in 0..4 {
+        o[i] = [a[i][0].0[l], a[i][1].0[l], a[i][2].0[l]];
+    }
+    o
 }
 
 /// Stress resultants and energy of one through-thickness integration.
 #[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct SectionResult {
+pub(crate) struct SectionResult<T = f64> {
     /// Membrane forces N (N/mm), `[xx, yy, xy]`.
-    pub n: [f64; 3],
+    pub n: [T; 3],
     /// Moments M (N·mm/mm), `[xx, yy, xy]`.
-    pub m: [f64; 3],
+    pub m: [T; 3],
     /// Stress work per unit area (mJ/mm²), trapezoidal in time.
-    pub work: f64,
+    pub work: T,
     /// Plastic dissipation per unit area (mJ/mm²).
-    pub dissipation: f64,
+    pub dissipation: T,
     /// Thickness strain increment, averaged through the thickness (-).
-    pub deps_zz: f64,
+    pub deps_zz: T,
 }
 
 /// Update every point of one section for the membrane strain increment `de`
@@ -150,22 +246,69 @@ fn integrate_points<M: Material, const N: usize>(
     ) else {
         return integrate_n(mat, rule, N, t, de, dk, stress, history);
     };
-    let h = 0.5 * t;
-    let mut z = [0.0; N];
-    let mut d = [[0.0; 3]; N];
+    let (h, z, d) = section_increments(rule, t, de, dk);
+    let old = *stress;
+    let u = mat.update_points(stress, history, &d);
+    section_sums(rule, h, &z, &d, &old, stress, &u)
+}
+
+/// [`integrate_section`] for four elements in lanes, `N` points each
+/// (`history[l]`: element `l`'s points).
+#[inline(always)]
+pub(crate) fn integrate_section_x4<M: Material, const N: usize>(
+    mat: &M,
+    rule: &ThroughThickness,
+    t: F4,
+    de: [F4; 3],
+    dk: [F4; 3],
+    stress: &mut [[F4; 3]; N],
+    history: &mut [[M::History; N]; 4],
+) -> SectionResult<F4> {
+    let (h, z, d) = section_increments(rule, t, de, dk);
+    let old = *stress;
+    let u = mat.update_points_x4(stress, history, &d);
+    section_sums(rule, h, &z, &d, &old, stress, &u)
+}
+
+/// Half thickness, point heights and strain increments `Δε(z) = de + z dk`
+/// of `N` points (one element or four in lanes).
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+pub(crate) fn section_increments<T: Real, const N: usize>(
+    rule: &ThroughThickness,
+    t: T,
+    de: [T; 3],
+    dk: [T; 3],
+) -> (T, [T; N], [[T; 3]; N]) {
+    let h = t * 0.5;
+    let mut z = [T::default(); N];
+    let mut d = [[T::default(); 3]; N];
     for k in 0..N {
-        z[k] = rule.zeta[k] * h;
+        z[k] = h * rule.zeta[k];
         d[k] = [
             de[0] + z[k] * dk[0],
             de[1] + z[k] * dk[1],
             de[2] + z[k] * dk[2],
         ];
     }
-    let old = *stress;
-    let u = mat.update_points(stress, history, &d);
-    let mut r = SectionResult::default();
+    (h, z, d)
+}
+
+/// The section sums of [`integrate_section`] after the points' update from
+/// `old` to `stress` (one element or four in lanes).
+#[inline(always)]
+pub(crate) fn section_sums<T: Real, const N: usize>(
+    rule: &ThroughThickness,
+    h: T,
+    z: &[T; N],
+    d: &[[T; 3]; N],
+    old: &[[T; 3]; N],
+    stress: &[[T; 3]; N],
+    u: &[PointUpdate<T>; N],
+) -> SectionResult<T> {
+    let mut r = SectionResult::<T>::default();
     for k in 0..N {
-        let wk = rule.weight[k] * h;
+        let wk = h * rule.weight[k];
         let (s, o, d) = (stress[k], old[k], d[k]);
         r.n[0] += wk * s[0];
         r.n[1] += wk * s[1];
@@ -175,9 +318,9 @@ fn integrate_points<M: Material, const N: usize>(
         r.m[2] += wk * z[k] * s[2];
         r.work += wk * 0.5 * ((o[0] + s[0]) * d[0] + (o[1] + s[1]) * d[1] + (o[2] + s[2]) * d[2]);
         r.dissipation += wk * u[k].dissipation;
-        r.deps_zz += rule.weight[k] * u[k].deps_zz;
+        r.deps_zz += u[k].deps_zz * rule.weight[k];
     }
-    r.deps_zz *= 0.5;
+    r.deps_zz = r.deps_zz * 0.5;
     r
 }
 
@@ -223,9 +366,13 @@ fn integrate_n<M: Material>(
 
 /// Local velocities of the nodes, `(v̂, ω̂)`.
 #[inline(always)]
-pub(crate) fn local_velocities(fr: &Frame, v: &[V3; 4], w: &[V3; 4]) -> ([V3; 4], [V3; 4]) {
-    let mut vl = [[0.0; 3]; 4];
-    let mut wl = [[0.0; 3]; 4];
+pub(crate) fn local_velocities<T: Real>(
+    fr: &Frame<T>,
+    v: &[[T; 3]; 4],
+    w: &[[T; 3]; 4],
+) -> ([[T; 3]; 4], [[T; 3]; 4]) {
+    let mut vl = [[T::default(); 3]; 4];
+    let mut wl = [[T::default(); 3]; 4];
     for i in 0..4 {
         vl[i] = fr.local(v[i]);
         wl[i] = fr.local(w[i]);
@@ -246,22 +393,22 @@ pub(crate) fn local_velocities(fr: &Frame, v: &[V3; 4], w: &[V3; 4]) -> ([V3; 4]
 /// `(½ M B2_J, −½ M B1_J)`, `M = Σ m_I`, which the caller adds.
 /// Returns `(M, work increment)`, the work trapezoidal in time (mJ).
 #[inline(always)]
-pub(crate) fn drilling_penalty(
-    k: f64,
-    b1: &[f64; 4],
-    b2: &[f64; 4],
-    vl: &[V3; 4],
-    wl: &[V3; 4],
+pub(crate) fn drilling_penalty<T: Real>(
+    k: T,
+    b1: &[T; 4],
+    b2: &[T; 4],
+    vl: &[[T; 3]; 4],
+    wl: &[[T; 3]; 4],
     dt: f64,
-    m: &mut [f64; 4],
-) -> (f64, f64) {
-    let mut spin = 0.0;
+    m: &mut [T; 4],
+) -> (T, T) {
+    let mut spin = T::splat(0.0);
     for i in 0..4 {
         spin += b1[i] * vl[i][1] - b2[i] * vl[i][0];
     }
-    spin *= 0.5;
+    spin = spin * 0.5;
     let kdt = k * dt;
-    let (mut sum, mut work) = (0.0, 0.0);
+    let (mut sum, mut work) = (T::splat(0.0), T::splat(0.0));
     for i in 0..4 {
         let rate = wl[i][2] - spin;
         let old = m[i];
@@ -270,13 +417,13 @@ pub(crate) fn drilling_penalty(
         sum += new;
         work += (old + new) * rate;
     }
-    (sum, 0.5 * work * dt)
+    (sum, work * 0.5 * dt)
 }
 
 /// Thickness after a thickness-strain increment (second-order exponential).
 #[inline(always)]
-pub(crate) fn new_thickness(t: f64, dzz: f64) -> f64 {
-    t * (1.0 + dzz + 0.5 * dzz * dzz)
+pub(crate) fn new_thickness<T: Real>(t: T, dzz: T) -> T {
+    t * (dzz + 1.0 + dzz * 0.5 * dzz)
 }
 
 #[cfg(test)]

@@ -5,20 +5,25 @@
 //! `e1` bisects the directions of sides 1→2 and 4→3, so the frame spins with
 //! the element (co-rotational) and is independent of the node at which one
 //! starts. Coordinates are relative to the node average.
+//!
+//! Written over [`Real`], so that the same code serves one element (`f64`)
+//! and four in SIMD lanes (`F4`), bit for bit alike.
+
+use crate::lanes::Real;
 
 /// A 3-vector as a plain array (the kernels avoid generic matrix types).
 pub type V3 = [f64; 3];
 
 #[inline(always)]
-pub(crate) fn sub(a: V3, b: V3) -> V3 {
+pub(crate) fn sub<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 #[inline(always)]
-pub(crate) fn dot(a: V3, b: V3) -> f64 {
+pub(crate) fn dot<T: Real>(a: [T; 3], b: [T; 3]) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 #[inline(always)]
-pub(crate) fn cross(a: V3, b: V3) -> V3 {
+pub(crate) fn cross<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -33,27 +38,28 @@ pub(crate) const ETA: [f64; 4] = [-1.0, -1.0, 1.0, 1.0];
 /// Hourglass base vector h = (1, −1, 1, −1).
 pub(crate) const H: [f64; 4] = [1.0, -1.0, 1.0, -1.0];
 
-/// The co-rotational frame of a quad and its nodes' local coordinates.
+/// The co-rotational frame of a quad and its nodes' local coordinates
+/// (of one element, `T = f64`, or of four in lanes, `T = F4`).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Frame {
+pub(crate) struct Frame<T: Real = f64> {
     /// Rows: e1, e2, e3.
-    pub r: [V3; 3],
+    pub r: [[T; 3]; 3],
     /// Local in-plane coordinates and heights (warping) of the nodes.
-    pub x: [f64; 4],
-    pub y: [f64; 4],
-    pub z: [f64; 4],
+    pub x: [T; 4],
+    pub y: [T; 4],
+    pub z: [T; 4],
     /// Projected area (mm²); ≤ 0 signals a degenerate or inverted element.
-    pub area: f64,
+    pub area: T,
 }
 
-impl Frame {
+impl<T: Real> Frame<T> {
     #[inline(always)]
-    pub fn new(p: &[V3; 4]) -> Frame {
+    pub fn new(p: &[[T; 3]; 4]) -> Frame<T> {
         let d13 = sub(p[2], p[0]);
         let d24 = sub(p[3], p[1]);
         let n = cross(d13, d24);
         let nn = dot(n, n).sqrt();
-        let inn = 1.0 / nn;
+        let inn = T::splat(1.0) / nn;
         let e3 = [n[0] * inn, n[1] * inn, n[2] * inn];
         let s = [
             p[1][0] - p[0][0] + p[2][0] - p[3][0],
@@ -63,42 +69,42 @@ impl Frame {
         let sn = dot(s, e3);
         let s = [s[0] - sn * e3[0], s[1] - sn * e3[1], s[2] - sn * e3[2]];
         let sl = dot(s, s).sqrt();
-        let isl = 1.0 / sl;
+        let isl = T::splat(1.0) / sl;
         let e1 = [s[0] * isl, s[1] * isl, s[2] * isl];
         let e2 = cross(e3, e1);
         let c = [
-            0.25 * (p[0][0] + p[1][0] + p[2][0] + p[3][0]),
-            0.25 * (p[0][1] + p[1][1] + p[2][1] + p[3][1]),
-            0.25 * (p[0][2] + p[1][2] + p[2][2] + p[3][2]),
+            (p[0][0] + p[1][0] + p[2][0] + p[3][0]) * 0.25,
+            (p[0][1] + p[1][1] + p[2][1] + p[3][1]) * 0.25,
+            (p[0][2] + p[1][2] + p[2][2] + p[3][2]) * 0.25,
         ];
-        let mut x = [0.0; 4];
-        let mut y = [0.0; 4];
-        let mut z = [0.0; 4];
+        let mut x = [T::default(); 4];
+        let mut y = [T::default(); 4];
+        let mut z = [T::default(); 4];
         for i in 0..4 {
             let d = sub(p[i], c);
             x[i] = dot(e1, d);
             y[i] = dot(e2, d);
             z[i] = dot(e3, d);
         }
-        let area = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) - (x[3] - x[1]) * (y[2] - y[0]));
+        let area = ((x[2] - x[0]) * (y[3] - y[1]) - (x[3] - x[1]) * (y[2] - y[0])) * 0.5;
         Frame {
             r: [e1, e2, e3],
             x,
             y,
             z,
-            area: if area.is_finite() { area } else { -1.0 },
+            area: T::select(area.is_finite(), area, T::splat(-1.0)),
         }
     }
 
     /// A global vector in local components.
     #[inline(always)]
-    pub fn local(&self, v: V3) -> V3 {
+    pub fn local(&self, v: [T; 3]) -> [T; 3] {
         [dot(self.r[0], v), dot(self.r[1], v), dot(self.r[2], v)]
     }
 
     /// A local vector in global components.
     #[inline(always)]
-    pub fn global(&self, v: V3) -> V3 {
+    pub fn global(&self, v: [T; 3]) -> [T; 3] {
         let r = &self.r;
         [
             r[0][0] * v[0] + r[1][0] * v[1] + r[2][0] * v[2],
@@ -111,9 +117,9 @@ impl Frame {
     /// element, `(1/A) ∫ ∂N/∂x dA` (Flanagan & Belytschko 1981): exact for
     /// linear fields on any quad.
     #[inline(always)]
-    pub fn mean_b(&self) -> ([f64; 4], [f64; 4]) {
+    pub fn mean_b(&self) -> ([T; 4], [T; 4]) {
         let (xl, yl) = (&self.x, &self.y);
-        let i2a = 0.5 / self.area;
+        let i2a = T::splat(0.5) / self.area;
         (
             [
                 i2a * (yl[1] - yl[3]),
@@ -132,8 +138,8 @@ impl Frame {
 
     /// Characteristic length for the time step: area / longest side (mm).
     #[inline(always)]
-    pub fn char_length(&self) -> f64 {
-        let mut m: f64 = 0.0;
+    pub fn char_length(&self) -> T {
+        let mut m = T::splat(0.0);
         for i in 0..4 {
             let j = (i + 1) & 3;
             let dx = self.x[j] - self.x[i];
@@ -146,10 +152,12 @@ impl Frame {
     /// Twist of the warped mid-surface, c = Σ h_I z_I / A (1/mm): exact
     /// `∂²z/∂x∂y` for a rectangle whose nodes lie on z = c x y.
     #[inline(always)]
-    pub fn twist(&self) -> f64 {
+    pub fn twist(&self) -> T {
         (self.z[0] - self.z[1] + self.z[2] - self.z[3]) / self.area
     }
+}
 
+impl Frame<f64> {
     /// Smallest corner cross product over the element's mean size squared,
     /// < 0 for an inverted or non-convex corner (set-up check).
     pub fn corner_quality(&self) -> (usize, f64) {
@@ -202,13 +210,13 @@ pub(crate) fn b_matrix(f: &Frame, xi: f64, eta: f64) -> ([f64; 4], [f64; 4], f64
 /// ξ = ±1 — with `γ_ξz = ∂w/∂ξ + x,ξ θy − y,ξ θx` on each edge, interpolated
 /// linearly across, and mapped to Cartesian with the Jacobian at (ξ, η).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct ShearB {
-    pub xz: [[f64; 4]; 3],
-    pub yz: [[f64; 4]; 3],
+pub(crate) struct ShearB<T: Real = f64> {
+    pub xz: [[T; 4]; 3],
+    pub yz: [[T; 4]; 3],
 }
 
 #[inline(always)]
-pub(crate) fn assumed_shear(f: &Frame, xi: f64, eta: f64) -> ShearB {
+pub(crate) fn assumed_shear<T: Real>(f: &Frame<T>, xi: f64, eta: f64) -> ShearB<T> {
     let (x, y) = (&f.x, &f.y);
     // Edge vectors (half-lengths enter as ½ below).
     let (x12, y12) = (x[1] - x[0], y[1] - y[0]); // η = −1
@@ -222,47 +230,48 @@ pub(crate) fn assumed_shear(f: &Frame, xi: f64, eta: f64) -> ShearB {
     // γ_ξz = wm γ^C + wp γ^A; γ^C = ½(w2−w1) + ½x12·½(θy1+θy2) − ½y12·½(θx1+θx2).
     let gxi_w = [-0.5 * wm, 0.5 * wm, 0.5 * wp, -0.5 * wp];
     let gxi_ty = [
-        0.25 * wm * x12,
-        0.25 * wm * x12,
-        0.25 * wp * x43,
-        0.25 * wp * x43,
+        x12 * (0.25 * wm),
+        x12 * (0.25 * wm),
+        x43 * (0.25 * wp),
+        x43 * (0.25 * wp),
     ];
     let gxi_tx = [
-        -0.25 * wm * y12,
-        -0.25 * wm * y12,
-        -0.25 * wp * y43,
-        -0.25 * wp * y43,
+        y12 * (-0.25 * wm),
+        y12 * (-0.25 * wm),
+        y43 * (-0.25 * wp),
+        y43 * (-0.25 * wp),
     ];
     // γ_ηz = vm γ^B + vp γ^D; γ^B = ½(w4−w1) + ½x14·½(θy1+θy4) − …
     let get_w = [-0.5 * vm, -0.5 * vp, 0.5 * vp, 0.5 * vm];
     let get_ty = [
-        0.25 * vm * x14,
-        0.25 * vp * x23,
-        0.25 * vp * x23,
-        0.25 * vm * x14,
+        x14 * (0.25 * vm),
+        x23 * (0.25 * vp),
+        x23 * (0.25 * vp),
+        x14 * (0.25 * vm),
     ];
     let get_tx = [
-        -0.25 * vm * y14,
-        -0.25 * vp * y23,
-        -0.25 * vp * y23,
-        -0.25 * vm * y14,
+        y14 * (-0.25 * vm),
+        y23 * (-0.25 * vp),
+        y23 * (-0.25 * vp),
+        y14 * (-0.25 * vm),
     ];
     // Jacobian at (ξ, η).
-    let (mut x_xi, mut x_eta, mut y_xi, mut y_eta) = (0.0, 0.0, 0.0, 0.0);
+    let zero = T::splat(0.0);
+    let (mut x_xi, mut x_eta, mut y_xi, mut y_eta) = (zero, zero, zero, zero);
     for i in 0..4 {
         let nxi = 0.25 * XI[i] * (1.0 + ETA[i] * eta);
         let neta = 0.25 * ETA[i] * (1.0 + XI[i] * xi);
-        x_xi += nxi * x[i];
-        x_eta += neta * x[i];
-        y_xi += nxi * y[i];
-        y_eta += neta * y[i];
+        x_xi += x[i] * nxi;
+        x_eta += x[i] * neta;
+        y_xi += y[i] * nxi;
+        y_eta += y[i] * neta;
     }
-    let inv = 1.0 / (x_xi * y_eta - x_eta * y_xi);
+    let inv = T::splat(1.0) / (x_xi * y_eta - x_eta * y_xi);
     // [γx; γy] = J⁻¹ [γξ; γη], J = [[x,ξ, y,ξ], [x,η, y,η]].
     let (a, b, c, d) = (inv * y_eta, -inv * y_xi, -inv * x_eta, inv * x_xi);
     let mut s = ShearB {
-        xz: [[0.0; 4]; 3],
-        yz: [[0.0; 4]; 3],
+        xz: [[zero; 4]; 3],
+        yz: [[zero; 4]; 3],
     };
     for i in 0..4 {
         s.xz[0][i] = a * gxi_w[i] + b * get_w[i];

@@ -12,8 +12,9 @@ use fem_core::{Effect, EnergyTally, FemError, Forces, Mesh, NodalState, StableDt
 use rayon::prelude::*;
 
 use crate::error::ShellError;
-use crate::formulation::{ElementResult, ElementState, ShellFormulation};
+use crate::formulation::{ElementBlock, ElementResult, ElementState, ShellFormulation};
 use crate::geometry::{Frame, V3};
+use crate::lanes::F4;
 use crate::material::Material;
 use crate::outputs::{LogStrain, ShellElementOutput, log_membrane_strain};
 use crate::section::Section;
@@ -441,34 +442,94 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                 },
             );
         };
+        // Blocks of four consecutive elements go through the formulation's
+        // four-element kernel (SIMD lanes for BT), the rest one by one.
+        let block = |q: &[[u32; 4]; 4],
+                     t: &mut [f64; 4],
+                     s: &mut [[f64; 3]],
+                     h: &mut [M::History],
+                     sh: &mut [[f64; 2]],
+                     hg: &mut [f64],
+                     dr: &mut [[f64; 4]; 4],
+                     r: &mut [ElementResult; 4]| {
+            // Node i, component c, lane l = element l of the block.
+            let mut x = [[F4::default(); 3]; 4];
+            let mut v = x;
+            let mut w = x;
+            for l in 0..4 {
+                for i in 0..4 {
+                    let n = q[l][i] as usize;
+                    let (p, u, o) = (&xs[n], &vs[n], &ws[n]);
+                    (x[i][0].0[l], x[i][1].0[l], x[i][2].0[l]) = (p.x, p.y, p.z);
+                    (v[i][0].0[l], v[i][1].0[l], v[i][2].0[l]) = (u.x, u.y, u.z);
+                    (w[i][0].0[l], w[i][1].0[l], w[i][2].0[l]) = (o.x, o.y, o.z);
+                }
+            }
+            form.compute_x4(
+                mat,
+                sec,
+                &x,
+                &v,
+                &w,
+                dt,
+                ElementBlock {
+                    thickness: t,
+                    stress: s,
+                    history: h,
+                    shear: sh,
+                    hourglass: hg,
+                    drilling: dr,
+                },
+                r,
+            );
+        };
+        let nb = self.conn.len() / 4;
+        let (conn_b, conn_r) = self.conn.as_chunks::<4>();
+        let (t_b, t_r) = self.thickness.as_chunks_mut::<4>();
+        let (dr_b, dr_r) = self.drilling.as_chunks_mut::<4>();
+        let (res_b, res_r) = self.results.as_chunks_mut::<4>();
+        let (s_b, s_r) = self.stress.split_at_mut(4 * nb * nsp);
+        let (h_b, h_r) = self.history.split_at_mut(4 * nb * nsp);
+        let (sh_b, sh_r) = self.shear.split_at_mut(4 * nb * ip);
+        let (hg_b, hg_r) = self.hourglass.split_at_mut(4 * nb * nhg);
         if self.conn.len() >= self.parallel_min {
-            self.conn
+            conn_b
                 .par_iter()
-                .zip(self.thickness.par_iter_mut())
-                .zip(self.stress.par_chunks_mut(nsp))
-                .zip(self.history.par_chunks_mut(nsp))
-                .zip(self.shear.par_chunks_mut(ip))
-                .zip(self.hourglass.par_chunks_mut(nhg))
-                .zip(self.drilling.par_iter_mut())
-                .zip(self.results.par_iter_mut())
-                .with_min_len(128)
+                .zip(t_b.par_iter_mut())
+                .zip(s_b.par_chunks_mut(4 * nsp))
+                .zip(h_b.par_chunks_mut(4 * nsp))
+                .zip(sh_b.par_chunks_mut(4 * ip))
+                .zip(hg_b.par_chunks_mut(4 * nhg))
+                .zip(dr_b.par_iter_mut())
+                .zip(res_b.par_iter_mut())
+                .with_min_len(32)
                 .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| {
-                    kernel(q, t, s, h, sh, hg, dr, r)
+                    block(q, t, s, h, sh, hg, dr, r)
                 });
         } else {
-            self.conn
+            conn_b
                 .iter()
-                .zip(self.thickness.iter_mut())
-                .zip(self.stress.chunks_mut(nsp))
-                .zip(self.history.chunks_mut(nsp))
-                .zip(self.shear.chunks_mut(ip))
-                .zip(self.hourglass.chunks_mut(nhg))
-                .zip(self.drilling.iter_mut())
-                .zip(self.results.iter_mut())
+                .zip(t_b.iter_mut())
+                .zip(s_b.chunks_mut(4 * nsp))
+                .zip(h_b.chunks_mut(4 * nsp))
+                .zip(sh_b.chunks_mut(4 * ip))
+                .zip(hg_b.chunks_mut(4 * nhg))
+                .zip(dr_b.iter_mut())
+                .zip(res_b.iter_mut())
                 .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| {
-                    kernel(q, t, s, h, sh, hg, dr, r)
+                    block(q, t, s, h, sh, hg, dr, r)
                 });
         }
+        conn_r
+            .iter()
+            .zip(t_r.iter_mut())
+            .zip(s_r.chunks_mut(nsp))
+            .zip(h_r.chunks_mut(nsp))
+            .zip(sh_r.chunks_mut(ip))
+            .zip(hg_r.chunks_mut(nhg))
+            .zip(dr_r.iter_mut())
+            .zip(res_r.iter_mut())
+            .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| kernel(q, t, s, h, sh, hg, dr, r));
         // Serial scatter, energies and the stable time step.
         let mut best = StableDt {
             dt: f64::INFINITY,

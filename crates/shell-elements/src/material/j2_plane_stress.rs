@@ -19,8 +19,9 @@
 //! σ_zz = 0 holds by construction; the thickness strain increment is
 //! `Δε_zz = −ν/(1−ν)(Δε_xx + Δε_yy − Δε^p_xx − Δε^p_yy) − (Δε^p_xx + Δε^p_yy)`.
 
-use super::{Hardening, Material, PointUpdate, von_mises};
+use super::{Hardening, Material, PointUpdate, update_points_by_lane, von_mises};
 use crate::error::{ShellError, check};
+use crate::lanes::{F4, M4, Real};
 
 /// Isotropic plane-stress J2 plasticity with a [`Hardening`] curve.
 #[derive(Debug, Clone, PartialEq)]
@@ -371,8 +372,213 @@ impl Material for J2PlaneStress {
         out
     }
 
+    /// Four elements' sections in lanes: the same projected return, each
+    /// branch a lane mask, bit for bit the lanes' [`update_points`](Material::update_points)
+    /// (Swift hardening; a tabulated curve goes lane by lane).
+    #[inline(always)]
+    fn update_points_x4<const N: usize>(
+        &self,
+        s: &mut [[F4; 3]; N],
+        h: &mut [[J2History; N]; 4],
+        de: &[[F4; 3]; N],
+    ) -> [PointUpdate<F4>; N] {
+        match self.hardening {
+            Hardening::Swift { k, eps0, n } => self.swift_x4(k, eps0, n, s, h, de),
+            Hardening::Table { .. } => update_points_by_lane(self, s, h, de),
+        }
+    }
+
     fn equivalent_stress(&self, s: &[f64; 3]) -> f64 {
         von_mises(s)
+    }
+}
+
+/// `k (e + d)^n` in the lanes of `far` (rare: plastic increments beyond 2 %
+/// of `ε0 + ε_p`), out of line so that the lanes around it stay in vectors.
+#[cold]
+#[inline(never)]
+fn swift_powf(k: f64, n: f64, e: F4, d: F4, far: M4) -> F4 {
+    let mut out = F4::splat(0.0);
+    for l in 0..4 {
+        if far.lane(l) {
+            out.0[l] = k * (e.0[l] + d.0[l]).powf(n);
+        }
+    }
+    out
+}
+
+/// State of four lanes' projected return (see [`Return`]).
+#[derive(Debug, Clone, Copy, Default)]
+struct Return4 {
+    a1: F4,
+    a2: F4,
+    dl: F4,
+    f1: F4,
+    f2: F4,
+    d: F4,
+    sy: F4,
+    tol: F4,
+}
+
+impl J2PlaneStress {
+    /// [`Material::update_points_x4`] with Swift hardening: the lane form of
+    /// `trial`, `return_start`, `return_iterate` (with `swift_flow`) and
+    /// `return_finish`, each expression evaluated in the same order.
+    #[inline(always)]
+    fn swift_x4<const N: usize>(
+        &self,
+        k: f64,
+        eps0: f64,
+        n: f64,
+        s: &mut [[F4; 3]; N],
+        h: &mut [[J2History; N]; 4],
+        de: &[[F4; 3]; N],
+    ) -> [PointUpdate<F4>; N] {
+        let mut out = [PointUpdate::<F4>::default(); N];
+        let mut t = [[F4::default(); 3]; N];
+        let mut plastic = [M4::default(); N];
+        let mut sy0 = [F4::default(); N];
+        let mut eps_p = [F4::default(); N];
+        let mut any_plastic = false;
+        for p in 0..N {
+            sy0[p] = F4::from_fn(|l| h[l][p].sigma_y);
+            eps_p[p] = F4::from_fn(|l| h[l][p].eps_p);
+            let d = de[p];
+            let t0 = s[p][0] + d[0] * self.c11 + d[1] * self.c12;
+            let t1 = s[p][1] + d[0] * self.c12 + d[1] * self.c11;
+            let t2 = s[p][2] + d[2] * self.shear;
+            let vm2 = t0 * t0 + t1 * t1 - t0 * t1 + t2 * 3.0 * t2;
+            let elastic = vm2.le(sy0[p] * sy0[p]);
+            t[p] = [t0, t1, t2];
+            s[p] = t[p];
+            out[p].deps_zz = (d[0] + d[1]) * -self.nu_ratio;
+            plastic[p] = M4::from_bools([true; 4]).and_not(elastic);
+            any_plastic |= F4::any(plastic[p]);
+        }
+        if !any_plastic {
+            return out;
+        }
+        let ap = self.a_p;
+        let g2 = 2.0 * self.shear;
+        let c = &self.swift_binomial;
+        let mut e = [F4::default(); N];
+        let mut inv_e = [F4::default(); N];
+        let mut ret = [Return4::default(); N];
+        let mut active = plastic;
+        for p in 0..N {
+            if !F4::any(plastic[p]) {
+                continue;
+            }
+            let sy = sy0[p];
+            e[p] = eps_p[p] + eps0;
+            inv_e[p] = F4::splat(1.0) / e[p];
+            let hm0 = sy * n * inv_e[p];
+            let dhm0 = hm0 * (n - 1.0) * inv_e[p];
+            // return_start.
+            let [t0, t1, t2] = t[p];
+            let sum = t0 + t1;
+            let dif = t0 - t1;
+            let a1 = sum * sum * (1.0 / 6.0);
+            let a2 = dif * 0.5 * dif + t2 * 2.0 * t2;
+            let phi2_0 = a1 + a2;
+            let phi0 = phi2_0.sqrt();
+            let f0 = phi2_0 * 0.5 - sy * sy * (1.0 / 3.0);
+            let dphi2_0 = (a1 * ap + a2 * g2) * -2.0;
+            let ddphi2_0 = (a1 * (ap * ap) + a2 * (g2 * g2)) * 6.0;
+            let dd_0 = phi0 * R23;
+            let ddd_0 = dphi2_0 * R23 / phi0;
+            let dy_0 = hm0 * dd_0;
+            let ddy_0 = dhm0 * dd_0 * dd_0 + hm0 * ddd_0;
+            let df0 = dphi2_0 * 0.5 - sy * (2.0 / 3.0) * dy_0;
+            let ddf0 = ddphi2_0 * 0.5 - (dy_0 * dy_0 + sy * ddy_0) * (2.0 / 3.0);
+            let df0sq = df0 * df0;
+            let den = df0sq - f0 * 0.5 * ddf0;
+            let dl = -f0 * df0 / F4::select(den.gt(df0sq * 0.5), den, df0sq);
+            ret[p] = Return4 {
+                a1,
+                a2,
+                dl: F4::select(dl.gt(F4::splat(0.0)), dl, F4::splat(0.0)),
+                f1: F4::splat(1.0),
+                f2: F4::splat(1.0),
+                d: F4::splat(0.0),
+                sy,
+                tol: sy * 1e-12 * sy,
+            };
+        }
+        for _ in 0..60 {
+            let mut busy = false;
+            for p in 0..N {
+                let act = active[p];
+                if !F4::any(act) {
+                    continue;
+                }
+                let r = &mut ret[p];
+                let dl = r.dl;
+                let den1 = dl * ap + 1.0;
+                let den2 = dl * g2 + 1.0;
+                let inv = F4::splat(1.0) / (den1 * den2);
+                let (f1, f2) = (den2 * inv, den1 * inv);
+                let phi2 = r.a1 * f1 * f1 + r.a2 * f2 * f2;
+                let phi = phi2.sqrt();
+                let d = dl * R23 * phi;
+                // swift_flow: binomial series, powf in the lanes beyond it.
+                let x = d * inv_e[p];
+                let mut acc = x * c[8];
+                for j in (1..8).rev() {
+                    acc = x * (acc + c[j]);
+                }
+                let mut sy = sy0[p] * (acc + c[0]);
+                let far = act.and_not(x.abs().lt(F4::splat(0.02)));
+                if F4::any(far) {
+                    sy = F4::select(far, swift_powf(k, n, e[p], d, far), sy);
+                }
+                r.f1 = F4::select(act, f1, r.f1);
+                r.f2 = F4::select(act, f2, r.f2);
+                r.d = F4::select(act, d, r.d);
+                r.sy = F4::select(act, sy, r.sy);
+                let f = phi2 * 0.5 - sy * sy * (1.0 / 3.0);
+                let still = act.and_not(f.abs().le(r.tol));
+                let (hn, hd) = (sy * n, e[p] + d);
+                let dphi2 = (r.a1 * ap * f1 * f1 * f1 + r.a2 * g2 * f2 * f2 * f2) * -2.0;
+                let df_scaled = dphi2 * 0.5 * hd * phi
+                    - sy * ((2.0 / 3.0) * R23) * hn * (phi2 + dl * 0.5 * dphi2);
+                let next = dl - f * hd * phi / df_scaled;
+                let next = F4::select(next.gt(F4::splat(0.0)), next, dl * 0.5);
+                r.dl = F4::select(still, next, dl);
+                active[p] = still;
+                busy |= F4::any(still);
+            }
+            if !busy {
+                break;
+            }
+        }
+        for p in 0..N {
+            let pl = plastic[p];
+            if !F4::any(pl) {
+                continue;
+            }
+            let r = &ret[p];
+            let [t0, t1, t2] = t[p];
+            let ps = (t0 + t1) * 0.5 * r.f1;
+            let qs = (t0 - t1) * 0.5 * r.f2;
+            let sn = [ps + qs, ps - qs, t2 * r.f2];
+            let tr_p = r.dl * (sn[0] + sn[1]) * (1.0 / 3.0);
+            let d = de[p];
+            let deps_zz = (d[0] + d[1] - tr_p) * -self.nu_ratio - tr_p;
+            let ep = eps_p[p] + r.d;
+            for c in 0..3 {
+                s[p][c] = F4::select(pl, sn[c], s[p][c]);
+            }
+            out[p].deps_zz = F4::select(pl, deps_zz, out[p].deps_zz);
+            out[p].dissipation = F4::select(pl, r.sy * r.d, F4::splat(0.0));
+            for l in 0..4 {
+                if pl.lane(l) {
+                    h[l][p].eps_p = ep.0[l];
+                    h[l][p].sigma_y = r.sy.0[l];
+                }
+            }
+        }
+        out
     }
 }
 

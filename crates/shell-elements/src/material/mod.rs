@@ -11,13 +11,16 @@ mod j2_plane_stress;
 pub use hardening::Hardening;
 pub use j2_plane_stress::{J2History, J2PlaneStress};
 
-/// What a stress update reports besides the new stress.
+use crate::lanes::F4;
+
+/// What a stress update reports besides the new stress (of one point, or
+/// of four in lanes with `T = F4`).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct PointUpdate {
+pub struct PointUpdate<T = f64> {
     /// Increment of the through-thickness (normal) strain that keeps σ_zz = 0 (-).
-    pub deps_zz: f64,
+    pub deps_zz: T,
     /// Plastic dissipation increment per unit volume (MPa = mJ/mm³).
-    pub dissipation: f64,
+    pub dissipation: T,
 }
 
 /// A plane-stress constitutive model, evaluated in the element's co-rotational frame.
@@ -62,6 +65,21 @@ pub trait Material: Clone + Send + Sync + 'static {
     ) -> [PointUpdate; N] {
         std::array::from_fn(|k| self.update(&mut stress[k], &mut history[k], deps[k]))
     }
+    /// The `N` points of one section of four elements at once, element `l`
+    /// in lane `l` of the stresses and increments and in `history[l]`
+    /// (the shell set's own layout). By default lane by lane through
+    /// [`Material::update_points`]; a material that overrides it must give
+    /// each lane the same bits as that (the element kernels' four-lane path
+    /// is tested against the one-element path bit for bit).
+    #[inline(always)]
+    fn update_points_x4<const N: usize>(
+        &self,
+        stress: &mut [[F4; 3]; N],
+        history: &mut [[Self::History; N]; 4],
+        deps: &[[F4; 3]; N],
+    ) -> [PointUpdate<F4>; N] {
+        update_points_by_lane(self, stress, history, deps)
+    }
     /// Equivalent plastic strain of a point (-).
     fn plastic_strain(&self, history: &Self::History) -> f64;
     /// Current flow (yield) stress of a point (MPa).
@@ -70,6 +88,30 @@ pub trait Material: Clone + Send + Sync + 'static {
     fn equivalent_stress(&self, stress: &[f64; 3]) -> f64 {
         von_mises(stress)
     }
+}
+
+/// [`Material::update_points_x4`] lane by lane through [`Material::update_points`].
+#[inline(always)]
+pub fn update_points_by_lane<M: Material, const N: usize>(
+    mat: &M,
+    stress: &mut [[F4; 3]; N],
+    history: &mut [[M::History; N]; 4],
+    deps: &[[F4; 3]; N],
+) -> [PointUpdate<F4>; N] {
+    let mut out = [PointUpdate::<F4>::default(); N];
+    for (l, h) in history.iter_mut().enumerate() {
+        let mut s: [[f64; 3]; N] = std::array::from_fn(|p| stress[p].map(|c| c.0[l]));
+        let d: [[f64; 3]; N] = std::array::from_fn(|p| deps[p].map(|c| c.0[l]));
+        let u = mat.update_points(&mut s, h, &d);
+        for p in 0..N {
+            for c in 0..3 {
+                stress[p][c].0[l] = s[p][c];
+            }
+            out[p].deps_zz.0[l] = u[p].deps_zz;
+            out[p].dissipation.0[l] = u[p].dissipation;
+        }
+    }
+    out
 }
 
 /// Von Mises stress of a plane-stress state `[σ_xx, σ_yy, σ_xy]` (MPa).

@@ -1,0 +1,277 @@
+//! `Real`: the number type the element kernels are written in — `f64` for one element, [`F4`] for four elements in the lanes of one SIMD register.
+//!
+//! A kernel written once over `T: Real` runs on one element (`T = f64`) or
+//! on four at a time (`T = F4`). `F4` does every operation lane by lane in
+//! IEEE arithmetic (no fused multiply–add, no reassociation), so lane `l`
+//! of a four-element run is bit for bit the one-element run of element `l`;
+//! branches become masks ([`Real::select`]). Compiled inside a function with
+//! the `avx2` target feature the lane loops become 256-bit instructions.
+
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
+
+/// `[e(0), e(1), e(2), e(3)]` for a lane expression `e(l)`, written out so
+/// that it inlines whatever the size of the kernel around it.
+macro_rules! lanes {
+    (|$l:ident| $e:expr) => {
+        [
+            {
+                let $l = 0;
+                $e
+            },
+            {
+                let $l = 1;
+                $e
+            },
+            {
+                let $l = 2;
+                $e
+            },
+            {
+                let $l = 3;
+                $e
+            },
+        ]
+    };
+}
+
+/// Number type of the element kernels: `f64` or [`F4`].
+pub trait Real:
+    Copy
+    + Default
+    + std::fmt::Debug
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Add<f64, Output = Self>
+    + Sub<f64, Output = Self>
+    + Mul<f64, Output = Self>
+    + Div<f64, Output = Self>
+    + AddAssign
+    + SubAssign
+    + Send
+    + Sync
+    + 'static
+{
+    /// Comparison result: `bool` for `f64`, [`M4`] for `F4`.
+    type Mask: Copy;
+    /// Every lane equal to `x`.
+    fn splat(x: f64) -> Self;
+    /// Square root.
+    fn sqrt(self) -> Self;
+    /// Maximum with `f64::max`'s NaN rule (a NaN operand loses).
+    fn max(self, o: Self) -> Self;
+    /// `self > o`, lane by lane (false where either is NaN).
+    fn gt(self, o: Self) -> Self::Mask;
+    /// Finite (neither NaN nor infinite), lane by lane.
+    fn is_finite(self) -> Self::Mask;
+    /// `a` where `m`, else `b`.
+    fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// Whether any lane of `m` is set.
+    fn any(m: Self::Mask) -> bool;
+}
+
+impl Real for f64 {
+    type Mask = bool;
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        f64::max(self, o)
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> bool {
+        self > o
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
+    #[inline(always)]
+    fn select(m: bool, a: Self, b: Self) -> Self {
+        if m { a } else { b }
+    }
+    #[inline(always)]
+    fn any(m: bool) -> bool {
+        m
+    }
+}
+
+/// Four `f64` lanes (one per element of a block of four).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(32))]
+pub struct F4(pub [f64; 4]);
+
+/// A lane mask of [`F4`]: all bits set (true) or clear (false) per lane.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[repr(C, align(32))]
+pub struct M4(pub [u64; 4]);
+
+impl M4 {
+    /// Mask from one `bool` per lane.
+    #[inline(always)]
+    pub fn from_bools(b: [bool; 4]) -> Self {
+        M4(lanes!(|l| (b[l] as u64).wrapping_neg()))
+    }
+    /// Lane `l` as a `bool`.
+    #[inline(always)]
+    pub fn lane(self, l: usize) -> bool {
+        self.0[l] != 0
+    }
+    /// Lanes set in both.
+    #[inline(always)]
+    pub fn and(self, o: Self) -> Self {
+        M4(lanes!(|l| self.0[l] & o.0[l]))
+    }
+    /// Lanes set in either.
+    #[inline(always)]
+    pub fn or(self, o: Self) -> Self {
+        M4(lanes!(|l| self.0[l] | o.0[l]))
+    }
+    /// Lanes set in `self` and clear in `o`.
+    #[inline(always)]
+    pub fn and_not(self, o: Self) -> Self {
+        M4(lanes!(|l| self.0[l] & !o.0[l]))
+    }
+    /// Whether every lane is set.
+    #[inline(always)]
+    pub fn all(self) -> bool {
+        self.0.iter().all(|&x| x != 0)
+    }
+}
+
+impl F4 {
+    /// Lane `l` of each of four values gathered into one.
+    #[inline(always)]
+    pub fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+        F4([f(0), f(1), f(2), f(3)])
+    }
+    /// `self <= o`, lane by lane.
+    #[inline(always)]
+    pub fn le(self, o: Self) -> M4 {
+        M4(lanes!(|l| ((self.0[l] <= o.0[l]) as u64).wrapping_neg()))
+    }
+    /// `self < o`, lane by lane.
+    #[inline(always)]
+    pub fn lt(self, o: Self) -> M4 {
+        M4(lanes!(|l| ((self.0[l] < o.0[l]) as u64).wrapping_neg()))
+    }
+    /// Absolute value.
+    #[inline(always)]
+    pub fn abs(self) -> Self {
+        F4(lanes!(|l| self.0[l].abs()))
+    }
+}
+
+macro_rules! lane_op {
+    ($tr:ident, $f:ident, $tra:ident, $fa:ident) => {
+        impl $tr for F4 {
+            type Output = F4;
+            #[inline(always)]
+            fn $f(self, o: F4) -> F4 {
+                F4(lanes!(|l| self.0[l].$f(o.0[l])))
+            }
+        }
+        impl $tr<f64> for F4 {
+            type Output = F4;
+            #[inline(always)]
+            fn $f(self, o: f64) -> F4 {
+                F4(lanes!(|l| self.0[l].$f(o)))
+            }
+        }
+        impl $tr<F4> for f64 {
+            type Output = F4;
+            #[inline(always)]
+            fn $f(self, o: F4) -> F4 {
+                F4(lanes!(|l| self.$f(o.0[l])))
+            }
+        }
+        impl $tra for F4 {
+            #[inline(always)]
+            fn $fa(&mut self, o: F4) {
+                *self = $tr::$f(*self, o);
+            }
+        }
+    };
+}
+use std::ops::{DivAssign, MulAssign};
+lane_op!(Add, add, AddAssign, add_assign);
+lane_op!(Sub, sub, SubAssign, sub_assign);
+lane_op!(Mul, mul, MulAssign, mul_assign);
+lane_op!(Div, div, DivAssign, div_assign);
+
+impl Neg for F4 {
+    type Output = F4;
+    #[inline(always)]
+    fn neg(self) -> F4 {
+        F4(lanes!(|l| -self.0[l]))
+    }
+}
+
+impl Real for F4 {
+    type Mask = M4;
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        F4([x; 4])
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        F4(lanes!(|l| self.0[l].sqrt()))
+    }
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        F4(lanes!(|l| self.0[l].max(o.0[l])))
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> M4 {
+        M4(lanes!(|l| ((self.0[l] > o.0[l]) as u64).wrapping_neg()))
+    }
+    #[inline(always)]
+    fn is_finite(self) -> M4 {
+        M4(lanes!(|l| (self.0[l].is_finite() as u64).wrapping_neg()))
+    }
+    #[inline(always)]
+    fn select(m: M4, a: Self, b: Self) -> Self {
+        F4(lanes!(|l| f64::from_bits(
+            (a.0[l].to_bits() & m.0[l]) | (b.0[l].to_bits() & !m.0[l])
+        )))
+    }
+    #[inline(always)]
+    fn any(m: M4) -> bool {
+        m.0.iter().any(|&x| x != 0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Lane arithmetic is the scalar arithmetic, bit for bit, including NaN
+    /// and signed-zero cases of `max` and `select`.
+    #[test]
+    fn lanes_match_scalar_bit_for_bit() {
+        let a = F4([1.5, -0.0, f64::NAN, 3e-300]);
+        let b = F4([2.0f64.sqrt(), 0.0, 1.0, f64::INFINITY]);
+        for l in 0..4 {
+            let (x, y) = (a.0[l], b.0[l]);
+            assert_eq!((a + b).0[l].to_bits(), (x + y).to_bits());
+            assert_eq!((a * b - a / b).0[l].to_bits(), (x * y - x / y).to_bits());
+            assert_eq!(a.sqrt().0[l].to_bits(), x.sqrt().to_bits());
+            assert_eq!(Real::max(a, b).0[l].to_bits(), x.max(y).to_bits());
+            assert_eq!(Real::gt(a, b).lane(l), x > y);
+            let m = Real::gt(a, b);
+            assert_eq!(
+                F4::select(m, a, b).0[l].to_bits(),
+                f64::select(x > y, x, y).to_bits()
+            );
+        }
+        assert!(F4::any(Real::is_finite(a)) && !Real::is_finite(a).all());
+    }
+}
