@@ -458,80 +458,89 @@ impl J2PlaneStress {
         if !any_plastic {
             return out;
         }
+        // From here every statement runs over all N points (stage by stage,
+        // so that the points' long division / square-root chains overlap);
+        // lanes that are elastic or converged are masked out.
         let ap = self.a_p;
         let g2 = 2.0 * self.shear;
         let c = &self.swift_binomial;
-        let mut e = [F4::default(); N];
-        let mut inv_e = [F4::default(); N];
+        let z4 = F4::default();
+        let one = F4::splat(1.0);
+        let (mut e, mut inv_e, mut phi0) = ([z4; N], [z4; N], [z4; N]);
         let mut ret = [Return4::default(); N];
-        let mut active = plastic;
+        // return_start: Halley step from Δλ = 0.
         for p in 0..N {
-            if !F4::any(plastic[p]) {
-                continue;
-            }
-            let sy = sy0[p];
             e[p] = eps_p[p] + eps0;
-            inv_e[p] = F4::splat(1.0) / e[p];
-            let hm0 = sy * n * inv_e[p];
-            let dhm0 = hm0 * (n - 1.0) * inv_e[p];
-            // return_start.
+            inv_e[p] = one / e[p];
             let [t0, t1, t2] = t[p];
             let sum = t0 + t1;
             let dif = t0 - t1;
-            let a1 = sum * sum * (1.0 / 6.0);
-            let a2 = dif * 0.5 * dif + t2 * 2.0 * t2;
+            ret[p].a1 = sum * sum * (1.0 / 6.0);
+            ret[p].a2 = dif * 0.5 * dif + t2 * 2.0 * t2;
+            phi0[p] = (ret[p].a1 + ret[p].a2).sqrt();
+        }
+        let mut dl0 = [z4; N];
+        for p in 0..N {
+            let sy = sy0[p];
+            let (a1, a2) = (ret[p].a1, ret[p].a2);
+            let hm0 = sy * n * inv_e[p];
+            let dhm0 = hm0 * (n - 1.0) * inv_e[p];
             let phi2_0 = a1 + a2;
-            let phi0 = phi2_0.sqrt();
             let f0 = phi2_0 * 0.5 - sy * sy * (1.0 / 3.0);
             let dphi2_0 = (a1 * ap + a2 * g2) * -2.0;
             let ddphi2_0 = (a1 * (ap * ap) + a2 * (g2 * g2)) * 6.0;
-            let dd_0 = phi0 * R23;
-            let ddd_0 = dphi2_0 * R23 / phi0;
+            let dd_0 = phi0[p] * R23;
+            let ddd_0 = dphi2_0 * R23 / phi0[p];
             let dy_0 = hm0 * dd_0;
             let ddy_0 = dhm0 * dd_0 * dd_0 + hm0 * ddd_0;
             let df0 = dphi2_0 * 0.5 - sy * (2.0 / 3.0) * dy_0;
             let ddf0 = ddphi2_0 * 0.5 - (dy_0 * dy_0 + sy * ddy_0) * (2.0 / 3.0);
             let df0sq = df0 * df0;
             let den = df0sq - f0 * 0.5 * ddf0;
-            let dl = -f0 * df0 / F4::select(den.gt(df0sq * 0.5), den, df0sq);
-            ret[p] = Return4 {
-                a1,
-                a2,
-                dl: F4::select(dl.gt(F4::splat(0.0)), dl, F4::splat(0.0)),
-                f1: F4::splat(1.0),
-                f2: F4::splat(1.0),
-                d: F4::splat(0.0),
-                sy,
-                tol: sy * 1e-12 * sy,
-            };
+            dl0[p] = -f0 * df0 / F4::select(den.gt(df0sq * 0.5), den, df0sq);
         }
+        for p in 0..N {
+            let dl = dl0[p];
+            ret[p].dl = F4::select(dl.gt(z4), dl, z4);
+            ret[p].f1 = one;
+            ret[p].f2 = one;
+            ret[p].sy = sy0[p];
+            ret[p].tol = sy0[p] * 1e-12 * sy0[p];
+        }
+        let mut active = plastic;
+        let (mut f1, mut f2, mut phi2, mut phi) = ([z4; N], [z4; N], [z4; N], [z4; N]);
+        let (mut d, mut x, mut acc) = ([z4; N], [z4; N], [z4; N]);
         for _ in 0..60 {
+            // return_iterate, stage by stage over the points.
+            for p in 0..N {
+                let dl = ret[p].dl;
+                let den1 = dl * ap + 1.0;
+                let den2 = dl * g2 + 1.0;
+                let inv = one / (den1 * den2);
+                (f1[p], f2[p]) = (den2 * inv, den1 * inv);
+                phi2[p] = ret[p].a1 * f1[p] * f1[p] + ret[p].a2 * f2[p] * f2[p];
+                phi[p] = phi2[p].sqrt();
+                d[p] = dl * R23 * phi[p];
+                x[p] = d[p] * inv_e[p];
+                acc[p] = x[p] * c[8];
+            }
+            // swift_flow: the binomial series (Horner), powf beyond it.
+            for j in (1..8).rev() {
+                for p in 0..N {
+                    acc[p] = x[p] * (acc[p] + c[j]);
+                }
+            }
             let mut busy = false;
             for p in 0..N {
                 let act = active[p];
-                if !F4::any(act) {
-                    continue;
-                }
                 let r = &mut ret[p];
                 let dl = r.dl;
-                let den1 = dl * ap + 1.0;
-                let den2 = dl * g2 + 1.0;
-                let inv = F4::splat(1.0) / (den1 * den2);
-                let (f1, f2) = (den2 * inv, den1 * inv);
-                let phi2 = r.a1 * f1 * f1 + r.a2 * f2 * f2;
-                let phi = phi2.sqrt();
-                let d = dl * R23 * phi;
-                // swift_flow: binomial series, powf in the lanes beyond it.
-                let x = d * inv_e[p];
-                let mut acc = x * c[8];
-                for j in (1..8).rev() {
-                    acc = x * (acc + c[j]);
-                }
-                let mut sy = sy0[p] * (acc + c[0]);
-                let far = act.and_not(x.abs().lt(F4::splat(0.02)));
+                let mut sy = sy0[p] * (acc[p] + c[0]);
+                let far = act.and_not(x[p].abs().lt(F4::splat(0.02)));
                 if F4::any(far) {
-                    sy = F4::select(far, swift_powf(k, n, e[p], d, far), sy);
+                    sy = F4::select(far, swift_powf(k, n, e[p], d[p], far), sy);
                 }
+                let (f1, f2, phi2, phi, d) = (f1[p], f2[p], phi2[p], phi[p], d[p]);
                 r.f1 = F4::select(act, f1, r.f1);
                 r.f2 = F4::select(act, f2, r.f2);
                 r.d = F4::select(act, d, r.d);
@@ -543,7 +552,7 @@ impl J2PlaneStress {
                 let df_scaled = dphi2 * 0.5 * hd * phi
                     - sy * ((2.0 / 3.0) * R23) * hn * (phi2 + dl * 0.5 * dphi2);
                 let next = dl - f * hd * phi / df_scaled;
-                let next = F4::select(next.gt(F4::splat(0.0)), next, dl * 0.5);
+                let next = F4::select(next.gt(z4), next, dl * 0.5);
                 r.dl = F4::select(still, next, dl);
                 active[p] = still;
                 busy |= F4::any(still);
