@@ -44,7 +44,7 @@ use crate::formulation::{
     local_velocities, new_thickness,
 };
 use crate::geometry::{Frame, H, ShearB, V3, assumed_shear};
-use crate::lanes::{F4, Real};
+use crate::lanes::{F4, M4, Real};
 use crate::material::Material;
 use crate::section::Section;
 
@@ -89,6 +89,11 @@ impl ShellFormulation for BelytschkoTsay {
 
     fn drilling(&self) -> f64 {
         self.drilling
+    }
+
+    /// Lane-major blocks for the rules the lane kernel runs (3, 5, 7 points).
+    fn lane_major(&self, sec: &Section) -> bool {
+        matches!(sec.rule.n, 3 | 5 | 7)
     }
 
     #[inline]
@@ -345,45 +350,44 @@ impl BelytschkoTsay {
             hourglass,
             drilling,
         } = st;
-        let (Some(stress), Some(history)) = (
-            stress.as_chunks_mut::<N>().0.first_chunk_mut::<4>(),
+        // Lane-major block (see `ElementBlock`): one vector per quantity.
+        let stress = stress.as_flattened_mut().as_chunks_mut::<4>().0;
+        let (Some(history), Some(shear), Some(hourglass), true) = (
             history.as_chunks_mut::<N>().0.first_chunk_mut::<4>(),
+            shear.as_flattened_mut().first_chunk_mut::<8>(),
+            hourglass.first_chunk_mut::<20>(),
+            stress.len() == 3 * N,
         ) else {
             unreachable!("lanes_dispatch checked the block's sizes");
         };
         let mut s = [[F4::default(); 3]; N];
         for k in 0..N {
             for c in 0..3 {
-                s[k][c] = F4([
-                    stress[0][k][c],
-                    stress[1][k][c],
-                    stress[2][k][c],
-                    stress[3][k][c],
-                ]);
+                s[k][c] = F4(stress[3 * k + c]);
             }
         }
         let mut t = F4(*thickness);
         let mut sh = [F4::default(); 2];
         for c in 0..2 {
-            sh[c] = F4([shear[0][c], shear[1][c], shear[2][c], shear[3][c]]);
+            sh[c] = F4([
+                shear[4 * c],
+                shear[4 * c + 1],
+                shear[4 * c + 2],
+                shear[4 * c + 3],
+            ]);
         }
         let mut hg = [F4::default(); 5];
         for k in 0..5 {
             hg[k] = F4([
-                hourglass[k],
-                hourglass[5 + k],
-                hourglass[10 + k],
-                hourglass[15 + k],
+                hourglass[4 * k],
+                hourglass[4 * k + 1],
+                hourglass[4 * k + 2],
+                hourglass[4 * k + 3],
             ]);
         }
         let mut dr = [F4::default(); 4];
         for i in 0..4 {
-            dr[i] = F4([
-                drilling[0][i],
-                drilling[1][i],
-                drilling[2][i],
-                drilling[3][i],
-            ]);
+            dr[i] = F4(drilling[i]);
         }
         let all_valid = rt.valid.all();
         let saved = if all_valid { None } else { Some(*history) };
@@ -400,27 +404,55 @@ impl BelytschkoTsay {
                 drilling: &mut dr,
             },
         );
+        let valid = if let Some(saved) = &saved {
+            let mut keep = [true; 4];
+            for l in 0..4 {
+                keep[l] = rt.valid.lane(l);
+                if !keep[l] {
+                    history[l] = saved[l];
+                }
+            }
+            M4::from_bools(keep)
+        } else {
+            M4::from_bools([true; 4])
+        };
+        // Degenerate lanes keep their old state.
+        for k in 0..N {
+            for c in 0..3 {
+                stress[3 * k + c] = F4::select(valid, s[k][c], F4(stress[3 * k + c])).0;
+            }
+        }
+        *thickness = F4::select(valid, t, F4(*thickness)).0;
+        for c in 0..2 {
+            let old = F4([
+                shear[4 * c],
+                shear[4 * c + 1],
+                shear[4 * c + 2],
+                shear[4 * c + 3],
+            ]);
+            shear[4 * c..4 * c + 4].copy_from_slice(&F4::select(valid, sh[c], old).0);
+        }
+        for k in 0..5 {
+            let old = F4([
+                hourglass[4 * k],
+                hourglass[4 * k + 1],
+                hourglass[4 * k + 2],
+                hourglass[4 * k + 3],
+            ]);
+            hourglass[4 * k..4 * k + 4].copy_from_slice(&F4::select(valid, hg[k], old).0);
+        }
+        for i in 0..4 {
+            drilling[i] = F4::select(valid, dr[i], F4(drilling[i])).0;
+        }
         for l in 0..4 {
-            if let Some(saved) = &saved
-                && !rt.valid.lane(l)
-            {
-                history[l] = saved[l];
-                out[l] = ElementResult {
+            out[l] = if valid.lane(l) {
+                r.lane(l)
+            } else {
+                ElementResult {
                     length: r.length.0[l],
                     ..Default::default()
-                };
-                continue;
-            }
-            out[l] = r.lane(l);
-            for k in 0..N {
-                stress[l][k] = [s[k][0].0[l], s[k][1].0[l], s[k][2].0[l]];
-            }
-            thickness[l] = t.0[l];
-            shear[l] = [sh[0].0[l], sh[1].0[l]];
-            for k in 0..5 {
-                hourglass[5 * l + k] = hg[k].0[l];
-            }
-            drilling[l] = [dr[0].0[l], dr[1].0[l], dr[2].0[l], dr[3].0[l]];
+                }
+            };
         }
     }
 

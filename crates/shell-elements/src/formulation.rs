@@ -82,20 +82,32 @@ impl ElementResult<F4> {
 }
 
 /// The state of four consecutive elements, borrowed from the shell set's
-/// arrays for a four-lane kernel (same layouts as [`ElementState`], the
-/// four elements one after the other).
+/// arrays for a four-lane kernel.
+///
+/// Two layouts, chosen by [`ShellFormulation::lane_major`]:
+/// * element-major (default): as [`ElementState`], the four elements one
+///   after the other;
+/// * lane-major: the four elements' values of one quantity side by side
+///   (element `l` at position `l` of each group of four), so that a lane
+///   kernel loads each quantity of the block with one vector load. Flattened
+///   to `f64`, stress component `c` of point `k` of element `l` is at
+///   `(3k + c)·4 + l`, shear component `c` of in-plane point `p` at
+///   `(2p + c)·4 + l`, hourglass force `k` at `4k + l`, and
+///   `drilling[i][l]` is node `i`'s moment of element `l`.
+///
+/// Thicknesses are `[l]` and histories element-major in both.
 pub struct ElementBlock<'a, H> {
     /// Current thicknesses (mm).
     pub thickness: &'a mut [f64; 4],
     /// Stresses, `4 × IN_PLANE_POINTS × n` entries.
     pub stress: &'a mut [[f64; 3]],
-    /// Material histories, as `stress`.
+    /// Material histories, `4 × IN_PLANE_POINTS × n` entries, element-major.
     pub history: &'a mut [H],
     /// Transverse shear stresses, `4 × IN_PLANE_POINTS` entries.
     pub shear: &'a mut [[f64; 2]],
     /// Hourglass generalised forces, `4 × HOURGLASS_VARS` entries.
     pub hourglass: &'a mut [f64],
-    /// Drilling moments (N·mm) of each element's four nodes.
+    /// Drilling moments (N·mm) of the four elements' nodes.
     pub drilling: &'a mut [[f64; 4]; 4],
 }
 
@@ -110,6 +122,14 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
 
     /// Drilling coefficient γ (-) of the relative drilling penalty.
     fn drilling(&self) -> f64;
+
+    /// Whether [`compute_x4`](Self::compute_x4) takes a block's state
+    /// lane-major (see [`ElementBlock`]) for this section; the shell set
+    /// stores its blocks so. Default: element-major.
+    fn lane_major(&self, sec: &Section) -> bool {
+        let _ = sec;
+        false
+    }
 
     /// Check the formulation's parameters (called when a shell set is built).
     fn validate(&self) -> Result<(), ShellError> {

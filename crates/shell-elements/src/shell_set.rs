@@ -43,6 +43,9 @@ pub struct ShellSet<E: ShellFormulation, M: Material> {
     cached_dt: Option<StableDt>,
     parallel_min: usize,
     wave_speed: f64,
+    /// Blocks of four elements store stress, shear, hourglass and drilling
+    /// state lane-major (see [`ElementBlock`]), as the formulation asks.
+    lane_major: bool,
 }
 
 fn v3(p: &fem_core::Vec3) -> V3 {
@@ -135,6 +138,7 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             cached_dt: None,
             parallel_min: DEFAULT_PARALLEL_MIN,
             wave_speed,
+            lane_major: formulation.lane_major(&section),
             conn: quads.to_vec(),
             formulation,
             material,
@@ -207,14 +211,33 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
     pub fn thickness(&self, e: usize) -> f64 {
         self.thickness[e]
     }
+    /// Block and lane of element `e` if its state is stored lane-major.
+    fn lane_slot(&self, e: usize) -> Option<(usize, usize)> {
+        (self.lane_major && e < self.conn.len() / 4 * 4).then_some((e / 4, e % 4))
+    }
+
     /// Stress `[σ_xx, σ_yy, σ_xy]` (MPa, co-rotational frame) at in-plane point
     /// `p` and through-thickness point `k` (bottom = 0) of element `e`.
     pub fn stress(&self, e: usize, p: usize, k: usize) -> [f64; 3] {
-        self.stress[self.point_index(e, p, k)]
+        match self.lane_slot(e) {
+            Some((b, l)) => {
+                let nsp = self.points_per_element();
+                let kk = p * self.section.rule.n + k;
+                let flat = &self.stress.as_flattened()[b * 12 * nsp..];
+                [0, 1, 2].map(|c| flat[(3 * kk + c) * 4 + l])
+            }
+            None => self.stress[self.point_index(e, p, k)],
+        }
     }
     /// Transverse shear stresses `[τ_xz, τ_yz]` (MPa) at in-plane point `p` of element `e`.
     pub fn transverse_shear(&self, e: usize, p: usize) -> [f64; 2] {
-        self.shear[e * E::IN_PLANE_POINTS + p]
+        match self.lane_slot(e) {
+            Some((b, l)) => {
+                let flat = &self.shear.as_flattened()[b * 8 * E::IN_PLANE_POINTS..];
+                [0, 1].map(|c| flat[(2 * p + c) * 4 + l])
+            }
+            None => self.shear[e * E::IN_PLANE_POINTS + p],
+        }
     }
     /// Material history at a point (see [`ShellSet::stress`] for the indices).
     pub fn history(&self, e: usize, p: usize, k: usize) -> &M::History {
@@ -223,7 +246,10 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
     /// Drilling moments (N·mm) about the normal of element `e` at its four
     /// nodes (the relative drilling penalty's state).
     pub fn drilling_moments(&self, e: usize) -> [f64; 4] {
-        self.drilling[e]
+        match self.lane_slot(e) {
+            Some((b, l)) => [0, 1, 2, 3].map(|i| self.drilling[4 * b + i][l]),
+            None => self.drilling[e],
+        }
     }
     /// Work stored in the drilling penalty since the start (mJ); part of
     /// the internal energy the set reports.

@@ -38,6 +38,58 @@ struct State {
     dr: [[f64; 4]; 4],
 }
 
+/// The block's state in the lane-major layout of `ElementBlock`.
+fn to_lane_major(s: &State, np: usize, ip: usize, nhg: usize) -> State {
+    let mut o = s.clone();
+    for l in 0..4 {
+        for k in 0..np {
+            for c in 0..3 {
+                let i = (3 * k + c) * 4 + l;
+                o.stress[i / 3][i % 3] = s.stress[l * np + k][c];
+            }
+        }
+        for p in 0..ip {
+            for c in 0..2 {
+                let i = (2 * p + c) * 4 + l;
+                o.shear[i / 2][i % 2] = s.shear[l * ip + p][c];
+            }
+        }
+        for k in 0..nhg {
+            o.hg[4 * k + l] = s.hg[l * nhg + k];
+        }
+        for i in 0..4 {
+            o.dr[i][l] = s.dr[l][i];
+        }
+    }
+    o
+}
+
+/// Back from [`to_lane_major`].
+fn from_lane_major(s: &State, np: usize, ip: usize, nhg: usize) -> State {
+    let mut o = s.clone();
+    for l in 0..4 {
+        for k in 0..np {
+            for c in 0..3 {
+                let i = (3 * k + c) * 4 + l;
+                o.stress[l * np + k][c] = s.stress[i / 3][i % 3];
+            }
+        }
+        for p in 0..ip {
+            for c in 0..2 {
+                let i = (2 * p + c) * 4 + l;
+                o.shear[l * ip + p][c] = s.shear[i / 2][i % 2];
+            }
+        }
+        for k in 0..nhg {
+            o.hg[l * nhg + k] = s.hg[4 * k + l];
+        }
+        for i in 0..4 {
+            o.dr[l][i] = s.dr[i][l];
+        }
+    }
+    o
+}
+
 fn bits(r: &ElementResult) -> Vec<u64> {
     let mut v: Vec<u64> =
         r.f.iter()
@@ -144,6 +196,12 @@ fn check<F: ShellFormulation>(
             })
         };
         let mut out_a = [ElementResult::default(); 4];
+        let lane_major = form.lane_major(sec);
+        let mut blk = if lane_major {
+            to_lane_major(&a, np, F::IN_PLANE_POINTS, nhg)
+        } else {
+            a.clone()
+        };
         form.compute_x4(
             mat,
             sec,
@@ -152,15 +210,20 @@ fn check<F: ShellFormulation>(
             &to_lanes(&w),
             dt,
             ElementBlock {
-                thickness: &mut a.t,
-                stress: &mut a.stress,
-                history: &mut a.hist,
-                shear: &mut a.shear,
-                hourglass: &mut a.hg,
-                drilling: &mut a.dr,
+                thickness: &mut blk.t,
+                stress: &mut blk.stress,
+                history: &mut blk.hist,
+                shear: &mut blk.shear,
+                hourglass: &mut blk.hg,
+                drilling: &mut blk.dr,
             },
             &mut out_a,
         );
+        a = if lane_major {
+            from_lane_major(&blk, np, F::IN_PLANE_POINTS, nhg)
+        } else {
+            blk
+        };
         for l in 0..4 {
             let ip = F::IN_PLANE_POINTS;
             let out_b = form.compute(
@@ -289,4 +352,71 @@ fn fully_integrated_default_four_element_path_matches() {
         8,
         false,
     );
+}
+
+/// The shell set's accessors read the lane-major blocks right: a 3 × 3 blank
+/// (two blocks of four and one element on its own, stored element-major) in a
+/// uniform stretch-and-bend field must show the same stresses at every
+/// element, point by point (they differ through the thickness), and the same
+/// transverse shear and drilling moments (the nodes' drilling rate is uniform
+/// and the field has no in-plane spin). Tolerance: 1e-9 relative.
+#[test]
+fn shell_set_accessors_read_lane_major_blocks() {
+    use fem_core::{Effect, Forces, NodalState, StepContext, Vec3, rectangle};
+    use shell_elements::ShellSet;
+    let n = 3;
+    let mesh = rectangle(3.0, 3.0, n, n).unwrap();
+    let mut set = ShellSet::from_mesh(
+        "blank",
+        &mesh,
+        "all",
+        Section::new(0.8).unwrap(),
+        BelytschkoTsay::default(),
+        swift(),
+    )
+    .unwrap();
+    let mut state = NodalState::at_rest(&mesh.nodes);
+    for (i, p) in mesh.nodes.iter().enumerate() {
+        // Uniform stretch, curvature and transverse shear: w = (x − 1.5)²/3
+        // balances the bending rotation's share of γ_xz (the nodes stay put).
+        state.v[i] = Vec3::new(p.x - 1.5, 0.5 * (p.y - 1.5), (p.x - 1.5).powi(2) / 3.0);
+        state.w[i] = Vec3::new(0.3, -2.0 * (p.x - 1.5) / 3.0, 0.05);
+    }
+    let mut forces = Forces::zeros(mesh.nodes.len());
+    let ctx = StepContext {
+        time: 0.0,
+        dt: 2e-5,
+        step: 1,
+    };
+    for _ in 0..200 {
+        forces.clear();
+        set.add_forces(&ctx, &state, &mut forces).unwrap();
+    }
+    let last = set.len() - 1;
+    assert_eq!(set.len(), 9);
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + b.abs());
+    for e in 0..set.len() {
+        for k in 0..5 {
+            let (s, r) = (set.stress(e, 0, k), set.stress(last, 0, k));
+            assert!(
+                s.iter().zip(&r).all(|(a, b)| close(*a, *b)),
+                "element {e} point {k}: {s:?} vs {r:?}"
+            );
+        }
+        let (s, r) = (set.transverse_shear(e, 0), set.transverse_shear(last, 0));
+        assert!(
+            s.iter().zip(&r).all(|(a, b)| close(*a, *b)),
+            "shear {e}: {s:?} vs {r:?}"
+        );
+        assert!(close(set.thickness(e), set.thickness(last)));
+        let (d, r) = (set.drilling_moments(e), set.drilling_moments(last));
+        assert!(
+            d.iter().zip(&r).all(|(a, b)| close(*a, *b)),
+            "drilling {e}: {d:?} vs {r:?}"
+        );
+    }
+    // The points do differ through the thickness (bending), so a mixed-up
+    // index would show.
+    let (bottom, top) = (set.stress(0, 0, 0), set.stress(0, 0, 4));
+    assert!((bottom[0] - top[0]).abs() > 1.0, "{bottom:?} {top:?}");
 }
