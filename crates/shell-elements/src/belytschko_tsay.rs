@@ -160,7 +160,7 @@ impl ShellFormulation for BelytschkoTsay {
         w: &[[F4; 3]; 4],
         dt: f64,
         st: ElementBlock<'_, M::History>,
-        out: &mut [ElementResult; 4],
+        out: &mut ElementResult<F4>,
     ) {
         match sec.rule.n {
             5 => self.lanes_dispatch::<M, 5>(mat, sec, x, v, w, dt, st, out),
@@ -237,18 +237,17 @@ fn for_each_element<M: Material>(
     w: &[[F4; 3]; 4],
     dt: f64,
     st: ElementBlock<'_, M::History>,
-    out: &mut [ElementResult; 4],
+    out: &mut ElementResult<F4>,
 ) {
     let nsp = st.stress.len() / 4;
-    for (l, (((s, h), t), r)) in st
+    for (l, ((s, h), t)) in st
         .stress
         .chunks_mut(nsp)
         .zip(st.history.chunks_mut(nsp))
         .zip(st.thickness.iter_mut())
-        .zip(out.iter_mut())
         .enumerate()
     {
-        *r = bt.compute(
+        let r = bt.compute(
             mat,
             sec,
             &lane_nodes(x, l),
@@ -264,6 +263,7 @@ fn for_each_element<M: Material>(
                 drilling: &mut st.drilling[l],
             },
         );
+        out.set_lane(l, &r);
     }
 }
 
@@ -282,7 +282,7 @@ impl BelytschkoTsay {
         w: &[[F4; 3]; 4],
         dt: f64,
         st: ElementBlock<'_, M::History>,
-        out: &mut [ElementResult; 4],
+        out: &mut ElementResult<F4>,
     ) {
         if st.stress.len() != 4 * N || st.shear.len() != 4 || st.hourglass.len() != 20 {
             return for_each_element(self, mat, sec, x, v, w, dt, st, out);
@@ -308,7 +308,7 @@ impl BelytschkoTsay {
         w: &[[F4; 3]; 4],
         dt: f64,
         st: ElementBlock<'_, M::History>,
-        out: &mut [ElementResult; 4],
+        out: &mut ElementResult<F4>,
     ) {
         self.lanes::<M, N>(mat, sec, x, v, w, dt, st, out)
     }
@@ -328,17 +328,15 @@ impl BelytschkoTsay {
         w: &[[F4; 3]; 4],
         dt: f64,
         st: ElementBlock<'_, M::History>,
-        out: &mut [ElementResult; 4],
+        out: &mut ElementResult<F4>,
     ) {
         let rt = match self.rates(x, v, w, dt) {
             Ok(rt) => rt,
             Err(a) => {
-                for l in 0..4 {
-                    out[l] = ElementResult {
-                        length: a.0[l],
-                        ..Default::default()
-                    };
-                }
+                *out = ElementResult {
+                    length: a,
+                    ..Default::default()
+                };
                 return;
             }
         };
@@ -444,15 +442,20 @@ impl BelytschkoTsay {
         for i in 0..4 {
             drilling[i] = F4::select(valid, dr[i], F4(drilling[i])).0;
         }
-        for l in 0..4 {
-            out[l] = if valid.lane(l) {
-                r.lane(l)
-            } else {
-                ElementResult {
-                    length: r.length.0[l],
-                    ..Default::default()
+        *out = r;
+        if saved.is_some() {
+            // A degenerate lane reports only its length (≤ 0 or NaN).
+            let zero = F4::splat(0.0);
+            for i in 0..4 {
+                for c in 0..3 {
+                    out.f[i][c] = F4::select(valid, out.f[i][c], zero);
+                    out.m[i][c] = F4::select(valid, out.m[i][c], zero);
                 }
-            };
+            }
+            out.d_internal = F4::select(valid, out.d_internal, zero);
+            out.d_drilling = F4::select(valid, out.d_drilling, zero);
+            out.d_hourglass = F4::select(valid, out.d_hourglass, zero);
+            out.d_plastic = F4::select(valid, out.d_plastic, zero);
         }
     }
 

@@ -79,6 +79,22 @@ impl ElementResult<F4> {
             length: self.length.0[l],
         }
     }
+
+    /// Put one element's result into lane `l`.
+    #[inline(always)]
+    pub fn set_lane(&mut self, l: usize, r: &ElementResult) {
+        for i in 0..4 {
+            for c in 0..3 {
+                self.f[i][c].0[l] = r.f[i][c];
+                self.m[i][c].0[l] = r.m[i][c];
+            }
+        }
+        self.d_internal.0[l] = r.d_internal;
+        self.d_drilling.0[l] = r.d_drilling;
+        self.d_hourglass.0[l] = r.d_hourglass;
+        self.d_plastic.0[l] = r.d_plastic;
+        self.length.0[l] = r.length;
+    }
 }
 
 /// The state of four consecutive elements, borrowed from the shell set's
@@ -152,7 +168,8 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
     ) -> ElementResult;
 
     /// Four consecutive elements at once (`x[i][c]`: component `c` of node
-    /// `i`, element `l` in lane `l`; likewise `v`, `w`), results into `out`. By default one after the other
+    /// `i`, element `l` in lane `l`; likewise `v`, `w`), element `l`'s
+    /// result into lane `l` of `out`. By default one after the other
     /// through [`compute`](Self::compute); a formulation that overrides it
     /// must give each element the same bits as `compute`.
     #[allow(clippy::too_many_arguments)]
@@ -166,12 +183,12 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
         w: &[[F4; 3]; 4],
         dt: f64,
         st: ElementBlock<'_, M::History>,
-        out: &mut [ElementResult; 4],
+        out: &mut ElementResult<F4>,
     ) {
         let nsp = st.stress.len() / 4;
         let ip = st.shear.len() / 4;
         let nhg = st.hourglass.len() / 4;
-        for (l, ((((((t, s), h), sh), hg), dr), r)) in st
+        for (l, (((((t, s), h), sh), hg), dr)) in st
             .thickness
             .iter_mut()
             .zip(st.stress.chunks_mut(nsp))
@@ -179,10 +196,9 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
             .zip(st.shear.chunks_mut(ip))
             .zip(st.hourglass.chunks_mut(nhg))
             .zip(st.drilling.iter_mut())
-            .zip(out.iter_mut())
             .enumerate()
         {
-            *r = self.compute(
+            let r = self.compute(
                 mat,
                 sec,
                 &lane_nodes(x, l),
@@ -198,6 +214,7 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
                     drilling: dr,
                 },
             );
+            out.set_lane(l, &r);
         }
     }
 }

@@ -39,6 +39,10 @@ pub struct ShellSet<E: ShellFormulation, M: Material> {
     drilling_energy: f64,
     density_scale: Vec<f64>,
     results: Vec<ElementResult>,
+    /// Results of the blocks of four (element `4b + l` in lane `l` of entry `b`).
+    results_x4: Vec<ElementResult<F4>>,
+    /// Largest node index of the connectivity (checked against the state once per step).
+    max_node: usize,
     energy: EnergyTally,
     cached_dt: Option<StableDt>,
     parallel_min: usize,
@@ -134,6 +138,13 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             drilling_energy: 0.0,
             density_scale: vec![1.0; ne],
             results: vec![ElementResult::default(); ne],
+            results_x4: vec![ElementResult::default(); ne / 4],
+            max_node: quads
+                .iter()
+                .flatten()
+                .map(|&n| n as usize)
+                .max()
+                .unwrap_or(0),
             energy: EnergyTally::default(),
             cached_dt: None,
             parallel_min: DEFAULT_PARALLEL_MIN,
@@ -439,6 +450,17 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         let nhg = E::HOURGLASS_VARS.max(1);
         let dt = ctx.dt;
         let (xs, vs, ws) = (&state.x, &state.v, &state.w);
+        let nodes = xs.len().min(vs.len()).min(ws.len());
+        if !self.conn.is_empty() && self.max_node >= nodes {
+            return Err(FemError::Element {
+                effect: self.name.clone(),
+                element: 0,
+                message: format!(
+                    "the nodal state has {nodes} nodes but the shells use node {}",
+                    self.max_node
+                ),
+            });
+        }
         let (form, mat, sec) = (&self.formulation, &self.material, &self.section);
         let kernel = |q: &[u32; 4],
                       t: &mut f64,
@@ -477,7 +499,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                      sh: &mut [[f64; 2]],
                      hg: &mut [f64],
                      dr: &mut [[f64; 4]; 4],
-                     r: &mut [ElementResult; 4]| {
+                     r: &mut ElementResult<F4>| {
             // Node i, component c, lane l = element l of the block.
             let mut x = [[F4::default(); 3]; 4];
             let mut v = x;
@@ -485,7 +507,15 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             for l in 0..4 {
                 for i in 0..4 {
                     let n = q[l][i] as usize;
-                    let (p, u, o) = (&xs[n], &vs[n], &ws[n]);
+                    // SAFETY: every node index is at most `max_node`, which
+                    // `add_forces` checked against the three arrays' lengths.
+                    let (p, u, o) = unsafe {
+                        (
+                            xs.get_unchecked(n),
+                            vs.get_unchecked(n),
+                            ws.get_unchecked(n),
+                        )
+                    };
                     (x[i][0].0[l], x[i][1].0[l], x[i][2].0[l]) = (p.x, p.y, p.z);
                     (v[i][0].0[l], v[i][1].0[l], v[i][2].0[l]) = (u.x, u.y, u.z);
                     (w[i][0].0[l], w[i][1].0[l], w[i][2].0[l]) = (o.x, o.y, o.z);
@@ -513,7 +543,8 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         let (conn_b, conn_r) = self.conn.as_chunks::<4>();
         let (t_b, t_r) = self.thickness.as_chunks_mut::<4>();
         let (dr_b, dr_r) = self.drilling.as_chunks_mut::<4>();
-        let (res_b, res_r) = self.results.as_chunks_mut::<4>();
+        let res_b = &mut self.results_x4[..];
+        let res_r = &mut self.results[4 * nb..];
         let (s_b, s_r) = self.stress.split_at_mut(4 * nb * nsp);
         let (h_b, h_r) = self.history.split_at_mut(4 * nb * nsp);
         let (sh_b, sh_r) = self.shear.split_at_mut(4 * nb * ip);
@@ -563,7 +594,12 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             what: "shell area / longest side / plate wave speed",
         };
         let (mut di, mut dh, mut dp, mut dd) = (0.0, 0.0, 0.0, 0.0);
-        for (e, (q, r)) in self.conn.iter().zip(&self.results).enumerate() {
+        for (e, q) in self.conn.iter().enumerate() {
+            let r = &if e < 4 * nb {
+                self.results_x4[e / 4].lane(e % 4)
+            } else {
+                self.results[e]
+            };
             if r.length.is_nan() || r.length <= 0.0 {
                 self.cached_dt = Some(StableDt {
                     dt: 0.0,
@@ -930,5 +966,37 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A nodal state with fewer nodes than the connectivity uses is refused
+    /// with a one-line error (the block gather reads nodes unchecked).
+    #[test]
+    fn nodal_state_too_small_for_the_connectivity_is_refused() {
+        let mesh = fem_core::rectangle(2.0, 2.0, 2, 2).unwrap();
+        let mat = J2PlaneStress::new(
+            206_000.0,
+            0.3,
+            7.85e-9,
+            Hardening::swift(565.32, 0.007117, 0.2589).unwrap(),
+        )
+        .unwrap();
+        let mut set = ShellSet::from_mesh(
+            "blank",
+            &mesh,
+            "all",
+            Section::new(0.8).unwrap(),
+            BelytschkoTsay::default(),
+            mat,
+        )
+        .unwrap();
+        let state = NodalState::at_rest(&mesh.nodes[..5]);
+        let mut forces = Forces::zeros(5);
+        let ctx = StepContext {
+            time: 0.0,
+            dt: 1e-6,
+            step: 1,
+        };
+        let e = set.add_forces(&ctx, &state, &mut forces).unwrap_err();
+        assert!(e.to_string().contains("nodal state has 5 nodes"), "{e}");
     }
 }

@@ -195,7 +195,7 @@ fn check<F: ShellFormulation>(
                 std::array::from_fn(|c| F4(std::array::from_fn(|l| a[l][i][c])))
             })
         };
-        let mut out_a = [ElementResult::default(); 4];
+        let mut out4 = ElementResult::<F4>::default();
         let lane_major = form.lane_major(sec);
         let mut blk = if lane_major {
             to_lane_major(&a, np, F::IN_PLANE_POINTS, nhg)
@@ -217,8 +217,9 @@ fn check<F: ShellFormulation>(
                 hourglass: &mut blk.hg,
                 drilling: &mut blk.dr,
             },
-            &mut out_a,
+            &mut out4,
         );
+        let out_a = [0, 1, 2, 3].map(|l| out4.lane(l));
         a = if lane_major {
             from_lane_major(&blk, np, F::IN_PLANE_POINTS, nhg)
         } else {
