@@ -208,6 +208,9 @@ struct Rates<T: Real> {
     b2: [T; 4],
     /// Twist of the warping correction (0 without it).
     c: T,
+    /// Rigid rotation rate of the element about its local x and y axes.
+    ox: T,
+    oy: T,
     sb: ShearB<T>,
     gxz: T,
     gyz: T,
@@ -480,25 +483,45 @@ impl BelytschkoTsay {
             return Err(a);
         }
         let (vl, wl) = local_velocities(&fr, v, w);
+        let (xl, yl) = (&fr.x, &fr.y);
         let (b1, b2) = fr.mean_b();
-        let (mut dxx, mut dyy, mut gxy, mut kxx, mut kyy, mut kxy) =
-            (zero, zero, zero, zero, zero, zero);
+        // Membrane and curvature rates at the centre, and the element's rigid
+        // rotation about its in-plane axes (ω̄x, ω̄y) for the warped-element
+        // projection in `forces`.
+        let (mut dxx, mut dyy, mut vxy, mut vyx, mut kxx, mut kyy, mut kxy) =
+            (zero, zero, zero, zero, zero, zero, zero);
+        let (mut ox, mut oy) = (zero, zero);
         for i in 0..4 {
             dxx += b1[i] * vl[i][0];
             dyy += b2[i] * vl[i][1];
-            gxy += b2[i] * vl[i][0] + b1[i] * vl[i][1];
+            vxy += b2[i] * vl[i][0];
+            vyx += b1[i] * vl[i][1];
             kxx += b1[i] * wl[i][1];
             kyy -= b2[i] * wl[i][0];
             kxy += b2[i] * wl[i][1] - b1[i] * wl[i][0];
+            ox += b2[i] * vl[i][2];
+            oy -= b1[i] * vl[i][2];
         }
+        let gxy = vxy + vyx;
         let c = if self.warping_correction {
             fr.twist()
         } else {
             zero
         };
-        kxx += c * 0.5 * gxy;
-        kyy += c * 0.5 * gxy;
-        kxy += c * (dxx + dyy);
+        if self.warping_correction {
+            // Fibres along the warped surface's normals at the nodes
+            // (θ̂ + c θ̂z (ŷ, x̂)) and the twisted metric (c × in-plane
+            // velocity gradient).
+            for i in 0..4 {
+                let tz = c * wl[i][2];
+                kxx += b1[i] * xl[i] * tz;
+                kyy -= b2[i] * yl[i] * tz;
+                kxy += (b2[i] * xl[i] - b1[i] * yl[i]) * tz;
+            }
+            kxx += c * vxy;
+            kyy += c * vyx;
+            kxy += c * (dxx + dyy);
+        }
         // Transverse shear coefficients: [w, θx, θy] per node.
         let sb = if self.shear_projection {
             assumed_shear(&fr, 0.0, 0.0)
@@ -522,6 +545,8 @@ impl BelytschkoTsay {
             b1,
             b2,
             c,
+            ox,
+            oy,
             sb,
             gxz,
             gyz,
@@ -549,12 +574,14 @@ impl BelytschkoTsay {
             b1,
             b2,
             c,
+            ox,
+            oy,
             sb,
             gxz,
             gyz,
             ..
         } = rt;
-        let (c, gxz, gyz) = (*c, *gxz, *gyz);
+        let (c, ox, oy, gxz, gyz) = (*c, *ox, *oy, *gxz, *gyz);
         let a = fr.area;
         let zero = T::splat(0.0);
         let (xl, yl) = (&fr.x, &fr.y);
@@ -580,7 +607,13 @@ impl BelytschkoTsay {
         for i in 0..4 {
             gam[i] = (T::splat(H[i]) - hx * b1[i] - hy * b2[i]) * 0.5;
         }
-        let mut q = [zero; 5];
+        // Warped element: the rigid rotation about the in-plane axes moves
+        // the nodes in-plane by (ω̄y ẑ_I, −ω̄x ẑ_I) and is removed from the
+        // membrane hourglass rates (`formulation::remove_warp_rotation`; the
+        // centre B is orthogonal to ẑ, so only these rates change, by ∓ω̄ γ·ẑ
+        // with γ·ẑ = ½ h·ẑ).
+        let gz = fr.warp * 0.5;
+        let mut q = [-oy * gz, ox * gz, zero, zero, zero];
         for i in 0..4 {
             q[0] += gam[i] * vl[i][0];
             q[1] += gam[i] * vl[i][1];
@@ -608,8 +641,13 @@ impl BelytschkoTsay {
             d_hg += (old + new) * 0.5 * q[k] * dt;
         }
 
-        // Relative drilling penalty.
-        let (md_sum, d_drill) = drilling_penalty(
+        // Relative drilling penalty (about the nodal normals with the correction).
+        let tilt = if self.warping_correction {
+            Some((c, ox, oy))
+        } else {
+            None
+        };
+        let (md_sum, d_drill, sx, sy) = drilling_penalty(
             t * (0.25 * self.drilling * g) * a,
             b1,
             b2,
@@ -617,11 +655,13 @@ impl BelytschkoTsay {
             wl,
             dt,
             st.drilling,
+            tilt,
+            xl,
+            yl,
         );
         let hmd = md_sum * 0.5;
 
         // Nodal forces (local, internal), then global forces on the nodes.
-        let msum = (mr[0] + mr[1]) * 0.5;
         let mut out = ElementResult {
             d_internal: a * (sr.work + shear_work) + d_drill,
             d_drilling: d_drill,
@@ -630,20 +670,38 @@ impl BelytschkoTsay {
             length: T::select(*valid, fr.char_length(), a),
             ..Default::default()
         };
+        // Transpose of the projection: f̂z_J += ½ h·ẑ (B1_J Q_x + B2_J Q_y).
+        // The warping correction's membrane terms fold into the membrane
+        // forces: f̂x = A((N_xx + c M_xy) B1 + (N_xy + c M_xx) B2), f̂y likewise;
+        // its tilted drilling penalty adds c (S_y B2 − S_x B1).
+        let (hqx, hqy) = (gz * qf[0] - c * sx, gz * qf[1] + c * sy);
+        let (nxx, nyy) = (a * (nr[0] + c * mr[2]), a * (nr[1] + c * mr[2]));
+        let (nxy_x, nxy_y) = (a * (nr[2] + c * mr[0]) + hmd, a * (nr[2] + c * mr[1]) - hmd);
         for i in 0..4 {
-            let fx = a * (nr[0] * b1[i] + nr[2] * b2[i] + c * (msum * b2[i] + mr[2] * b1[i]))
-                + gam[i] * qf[0]
-                + hmd * b2[i];
-            let fy = a * (nr[1] * b2[i] + nr[2] * b1[i] + c * (msum * b1[i] + mr[2] * b2[i]))
-                + gam[i] * qf[1]
-                - hmd * b1[i];
-            let fz = a * (qx * sb.xz[0][i] + qy * sb.yz[0][i]) + gam[i] * qf[4];
-            let mx = a * (-mr[1] * b2[i] - mr[2] * b1[i] + qx * sb.xz[1][i] + qy * sb.yz[1][i])
+            let mxb = -a * (mr[1] * b2[i] + mr[2] * b1[i]);
+            let myb = a * (mr[0] * b1[i] + mr[2] * b2[i]);
+            let fx = nxx * b1[i] + nxy_x * b2[i] + gam[i] * qf[0];
+            let fy = nyy * b2[i] + nxy_y * b1[i] + gam[i] * qf[1];
+            let fz = a * (qx * sb.xz[0][i] + qy * sb.yz[0][i])
+                + gam[i] * qf[4]
+                + b1[i] * hqx
+                + b2[i] * hqy;
+            let mut mx = mxb
+                + a * (qx * sb.xz[1][i] + qy * sb.yz[1][i])
                 + gam[i] * (qf[2] - yl[i] * 0.5 * qf[4]);
-            let my = a * (mr[0] * b1[i] + mr[2] * b2[i] + qx * sb.xz[2][i] + qy * sb.yz[2][i])
+            let mut my = myb
+                + a * (qx * sb.xz[2][i] + qy * sb.yz[2][i])
                 + gam[i] * (qf[3] + xl[i] * 0.5 * qf[4]);
+            let mut mz = st.drilling[i];
+            if self.warping_correction {
+                // Tilted fibres: the bending moments' share about the normal,
+                // and the drilling moment's share about the in-plane axes.
+                mz += c * (yl[i] * mxb + xl[i] * myb);
+                mx -= c * yl[i] * st.drilling[i];
+                my -= c * xl[i] * st.drilling[i];
+            }
             let fg = fr.global([fx, fy, fz]);
-            let mg = fr.global([mx, my, st.drilling[i]]);
+            let mg = fr.global([mx, my, mz]);
             out.f[i] = [-fg[0], -fg[1], -fg[2]];
             out.m[i] = [-mg[0], -mg[1], -mg[2]];
         }

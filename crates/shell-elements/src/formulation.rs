@@ -417,6 +417,64 @@ pub(crate) fn local_velocities<T: Real>(
     (vl, wl)
 }
 
+/// Remove the element's rigid rotation about its local in-plane axes from the
+/// in-plane nodal velocities of a warped element (after Belytschko &
+/// Leviathan 1994, "Projection schemes for one-point quadrature shell
+/// elements", CMAME 115).
+///
+/// The kernels read the membrane rates and the membrane hourglass rates from
+/// the in-plane velocities `v̂x`, `v̂y` as if the nodes lay in the mean plane,
+/// but a warped element's nodes sit at heights `ẑ_I` off it, so a rigid
+/// rotation `ω̂` about the in-plane axes moves them in-plane by
+/// `(ω̂y ẑ_I, −ω̂x ẑ_I)`, which is not a linear field: the 2×2 B-matrix and
+/// the hourglass vectors read it as strain. The element's rigid rotation
+/// about the in-plane axes is the mean gradient of the normal velocity,
+/// `ω̄x = Σ B2_I v̂z_I`, `ω̄y = −Σ B1_I v̂z_I` (mean B, exact for a rigid
+/// motion); its in-plane velocity at the nodes' heights is taken out:
+/// `v̂x_I −= ω̄y ẑ_I`, `v̂y_I += ω̄x ẑ_I`. The mean B is orthogonal to
+/// `ẑ ∝ h`, so the centre membrane rates and the element spin are unchanged
+/// and a flat element (`ẑ = 0`) is untouched. The nodal forces conjugate to
+/// these velocities follow from [`warp_rotation_forces`]. Returns `(ω̄x, ω̄y)`.
+/// Used by the fully integrated element; Belytschko–Tsay applies the same
+/// correction in closed form to the only rates it changes there, the
+/// membrane hourglass rates.
+#[inline(always)]
+pub(crate) fn remove_warp_rotation(
+    z: &[f64; 4],
+    b1: &[f64; 4],
+    b2: &[f64; 4],
+    vl: &mut [V3; 4],
+) -> (f64, f64) {
+    let (mut wx, mut wy) = (0.0, 0.0);
+    for i in 0..4 {
+        wx += b2[i] * vl[i][2];
+        wy -= b1[i] * vl[i][2];
+    }
+    for i in 0..4 {
+        vl[i][0] -= wy * z[i];
+        vl[i][1] += wx * z[i];
+    }
+    (wx, wy)
+}
+
+/// Transpose of [`remove_warp_rotation`] on the local internal nodal forces
+/// `f` (conjugate to the corrected velocities on entry, to the nodal
+/// velocities on return): `f̂z_J += B1_J Σ f̂x_I ẑ_I + B2_J Σ f̂y_I ẑ_I`. The
+/// power `Σ f·v̂` is then the stress power of the corrected rates, so the
+/// energy ledger stays closed, and the forces balance the moments about the
+/// in-plane axes that in-plane forces at the warped heights exert.
+#[inline(always)]
+pub(crate) fn warp_rotation_forces(z: &[f64; 4], b1: &[f64; 4], b2: &[f64; 4], f: &mut [V3; 4]) {
+    let (mut sx, mut sy) = (0.0, 0.0);
+    for i in 0..4 {
+        sx += f[i][0] * z[i];
+        sy += f[i][1] * z[i];
+    }
+    for i in 0..4 {
+        f[i][2] += b1[i] * sx + b2[i] * sy;
+    }
+}
+
 /// Relative drilling penalty (after Hughes & Brezzi 1989 and Allman 1984,
 /// lumped at the nodes): with the element's mean in-plane spin
 /// `Ω = ½ Σ (B1_I v̂y_I − B2_I v̂x_I)` (skew part of the mean in-plane
@@ -429,6 +487,21 @@ pub(crate) fn local_velocities<T: Real>(
 /// moments `m_I` about the normal and the in-plane forces
 /// `(½ M B2_J, −½ M B1_J)`, `M = Σ m_I`, which the caller adds.
 /// Returns `(M, work increment)`, the work trapezoidal in time (mJ).
+///
+/// With `tilt = Some(c, ω̄x, ω̄y)` (the warping correction: twist `c`, the
+/// element's rigid rotation about its in-plane axes), the fibres lie along
+/// the warped surface's nodal normals `n_I = e3 − c (ŷ_I, x̂_I, 0)` (`x`, `y`
+/// the nodes' local coordinates), and the penalty acts on the rotation about
+/// them relative to the surface's spin about them:
+/// `r_I = ω̂z_I − Ω − c (ŷ_I (ω̂x_I − ω̄x) + x̂_I (ω̂y_I − ω̄y))`, zero for every
+/// rigid motion. Against the plain `ω̂z_I − Ω` it no longer resists the
+/// bending rotations' share `c (ŷ_I ω̂x_I + x̂_I ω̂y_I)` along `e3`, which
+/// scales with t against a bending stiffness ∝ t³ and locked thin warped
+/// shells (thin twisted beam). Its conjugate loads, which the caller adds:
+/// moments `−c ŷ_I m_I`, `−c x̂_I m_I` about x and y at node I and normal
+/// forces `c (S_y B2_J − S_x B1_J)`, `S_x = Σ x̂_I m_I`, `S_y = Σ ŷ_I m_I`,
+/// returned as the third and fourth values (0 without tilt).
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn drilling_penalty<T: Real>(
     k: T,
@@ -438,23 +511,42 @@ pub(crate) fn drilling_penalty<T: Real>(
     wl: &[[T; 3]; 4],
     dt: f64,
     m: &mut [T; 4],
-) -> (T, T) {
-    let mut spin = T::splat(0.0);
+    tilt: Option<(T, T, T)>,
+    x: &[T; 4],
+    y: &[T; 4],
+) -> (T, T, T, T) {
+    let zero = T::splat(0.0);
+    let mut spin = zero;
     for i in 0..4 {
         spin += b1[i] * vl[i][1] - b2[i] * vl[i][0];
     }
     spin = spin * 0.5;
-    let kdt = k * dt;
-    let (mut sum, mut work) = (T::splat(0.0), T::splat(0.0));
+    let mut rate = [zero; 4];
     for i in 0..4 {
-        let rate = wl[i][2] - spin;
+        rate[i] = wl[i][2] - spin;
+    }
+    if let Some((c, ox, oy)) = tilt {
+        for i in 0..4 {
+            rate[i] -= c * (y[i] * (wl[i][0] - ox) + x[i] * (wl[i][1] - oy));
+        }
+    }
+    let kdt = k * dt;
+    let (mut sum, mut work) = (zero, zero);
+    for i in 0..4 {
         let old = m[i];
-        let new = old + kdt * rate;
+        let new = old + kdt * rate[i];
         m[i] = new;
         sum += new;
-        work += (old + new) * rate;
+        work += (old + new) * rate[i];
     }
-    (sum, work * 0.5 * dt)
+    let (mut sx, mut sy) = (zero, zero);
+    if tilt.is_some() {
+        for i in 0..4 {
+            sx += x[i] * m[i];
+            sy += y[i] * m[i];
+        }
+    }
+    (sum, work * 0.5 * dt, sx, sy)
 }
 
 /// Thickness after a thickness-strain increment (second-order exponential).

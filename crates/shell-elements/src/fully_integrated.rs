@@ -9,11 +9,22 @@
 //! the 2×2 average of the thickness-strain increments updates it. The
 //! relative drilling penalty is the Belytschko–Tsay one (nodal drilling rates
 //! against the element's mean in-plane spin, `k = γ G t A / 4` per node).
+//!
+//! Warped elements: the element's rigid rotation about its in-plane axes
+//! (`ω̄x = Σ B̄2_I v̂z_I`, `ω̄y = −Σ B̄1_I v̂z_I`, mean B) is removed from the
+//! in-plane velocities before the 2×2 B-matrices read them
+//! (`v̂x_I −= ω̄y ẑ_I`, `v̂y_I += ω̄x ẑ_I`), with the transpose on the forces
+//! (`formulation::remove_warp_rotation`, `warp_rotation_forces`): away from
+//! the centre `Σ ∂N_I/∂x ẑ_I ≠ 0`, so without it a rigid rotation of a
+//! warped element strained it (0.038 per radian on the twisted beam's
+//! element). The optional warping correction is the Belytschko–Tsay one
+//! (tilted fibres and twisted metric), evaluated at each Gauss point.
 
 use crate::error::ShellError;
 use crate::formulation::{
     DEFAULT_DRILLING, ElementResult, ElementState, ShellFormulation, check_drilling,
-    drilling_penalty, integrate_section, local_velocities, new_thickness,
+    drilling_penalty, integrate_section, local_velocities, new_thickness, remove_warp_rotation,
+    warp_rotation_forces,
 };
 use crate::geometry::{Frame, V3, assumed_shear, b_matrix};
 use crate::material::Material;
@@ -22,7 +33,9 @@ use crate::section::Section;
 /// The fully integrated shell and its options.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FullyIntegrated {
-    /// Warping (twist) correction of the curvature, as in [`BelytschkoTsay`](crate::BelytschkoTsay); default off.
+    /// Warping correction of the curvature, as in
+    /// [`BelytschkoTsay`](crate::BelytschkoTsay); default off. Recommended for
+    /// warped meshes: without it the element is drilling-soft on them.
     pub warping_correction: bool,
     /// Drilling coefficient γ (-) of the relative drilling penalty
     /// `k = γ G t A`, as in [`BelytschkoTsay`](crate::BelytschkoTsay)
@@ -78,18 +91,31 @@ impl ShellFormulation for FullyIntegrated {
                 ..Default::default()
             };
         }
-        let (vl, wl) = local_velocities(&fr, v, w);
+        let (mut vl, wl) = local_velocities(&fr, v, w);
+        // Mean B: the element's rigid rotation (warped elements) and spin (drilling).
+        let (mb1, mb2) = fr.mean_b();
+        let (ox, oy) = remove_warp_rotation(&fr.z, &mb1, &mb2, &mut vl);
         let c = if self.warping_correction {
             fr.twist()
         } else {
             0.0
         };
+        // Warping correction, fibres along the warped surface's normals at the nodes:
+        // they turn at θ̂ + c θ̂z (ŷ_I, x̂_I) (the rates the curvature reads).
+        let mut tl = [[0.0f64; 2]; 4];
+        for i in 0..4 {
+            tl[i] = [
+                wl[i][0] + c * fr.y[i] * wl[i][2],
+                wl[i][1] + c * fr.x[i] * wl[i][2],
+            ];
+        }
         let t = *st.thickness;
         let np = sec.rule.n;
         let g = mat.shear_modulus();
         let ks = sec.shear_factor;
         let mut fl = [[0.0f64; 3]; 4];
         let mut ml = [[0.0f64; 2]; 4];
+        let mut mb = [0.0f64; 4];
         let mut out = ElementResult::default();
         let mut dzz = 0.0;
         for (p, &(xi, eta)) in GP.iter().enumerate() {
@@ -100,18 +126,21 @@ impl ShellFormulation for FullyIntegrated {
                     ..Default::default()
                 };
             }
-            let (mut dxx, mut dyy, mut gxy, mut kxx, mut kyy, mut kxy) =
-                (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+            let (mut dxx, mut dyy, mut vxy, mut vyx, mut kxx, mut kyy, mut kxy) =
+                (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
             for i in 0..4 {
                 dxx += b1[i] * vl[i][0];
                 dyy += b2[i] * vl[i][1];
-                gxy += b2[i] * vl[i][0] + b1[i] * vl[i][1];
-                kxx += b1[i] * wl[i][1];
-                kyy -= b2[i] * wl[i][0];
-                kxy += b2[i] * wl[i][1] - b1[i] * wl[i][0];
+                vxy += b2[i] * vl[i][0];
+                vyx += b1[i] * vl[i][1];
+                kxx += b1[i] * tl[i][1];
+                kyy -= b2[i] * tl[i][0];
+                kxy += b2[i] * tl[i][1] - b1[i] * tl[i][0];
             }
-            kxx += 0.5 * c * gxy;
-            kyy += 0.5 * c * gxy;
+            let gxy = vxy + vyx;
+            // Warping correction, twisted metric: c × in-plane velocity gradient.
+            kxx += c * vxy;
+            kyy += c * vyx;
             kxy += c * (dxx + dyy);
             let sb = assumed_shear(&fr, xi, eta);
             let (mut gxz, mut gyz) = (0.0, 0.0);
@@ -141,38 +170,55 @@ impl ShellFormulation for FullyIntegrated {
             dzz += 0.25 * sr.deps_zz;
             let (nr, mr) = (sr.n, sr.m);
             let (qx, qy) = (t * tau[0], t * tau[1]);
-            let msum = 0.5 * (mr[0] + mr[1]);
+            // Membrane forces with the warping correction's terms folded in:
+            // f̂x = det((N_xx + c M_xy) B1 + (N_xy + c M_xx) B2), f̂y likewise.
+            let (nxx, nyy) = (det * (nr[0] + c * mr[2]), det * (nr[1] + c * mr[2]));
+            let (nxy_x, nxy_y) = (det * (nr[2] + c * mr[0]), det * (nr[2] + c * mr[1]));
             for i in 0..4 {
-                fl[i][0] +=
-                    det * (nr[0] * b1[i] + nr[2] * b2[i] + c * (msum * b2[i] + mr[2] * b1[i]));
-                fl[i][1] +=
-                    det * (nr[1] * b2[i] + nr[2] * b1[i] + c * (msum * b1[i] + mr[2] * b2[i]));
+                fl[i][0] += nxx * b1[i] + nxy_x * b2[i];
+                fl[i][1] += nyy * b2[i] + nxy_y * b1[i];
                 fl[i][2] += det * (qx * sb.xz[0][i] + qy * sb.yz[0][i]);
-                ml[i][0] +=
-                    det * (-mr[1] * b2[i] - mr[2] * b1[i] + qx * sb.xz[1][i] + qy * sb.yz[1][i]);
-                ml[i][1] +=
-                    det * (mr[0] * b1[i] + mr[2] * b2[i] + qx * sb.xz[2][i] + qy * sb.yz[2][i]);
+                let mxb = -det * (mr[1] * b2[i] + mr[2] * b1[i]);
+                let myb = det * (mr[0] * b1[i] + mr[2] * b2[i]);
+                mb[i] += fr.y[i] * mxb + fr.x[i] * myb;
+                ml[i][0] += mxb + det * (qx * sb.xz[1][i] + qy * sb.yz[1][i]);
+                ml[i][1] += myb + det * (qx * sb.xz[2][i] + qy * sb.yz[2][i]);
             }
         }
-        // Relative drilling penalty on the element's mean spin.
-        let (b1, b2) = fr.mean_b();
-        let (md, d_drill) = drilling_penalty(
+        // Relative drilling penalty on the element's mean spin (about the nodal
+        // normals with the warping correction).
+        let tilt = if self.warping_correction {
+            Some((c, ox, oy))
+        } else {
+            None
+        };
+        let (md, d_drill, sx, sy) = drilling_penalty(
             0.25 * self.drilling * g * t * fr.area,
-            &b1,
-            &b2,
+            &mb1,
+            &mb2,
             &vl,
             &wl,
             dt,
             st.drilling,
+            tilt,
+            &fr.x,
+            &fr.y,
         );
         out.d_internal += d_drill;
         out.d_drilling = d_drill;
         let hmd = 0.5 * md;
         for i in 0..4 {
-            fl[i][0] += hmd * b2[i];
-            fl[i][1] -= hmd * b1[i];
+            fl[i][0] += hmd * mb2[i];
+            fl[i][1] -= hmd * mb1[i];
+            fl[i][2] += c * (sy * mb2[i] - sx * mb1[i]);
+            ml[i][0] -= c * fr.y[i] * st.drilling[i];
+            ml[i][1] -= c * fr.x[i] * st.drilling[i];
+        }
+        warp_rotation_forces(&fr.z, &mb1, &mb2, &mut fl);
+        for i in 0..4 {
             let fg = fr.global(fl[i]);
-            let mg = fr.global([ml[i][0], ml[i][1], st.drilling[i]]);
+            // Tilted fibres: the bending moments' share about the normal.
+            let mg = fr.global([ml[i][0], ml[i][1], st.drilling[i] + c * mb[i]]);
             out.f[i] = [-fg[0], -fg[1], -fg[2]];
             out.m[i] = [-mg[0], -mg[1], -mg[2]];
         }

@@ -50,6 +50,9 @@ pub(crate) struct Frame<T: Real = f64> {
     pub z: [T; 4],
     /// Projected area (mm²); ≤ 0 signals a degenerate or inverted element.
     pub area: T,
+    /// Warp `h·ẑ = Σ h_I ẑ_I` (mm): the heights are `ẑ = (h·ẑ/4) h`, since `e3`
+    /// is normal to both diagonals (`ẑ_1 = ẑ_3`, `ẑ_2 = ẑ_4`, `Σ ẑ_I = 0`).
+    pub warp: T,
 }
 
 impl<T: Real> Frame<T> {
@@ -93,6 +96,9 @@ impl<T: Real> Frame<T> {
             y,
             z,
             area: T::select(area.is_finite(), area, T::splat(-1.0)),
+            // Σ h_I ẑ_I = e3·(p0 − p1 + p2 − p3) = 2 e3·(p0 − p1), as e3 ⟂ both
+            // diagonals (e3·p2 = e3·p0, e3·p3 = e3·p1).
+            warp: dot(e3, sub(p[0], p[1])) * 2.0,
         }
     }
 
@@ -153,7 +159,7 @@ impl<T: Real> Frame<T> {
     /// `∂²z/∂x∂y` for a rectangle whose nodes lie on z = c x y.
     #[inline(always)]
     pub fn twist(&self) -> T {
-        (self.z[0] - self.z[1] + self.z[2] - self.z[3]) / self.area
+        self.warp / self.area
     }
 }
 

@@ -27,6 +27,8 @@ pub mod material;
 pub mod outputs;
 pub mod section;
 pub mod shell_set;
+#[cfg(test)]
+mod warped_tests;
 
 pub use belytschko_tsay::BelytschkoTsay;
 pub use error::ShellError;

@@ -3,8 +3,8 @@
 //! Belytschko–Tsay with and without the warping correction, plus the one-element check
 //! that explains the results: a rigid rotation of a warped element must not strain it.
 //! Run in release: `cargo test -p shell-elements --release --test twisted_beam`; the
-//! mesh and element study and the checks that fail today:
-//! `-- --ignored --nocapture` (several minutes).
+//! studies and the checks that still fail: `-- --ignored --nocapture` (several
+//! minutes).
 //!
 //! Geometry (MacNeal & Harder 1985, "A proposed standard set of problems to test finite
 //! element accuracy", Finite Elements in Analysis and Design 1, 3–20): length L = 12,
@@ -23,34 +23,60 @@
 //! (Check of the set-up: Euler–Bernoulli with the rotating section,
 //! u = P ∫(L−x)² [cos²φ/EI_weak + sin²φ/EI_strong] dx = 5.426e-3 for the in-plane load.)
 //!
-//! Tolerance (issue 4): 3 % on the tip displacement. No case meets it with the default
-//! parameters (drilling γ = 1e-3, hourglass r = 0.05) at a converged mesh today, so the
-//! benchmark tests are `#[ignore]`d with the reason; they are the acceptance tests for
-//! the fix of the warped-element kinematics that the rigid-rotation checks isolate.
-//! Measured (t = 0.32, release, `twisted_beam_study`; error to the reference):
+//! Tolerance (issue 4): 3 % on the tip displacement. Issue 4's fix (`docs/shells.md`,
+//! "Warped elements"): both elements remove a warped element's rigid rotation about its
+//! in-plane axes from the in-plane velocities (the rigid-rotation checks below), and
+//! the warping correction (option) is first-order kinematics on the twisted surface:
+//! fibres along the nodal normals, twisted metric, drilling about the nodal normals.
+//! Measured (release; `twisted_beam_study`, `twisted_beam_thin_study`,
+//! `twisted_beam_thin_8x48_study`; error to the reference; "—": not run, for time):
 //!
-//! | mesh | load | FI | FI + warp | BT | BT + warp |
-//! |---|---|---|---|---|---|
-//! | 2×12 | in-plane | −72.7 % | −72.7 % | +11.0 % | +11.0 % |
-//! | 4×24 | in-plane | −38.8 % | −38.8 % | +25.7 % | +25.7 % |
-//! | 8×48 | in-plane | +0.75 % | +0.75 % | +30.6 % | +30.6 % |
-//! | 16×96 | in-plane | +22.6 % (one run, 264 s; still rising) | | | |
-//! | 2×12 | out-of-plane | −56.2 % | −56.2 % | +16.7 % | +16.6 % |
-//! | 4×24 | out-of-plane | −31.7 % | −31.7 % | +22.8 % | +22.7 % |
-//! | 8×48 | out-of-plane | +0.16 % | +0.11 % | +25.1 % | +25.1 % |
+//! | t | mesh | load | FI | FI + warp | BT | BT + warp |
+//! |---|---|---|---|---|---|---|
+//! | 0.32 | 2×12 | in-plane | +27.6 % | −1.39 % | +29.7 % | +0.12 % |
+//! | 0.32 | 4×24 | in-plane | +30.5 % | −0.52 % | +31.1 % | −0.12 % |
+//! | 0.32 | 8×48 | in-plane | +31.8 % | −0.25 % | +32.0 % | −0.14 % |
+//! | 0.32 | 2×12 | out-of-plane | +17.8 % | −8.32 % | +32.1 % | +6.08 % |
+//! | 0.32 | 4×24 | out-of-plane | +23.5 % | −2.63 % | +27.2 % | +1.04 % |
+//! | 0.32 | 8×48 | out-of-plane | +25.3 % | −0.81 % | +26.3 % | +0.13 % |
+//! | 0.0032 | 2×12 | in-plane | −8.17 % | −2.52 % | −6.66 % | −0.78 % |
+//! | 0.0032 | 4×24 | in-plane | −1.22 % | −1.01 % | −0.35 % | −0.13 % |
+//! | 0.0032 | 8×48 | in-plane | — | — | — | −0.10 % |
+//! | 0.0032 | 2×12 | out-of-plane | −3.77 % | −2.97 % | −2.83 % | −1.94 % |
+//! | 0.0032 | 4×24 | out-of-plane | −0.91 % | −0.90 % | −0.47 % | −0.45 % |
+//! | 0.0032 | 8×48 | out-of-plane | — | — | — | −0.19 % |
 //!
-//! The warping correction changes no result by more than 0.05 %. The fully integrated
-//! shell does not converge: too stiff on coarse meshes (rigid rotations strain a warped
-//! element, see the rigid-rotation check: the spurious membrane strain is ∝ c·h, its
-//! energy ∝ t against the bending energy ∝ t³), too soft at 16×96 — the 8×48 value is a
-//! crossing. Belytschko–Tsay's answer is set by its penalties (`twisted_beam_penalty_study`:
-//! 4×24 in-plane −0.3 % with γ = 1e-2, +25.7 % with the default 1e-3; r = 0.05 → 0.2
-//! moves it by −9 to −33 %). Thin variant (t = 0.0032, 2×12): FI 2.7e-7 and BT 6.6e-6
-//! against 5.256e-3 (in-plane), FI 2.1e-7 and BT 1.7e-6 against 1.294e-3: locked, FI by
-//! the same spurious membrane strain (unchanged with γ = 1e-4), BT by the membrane
-//! hourglass forces that rigid rotations of warped elements raise (u ∝ 1/r: 6.1e-5 with
-//! r = 0.005; unchanged with γ = 1e-4).
-
+//! Before the fix (this file on main): FI −72.7 / −38.8 / +0.75 % (in-plane, t = 0.32)
+//! and locked thin (2.7e-7 against 5.256e-3), BT +11.0 / +25.7 / +30.6 % and locked
+//! thin (6.6e-6), and the earlier warping correction changed nothing (≤ 0.05 %).
+//!
+//! What sets the rest:
+//! * Without the warping correction the answer is set by the drilling penalty, not by
+//!   the mesh: on the faceted twisted surface the nodal rotation about an element's
+//!   normal is bending for the twisted section (the fibres' tilt), and the flat
+//!   kinematics hold it only by the drilling penalty (∝ γ t). Thick, 2×12 in-plane
+//!   (`twisted_beam_penalty_study`): FI +222 / +27.6 / +1.6 / −1.2 % and BT +235 /
+//!   +29.7 / +3.1 / +0.14 % for γ = 1e-4 / 1e-3 (default) / 1e-2 / 1e-1 (4×24: FI +230
+//!   / +30.5 / +2.6 / −0.26 %). With γ = 1e-3 the runs are settled: relaxing five times
+//!   longer moves them by ≤ 0.08 % (`twisted_beam_relaxation_study`). With the
+//!   correction the answer no longer depends on γ: BT + warp in-plane 2×12 +0.14 /
+//!   +0.12 / +0.08 / −0.19 %, FI + warp −1.33 / −1.39 / −1.43 / −1.53 % for the same γ.
+//! * Out-of-plane, 2×12: the load runs along the root's width, so the root, where the
+//!   moment is largest, bends in its plane, and two elements across the width are too
+//!   few for bilinear membranes in in-plane bending: the same harness with no twist
+//!   (`straight_strip_in_plane_bending_study`, Timoshenko reference 5.630e-4) gives FI
+//!   −26.3 % (2×12) / −8.3 % (4×24) and BT +29.1 % / +5.9 % (one-point membrane,
+//!   hourglass r = 0.05; r = 0.2: +19.7 % / +4.2 %). Hence FI + warp −8.3 % and BT + warp
+//!   +6.1 % at 2×12, both within 3 % from 4×24 on (the 4×24 acceptance tests).
+//! * Out-of-plane 2×12 without the correction: FI +224 / +17.8 / −5.9 / −9.3 %, BT +241 /
+//!   +32.1 / +8.2 / +2.5 % for γ = 1e-4 / 1e-3 / 1e-2 / 1e-1; with it FI + warp −8.0 /
+//!   −8.3 / −8.5 / −9.7 %, BT + warp +6.5 / +6.1 / +5.7 / +2.2 % (4×24: FI + warp −2.58 /
+//!   −2.63 / −2.68 / −3.17 %, BT + warp +1.09 / +1.04 / +0.97 / +0.33 %).
+//! * Thin (2×12 in-plane, `twisted_beam_thin_penalty_study`), the flat drilling penalty
+//!   stiffens instead (it also holds the bending rotations' share along the element
+//!   normal, ∝ t against bending ∝ t³): BT −1.36 / −6.66 / −28.7 % for γ = 1e-4 / 1e-3 /
+//!   1e-2; the correction's drilling about the nodal normals removes it (BT + warp
+//!   −0.77 / −0.78 / −0.86 %).
 mod common;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -125,10 +151,24 @@ const TOL: f64 = 0.03;
 /// stress profile).
 fn twisted_beam<F: ShellFormulation>(
     form: F,
+    mesh: (usize, usize),
+    t: f64,
+    hourglass: f64,
+    load: Load,
+) -> Run {
+    twisted_beam_for(form, mesh, t, hourglass, load, 14.0, TWIST_RATE)
+}
+
+/// [`twisted_beam`] relaxed for `periods / ω` instead of `14/ω`, with twist rate
+/// `twist` (rad/mm) instead of 90° over the length (0: a straight strip).
+fn twisted_beam_for<F: ShellFormulation>(
+    form: F,
     (nw, nl): (usize, usize),
     t: f64,
     hourglass: f64,
     load: Load,
+    periods: f64,
+    twist: f64,
 ) -> Run {
     let id = |i: usize, j: usize| j * (nl + 1) + i;
     let mut nodes = Vec::with_capacity((nl + 1) * (nw + 1));
@@ -136,7 +176,7 @@ fn twisted_beam<F: ShellFormulation>(
         let s = WIDTH * (j as f64 / nw as f64 - 0.5);
         for i in 0..=nl {
             let x = LENGTH * i as f64 / nl as f64;
-            let phi = TWIST_RATE * x;
+            let phi = twist * x;
             nodes.push(Vec3::new(x, s * phi.cos(), s * phi.sin()));
         }
     }
@@ -168,7 +208,7 @@ fn twisted_beam<F: ShellFormulation>(
     let set = ShellSet::new("beam", &nodes, &quads, section, form, mat).unwrap();
     let i_weak = WIDTH * t.powi(3) / 12.0;
     let omega = 3.516 * (YOUNG * i_weak / (rho * WIDTH * t * LENGTH.powi(4))).sqrt();
-    let t_end = 14.0 / omega;
+    let t_end = periods / omega;
     let settings = SolverSettings {
         damping: 2.0 * omega,
         ..Default::default()
@@ -272,7 +312,18 @@ fn run_case<F: ShellFormulation>(
 /// Assert a case: converged (relative change over the last tenth < 1e-3, a tenth of
 /// the tolerance at most) and within 3 %.
 fn assert_case<F: ShellFormulation>(label: &str, form: F, mesh: (usize, usize), load: Load) {
-    let (r, err) = case(label, form, mesh, 0.32, load);
+    assert_case_t(label, form, mesh, 0.32, load);
+}
+
+/// [`assert_case`] at thickness `t`.
+fn assert_case_t<F: ShellFormulation>(
+    label: &str,
+    form: F,
+    mesh: (usize, usize),
+    t: f64,
+    load: Load,
+) {
+    let (r, err) = case(label, form, mesh, t, load);
     assert!(r.change < 1e-3, "not converged: change {:.2e}", r.change);
     assert!(err.abs() < TOL, "{label}: {:+.2} %", 100.0 * err);
 }
@@ -294,39 +345,84 @@ fn fi(warping_correction: bool) -> FullyIntegrated {
 // ----- the benchmark (acceptance tests of the warped-element fix) ----------------------
 
 /// MacNeal & Harder (1985) standard mesh 2×12, t = 0.32, in-plane load, fully
-/// integrated shell: 5.424e-3 within 3 %. Measured today: 1.479e-3 (−72.7 %).
+/// integrated shell (default options, no warping correction): 5.424e-3 within 3 %.
+/// Measured: 6.921e-3 (+27.6 %; −72.7 % before the warped-element projection, when
+/// rigid rotations strained the element). Without the warping correction the
+/// faceted twisted beam is drilling-soft: +27.6 / +30.5 / +31.8 % at 2×12 / 4×24 /
+/// 8×48, +1.6 % with γ = 1e-2 (`twisted_beam_penalty_study`); with the correction
+/// −1.39 % (`twisted_beam_study`).
 #[test]
-#[ignore = "fails today (−72.7 %): rigid rotations strain warped FI elements, see rigid_rotation_of_warped_element_is_strain_free_fully_integrated"]
+#[ignore = "fails (+27.6 %): without the warping correction the element is drilling-soft on the twisted facets (FI + warping correction: −1.39 %)"]
 fn twisted_beam_in_plane_2x12_fully_integrated() {
     assert_case("FI", fi(false), (2, 12), Load::InPlane);
 }
 
-/// Same, out-of-plane load: 1.754e-3 within 3 %. Measured today: 7.69e-4 (−56.2 %).
+/// Same, out-of-plane load: 1.754e-3 within 3 %. Measured: 2.065e-3 (+17.8 %; −56.2 %
+/// before the projection). With the warping correction −8.3 % at 2×12 (−2.6 / −0.8 %
+/// at 4×24 / 8×48): the root, where the moment is largest, bends in its plane, and a
+/// 2-element-wide bilinear membrane locks in in-plane bending (straight strip, same
+/// mesh: −26 %).
 #[test]
-#[ignore = "fails today (−56.2 %): rigid rotations strain warped FI elements"]
+#[ignore = "fails (+17.8 %): drilling-soft without the warping correction; with it −8.3 % from in-plane bending locking of the 2-element-wide membrane at the root"]
 fn twisted_beam_out_of_plane_2x12_fully_integrated() {
     assert_case("FI", fi(false), (2, 12), Load::OutOfPlane);
 }
 
 /// MacNeal & Harder (1985) standard mesh 2×12, t = 0.32, in-plane load,
-/// Belytschko–Tsay with the warping correction: 5.424e-3 within 3 %. Measured today:
-/// 6.022e-3 (+11.0 %; without the correction: the same to 1e-4).
+/// Belytschko–Tsay with the warping correction: 5.424e-3 within 3 % (and converged).
+/// Measured: 5.430e-3 (+0.12 %; +11.0 % before the projection and the new correction;
+/// without the correction now +29.7 %, drilling-soft).
 #[test]
-#[ignore = "fails today (+11.0 %): the warping correction changes nothing; answer set by drilling and hourglass penalties"]
 fn twisted_beam_in_plane_2x12_belytschko_tsay_warping_correction() {
     assert_case("BT+warp", bt(true), (2, 12), Load::InPlane);
 }
 
-/// Same, out-of-plane load: 1.754e-3 within 3 %. Measured today: 2.046e-3 (+16.6 %).
+/// Same, out-of-plane load: 1.754e-3 within 3 %. Measured: 1.861e-3 (+6.1 %; +1.0 /
+/// +0.13 % at 4×24 / 8×48). The root bends in its plane, and a 2-element-wide strip of
+/// one-point membranes with the default hourglass control (r = 0.05) is too soft in
+/// in-plane bending (straight strip, same mesh: +29 %; r = 0.2: +20 %, and the
+/// twisted beam +3.6 %). Insensitive to the drilling coefficient from 1e-4 to 1e-2.
 #[test]
-#[ignore = "fails today (+16.6 %): the warping correction changes nothing; answer set by drilling and hourglass penalties"]
+#[ignore = "fails (+6.1 %): one-point membrane with the default hourglass stiffness too soft in in-plane bending of the 2-element-wide root (4×24: +1.0 %)"]
 fn twisted_beam_out_of_plane_2x12_belytschko_tsay_warping_correction() {
     assert_case("BT+warp", bt(true), (2, 12), Load::OutOfPlane);
 }
 
+/// MacNeal & Harder (1985) standard mesh 2×12, t = 0.32, in-plane load, fully
+/// integrated shell with the warping correction: 5.424e-3 within 3 % (and converged).
+/// Measured: 5.348e-3 (−1.39 %).
+#[test]
+fn twisted_beam_in_plane_2x12_fully_integrated_warping_correction() {
+    assert_case("FI+warp", fi(true), (2, 12), Load::InPlane);
+}
+
+/// Out-of-plane load on the first refined mesh, 4×24 (the 2×12 mesh misses, see above),
+/// Belytschko–Tsay with the warping correction: 1.754e-3 within 3 %. Measured:
+/// 1.772e-3 (+1.04 %; 8×48: +0.13 %).
+#[test]
+fn twisted_beam_out_of_plane_4x24_belytschko_tsay_warping_correction() {
+    assert_case("BT+warp", bt(true), (4, 24), Load::OutOfPlane);
+}
+
+/// Same, fully integrated shell with the warping correction: 1.754e-3 within 3 %.
+/// Measured: 1.708e-3 (−2.63 %; 8×48: −0.81 %).
+#[test]
+fn twisted_beam_out_of_plane_4x24_fully_integrated_warping_correction() {
+    assert_case("FI+warp", fi(true), (4, 24), Load::OutOfPlane);
+}
+
+/// Thin beam (t = 0.0032, load 1e-6), standard mesh 2×12, in-plane load,
+/// Belytschko–Tsay with the warping correction: 5.256e-3 within 3 % (and converged).
+/// Before issue 4 this case locked (6.6e-6). Measured: 5.215e-3 (−0.78 %), about 40 s
+/// in release (1.3 million steps).
+#[test]
+fn twisted_beam_thin_in_plane_2x12_belytschko_tsay_warping_correction() {
+    assert_case_t("BT+warp", bt(true), (2, 12), 0.0032, Load::InPlane);
+}
+
 /// Mesh and element study, t = 0.32 (not asserted; prints the table of the report).
 #[test]
-#[ignore = "study: prints the table, ~10 min in release"]
+#[ignore = "study: prints the table, ~2 min in release on an idle machine"]
 fn twisted_beam_study() {
     for load in [Load::InPlane, Load::OutOfPlane] {
         for mesh in [(2, 12), (4, 24), (8, 48)] {
@@ -338,46 +434,145 @@ fn twisted_beam_study() {
     }
 }
 
-/// Thin variant t = 0.0032, load 1e-6, mesh 2×12 (not asserted; ~100 times the steps
-/// of the thick beam, since the step is set by the membrane waves and the relaxation
-/// time by the first bending mode, ∝ t).
+/// Thin variant t = 0.0032, load 1e-6, meshes 2×12 and 4×24 (not asserted; ~100 times
+/// the steps of the thick beam, since the step is set by the membrane waves and the
+/// relaxation time by the first bending mode, ∝ t).
 #[test]
-#[ignore = "study: thin beam, several minutes in release"]
+#[ignore = "study: thin beam 2×12 and 4×24, about half an hour in release"]
 fn twisted_beam_thin_study() {
+    thin_study(&[(2, 12), (4, 24)]);
+}
+
+/// Thin variant on the 8×48 mesh, Belytschko–Tsay with the warping correction only
+/// (not asserted; about 20 min per load in release).
+#[test]
+#[ignore = "study: thin beam 8×48, about 40 min in release"]
+fn twisted_beam_thin_8x48_study() {
     for load in [Load::InPlane, Load::OutOfPlane] {
-        let _ = case("FI", fi(false), (2, 12), 0.0032, load);
-        let _ = case("BT", bt(false), (2, 12), 0.0032, load);
-        let _ = case("BT+warp", bt(true), (2, 12), 0.0032, load);
+        let _ = case("BT+warp", bt(true), (8, 48), 0.0032, load);
+    }
+}
+
+fn thin_study(meshes: &[(usize, usize)]) {
+    for load in [Load::InPlane, Load::OutOfPlane] {
+        for &mesh in meshes {
+            let _ = case("FI", fi(false), mesh, 0.0032, load);
+            let _ = case("FI+warp", fi(true), mesh, 0.0032, load);
+            let _ = case("BT", bt(false), mesh, 0.0032, load);
+            let _ = case("BT+warp", bt(true), mesh, 0.0032, load);
+        }
     }
 }
 
 /// How the penalties set the answer (t = 0.32, 2×12 and 4×24, not asserted): drilling
-/// coefficient γ ∈ {1e-3 (default), 1e-2, 1e-1} for both elements, and the hourglass
-/// coefficient r ∈ {0.05 (default), 0.2} for Belytschko–Tsay.
+/// coefficient γ ∈ {1e-4, 1e-3 (default), 1e-2, 1e-1} for both elements with and
+/// without the warping correction, and the hourglass coefficient r ∈ {0.05 (default),
+/// 0.2} for Belytschko–Tsay.
 #[test]
-#[ignore = "study: penalty sensitivity, several minutes in release"]
+#[ignore = "study: penalty sensitivity, a few minutes in release"]
 fn twisted_beam_penalty_study() {
     for load in [Load::InPlane, Load::OutOfPlane] {
         for mesh in [(2, 12), (4, 24)] {
-            for gamma in [1e-3, 1e-2, 1e-1] {
-                let label = format!("FI γ = {gamma}");
-                let _ = case(
-                    &label,
-                    fi(false).with_drilling(gamma).unwrap(),
-                    mesh,
-                    0.32,
-                    load,
-                );
-                for r in [0.05, 0.2] {
-                    let label = format!("BT γ = {gamma}, r = {r}");
-                    let _ = case_hourglass(
+            for wc in [false, true] {
+                let tag = if wc { "+warp" } else { "" };
+                for gamma in [1e-4, 1e-3, 1e-2, 1e-1] {
+                    let label = format!("FI{tag} γ = {gamma}");
+                    let _ = case(
                         &label,
-                        bt(false).with_drilling(gamma).unwrap(),
+                        fi(wc).with_drilling(gamma).unwrap(),
                         mesh,
-                        r,
+                        0.32,
                         load,
                     );
+                    for r in [0.05, 0.2] {
+                        let label = format!("BT{tag} γ = {gamma}, r = {r}");
+                        let _ = case_hourglass(
+                            &label,
+                            bt(wc).with_drilling(gamma).unwrap(),
+                            mesh,
+                            r,
+                            load,
+                        );
+                    }
                 }
+            }
+        }
+    }
+}
+
+/// Drilling coefficient in the thin limit (t = 0.0032, 2×12, in-plane load, not
+/// asserted): Belytschko–Tsay with and without the warping correction for γ = 1e-4 and
+/// 1e-2 (the default 1e-3 is in `twisted_beam_thin_study`).
+#[test]
+#[ignore = "study: thin beam penalty sensitivity, about three minutes in release"]
+fn twisted_beam_thin_penalty_study() {
+    for gamma in [1e-4, 1e-2] {
+        for (tag, wc) in [("BT", false), ("BT+warp", true)] {
+            let label = format!("{tag} γ = {gamma}");
+            let form = bt(wc).with_drilling(gamma).unwrap();
+            let _ = case(&label, form, (2, 12), 0.0032, Load::InPlane);
+        }
+    }
+}
+
+/// Is the relaxation long enough? The 2×12 cases (t = 0.32) relaxed for 14/ω (the
+/// default) and for 70/ω (not asserted; prints both).
+#[test]
+#[ignore = "study: relaxation-time check, about a minute in release"]
+fn twisted_beam_relaxation_study() {
+    for load in [Load::InPlane, Load::OutOfPlane] {
+        for (label, wc) in [("no correction", false), ("warping correction", true)] {
+            for periods in [14.0, 70.0] {
+                let r = |u: f64| 100.0 * (u / reference(0.32, load) - 1.0);
+                let hg = Section::new(0.32).unwrap().hourglass;
+                let a = twisted_beam_for(fi(wc), (2, 12), 0.32, hg, load, periods, TWIST_RATE);
+                let b = twisted_beam_for(bt(wc), (2, 12), 0.32, hg, load, periods, TWIST_RATE);
+                println!(
+                    "{load:?}, {label}, {periods}/ω: FI {:+.2} % (change {:.1e}), \
+                     BT {:+.2} % (change {:.1e})",
+                    r(a.u),
+                    a.change,
+                    r(b.u),
+                    b.change
+                );
+            }
+        }
+    }
+}
+
+/// The same harness without twist (a straight strip, width along y, not asserted):
+/// the out-of-plane load (global y) then bends the whole strip in its plane, which is
+/// what the twisted beam's root does under that load. Reference: Timoshenko cantilever
+/// about the strong axis, `P L³/(3 E I) + P L/(κ G A)` with `I = t w³/12`, κ = 5/6.
+#[test]
+#[ignore = "study: in-plane bending of the untwisted strip, under a minute in release"]
+fn straight_strip_in_plane_bending_study() {
+    let t = 0.32;
+    let i_strong = t * WIDTH.powi(3) / 12.0;
+    let g = YOUNG / (2.0 * (1.0 + POISSON));
+    let u_ref = LENGTH.powi(3) / (3.0 * YOUNG * i_strong) + LENGTH / (5.0 / 6.0 * g * WIDTH * t);
+    for mesh in [(2, 12), (4, 24)] {
+        for r in [0.05, 0.2] {
+            let runs = [
+                (
+                    "FI",
+                    twisted_beam_for(fi(false), mesh, t, r, Load::OutOfPlane, 14.0, 0.0),
+                ),
+                (
+                    "BT",
+                    twisted_beam_for(bt(false), mesh, t, r, Load::OutOfPlane, 14.0, 0.0),
+                ),
+            ];
+            for (label, run) in runs {
+                println!(
+                    "straight strip {label}, {}×{}, r = {r}: u = {:.4e} (ref {u_ref:.4e}, {:+.2} %), \
+                     change {:.1e}",
+                    mesh.0,
+                    mesh.1,
+                    run.u,
+                    100.0 * (run.u / u_ref - 1.0),
+                    run.change
+                );
             }
         }
     }
@@ -454,14 +649,16 @@ fn rigid_rotation_of_flat_element_is_strain_free() {
 }
 
 /// A rigid rotation of a warped element (z_h = c a b = 0.018 mm, the 2×12 twisted
-/// beam's) must not strain it (tolerance 1e-12 per radian). Fails today for rotations
-/// about the local in-plane axes: the projected-plane kinematics read the in-plane
+/// beam's) must not strain it (tolerance 1e-12 per radian). Failed before issue 4's
+/// fix for rotations about the local in-plane axes: the projected-plane kinematics
+/// read the in-plane
 /// nodal velocities of the rotation, `v̂x = ω̂y ẑ_I`, `v̂y = −ω̂x ẑ_I` (ẑ_I = ±z_h), as
 /// membrane strain rates; with the 2×2 B-matrix, `Σ ∂N_I/∂x ẑ_I = z_h η/a` and
 /// `Σ ∂N_I/∂y ẑ_I = z_h ξ/b` are not zero off the centre, so `d_xx = ω̂y c b η`,
 /// `d_yy = −ω̂x c a ξ` at the Gauss points (measured: σ/E′ = 0.038 per radian about x).
+/// The element's rigid rotation about its in-plane axes is now removed from the
+/// in-plane velocities first (measured: σ/E′ ≤ 8.7e-17, f/(E t) ≤ 3.4e-17 per radian).
 #[test]
-#[ignore = "fails today: 0.038 strain per radian of rigid rotation (fully_integrated.rs, membrane rates from unprojected local velocities)"]
 fn rigid_rotation_of_warped_element_is_strain_free_fully_integrated() {
     for axis in 0..3 {
         let (s, f) = rigid_rotation_response(fi(false), benchmark_warp(), axis);
@@ -473,9 +670,9 @@ fn rigid_rotation_of_warped_element_is_strain_free_fully_integrated() {
 /// The same for Belytschko–Tsay (with and without the warping correction): the centre
 /// B-matrix is orthogonal to ẑ ∝ h, so no stress arises, but the membrane hourglass
 /// rates `q_x = γ·v̂x`, `q_y = γ·v̂y` are not (Σ γ_I ẑ_I = 2 z_h), so the hourglass
-/// control resists rigid rotations (measured: f/(E t) = 2.7e-4 per radian).
+/// control resisted rigid rotations (measured before issue 4's fix: f/(E t) = 2.7e-4
+/// per radian; now 0 to 2.6e-20).
 #[test]
-#[ignore = "fails today: membrane hourglass forces under rigid rotation (belytschko_tsay.rs, q[0], q[1] from unprojected local velocities)"]
 fn rigid_rotation_of_warped_element_is_force_free_belytschko_tsay() {
     for warping_correction in [false, true] {
         for axis in 0..3 {
