@@ -58,7 +58,7 @@ fn overrides_change_any_value() {
 }
 
 /// The shells' drilling coefficient and warping correction are scene keys,
-/// checked for range and for the element they apply to.
+/// checked for range and type; both elements take the warping correction.
 #[test]
 fn drilling_and_warping_options_are_checked() {
     let load = |sets: &[&str]| {
@@ -78,13 +78,17 @@ fn drilling_and_warping_options_are_checked() {
     );
     let e = load(&["blank.drilling=-1e-3"]).unwrap_err().to_string();
     assert!(e.contains("blank.drilling"), "{e}");
-    let e = load(&[
+    // Both elements have the warping correction.
+    load(&[
+        "blank.mesh.divisions=4",
         "blank.element=fully-integrated",
         "blank.warping_correction=true",
     ])
-    .unwrap_err()
-    .to_string();
-    assert!(e.contains("blank.warping_correction"), "{e}");
+    .unwrap();
+    let e = load(&["blank.warping_correction=2"])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("warping_correction"), "{e}");
 }
 
 #[test]

@@ -292,9 +292,12 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
                     &mesh.nodes,
                     &mesh.quads,
                     section,
-                    FullyIntegrated::default()
-                        .with_drilling(s.blank.drilling)
-                        .map_err(|e| loaded.key_error("blank.drilling", e.to_string()))?,
+                    FullyIntegrated {
+                        warping_correction: s.blank.warping_correction,
+                        ..FullyIntegrated::default()
+                    }
+                    .with_drilling(s.blank.drilling)
+                    .map_err(|e| loaded.key_error("blank.drilling", e.to_string()))?,
                     material,
                 )
                 .map_err(|e| loaded.key_error("blank", e.to_string()))?,

@@ -105,8 +105,9 @@ pub struct Blank {
     /// (default 1e-3, range [0, 0.1]; docs/shells.md).
     #[serde(default = "default_drilling")]
     pub drilling: f64,
-    /// Belytschko–Wong–Chiang warping correction of the Belytschko–Tsay shell
-    /// (default off).
+    /// Warping correction of either shell (after Belytschko–Wong–Chiang:
+    /// fibres along the warped surface's nodal normals, twisted metric;
+    /// default off, recommended for warped meshes; docs/shells.md).
     #[serde(default)]
     pub warping_correction: bool,
     /// `[blank.material]`.

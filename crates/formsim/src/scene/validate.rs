@@ -65,12 +65,6 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
             format!("{}: must be in [0, {max_drill}]", b.drilling),
         );
     }
-    if b.warping_correction && b.element != ElementKind::BelytschkoTsay {
-        return err(
-            "blank.warping_correction",
-            "true: only the belytschko-tsay element has a warping correction".to_string(),
-        );
-    }
     match &b.mesh {
         MeshSpec::Rectangle {
             size,
