@@ -40,7 +40,7 @@
 use crate::error::ShellError;
 use crate::formulation::{
     DEFAULT_DRILLING, ElementBlock, ElementResult, ElementState, SectionResult, ShellFormulation,
-    check_drilling, drilling_penalty, integrate_section, integrate_section_x4, lane_nodes,
+    check_drilling, compute_by_element, drilling_penalty, integrate_section, integrate_section_x4,
     local_velocities, new_thickness,
 };
 use crate::geometry::{Frame, H, ShearB, V3, assumed_shear};
@@ -167,7 +167,7 @@ impl ShellFormulation for BelytschkoTsay {
             3 => self.lanes_dispatch::<M, 3>(mat, sec, x, v, w, dt, st, out),
             7 => self.lanes_dispatch::<M, 7>(mat, sec, x, v, w, dt, st, out),
             _ => {
-                for_each_element(self, mat, sec, x, v, w, dt, st, out);
+                compute_by_element(self, mat, sec, x, v, w, dt, st, out);
             }
         }
     }
@@ -228,48 +228,6 @@ struct Lanes<'a, T> {
     drilling: &'a mut [T; 4],
 }
 
-/// Elements one after the other (the trait's default four-element path).
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn for_each_element<M: Material>(
-    bt: &BelytschkoTsay,
-    mat: &M,
-    sec: &Section,
-    x: &[[F4; 3]; 4],
-    v: &[[F4; 3]; 4],
-    w: &[[F4; 3]; 4],
-    dt: f64,
-    st: ElementBlock<'_, M::History>,
-    out: &mut ElementResult<F4>,
-) {
-    let nsp = st.stress.len() / 4;
-    for (l, ((s, h), t)) in st
-        .stress
-        .chunks_mut(nsp)
-        .zip(st.history.chunks_mut(nsp))
-        .zip(st.thickness.iter_mut())
-        .enumerate()
-    {
-        let r = bt.compute(
-            mat,
-            sec,
-            &lane_nodes(x, l),
-            &lane_nodes(v, l),
-            &lane_nodes(w, l),
-            dt,
-            ElementState {
-                thickness: t,
-                stress: s,
-                history: h,
-                shear: &mut st.shear[l..l + 1],
-                hourglass: &mut st.hourglass[5 * l..5 * l + 5],
-                drilling: &mut st.drilling[l],
-            },
-        );
-        out.set_lane(l, &r);
-    }
-}
-
 impl BelytschkoTsay {
     /// Four elements in SIMD lanes: with AVX2 where the processor has it
     /// (checked once, cached by the standard library), else the same lane
@@ -288,7 +246,7 @@ impl BelytschkoTsay {
         out: &mut ElementResult<F4>,
     ) {
         if st.stress.len() != 4 * N || st.shear.len() != 4 || st.hourglass.len() != 20 {
-            return for_each_element(self, mat, sec, x, v, w, dt, st, out);
+            return compute_by_element(self, mat, sec, x, v, w, dt, st, out);
         }
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {

@@ -185,37 +185,55 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
         st: ElementBlock<'_, M::History>,
         out: &mut ElementResult<F4>,
     ) {
-        let nsp = st.stress.len() / 4;
-        let ip = st.shear.len() / 4;
-        let nhg = st.hourglass.len() / 4;
-        for (l, (((((t, s), h), sh), hg), dr)) in st
-            .thickness
-            .iter_mut()
-            .zip(st.stress.chunks_mut(nsp))
-            .zip(st.history.chunks_mut(nsp))
-            .zip(st.shear.chunks_mut(ip))
-            .zip(st.hourglass.chunks_mut(nhg))
-            .zip(st.drilling.iter_mut())
-            .enumerate()
-        {
-            let r = self.compute(
-                mat,
-                sec,
-                &lane_nodes(x, l),
-                &lane_nodes(v, l),
-                &lane_nodes(w, l),
-                dt,
-                ElementState {
-                    thickness: t,
-                    stress: s,
-                    history: h,
-                    shear: sh,
-                    hourglass: &mut hg[..Self::HOURGLASS_VARS],
-                    drilling: dr,
-                },
-            );
-            out.set_lane(l, &r);
-        }
+        compute_by_element(self, mat, sec, x, v, w, dt, st, out);
+    }
+}
+
+/// [`ShellFormulation::compute_x4`] one element after the other through
+/// [`ShellFormulation::compute`] (element-major block state).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn compute_by_element<F: ShellFormulation, M: Material>(
+    form: &F,
+    mat: &M,
+    sec: &Section,
+    x: &[[F4; 3]; 4],
+    v: &[[F4; 3]; 4],
+    w: &[[F4; 3]; 4],
+    dt: f64,
+    st: ElementBlock<'_, M::History>,
+    out: &mut ElementResult<F4>,
+) {
+    let nsp = st.stress.len() / 4;
+    let ip = st.shear.len() / 4;
+    let nhg = st.hourglass.len() / 4;
+    for (l, (((((t, s), h), sh), hg), dr)) in st
+        .thickness
+        .iter_mut()
+        .zip(st.stress.chunks_mut(nsp))
+        .zip(st.history.chunks_mut(nsp))
+        .zip(st.shear.chunks_mut(ip))
+        .zip(st.hourglass.chunks_mut(nhg))
+        .zip(st.drilling.iter_mut())
+        .enumerate()
+    {
+        let r = form.compute(
+            mat,
+            sec,
+            &lane_nodes(x, l),
+            &lane_nodes(v, l),
+            &lane_nodes(w, l),
+            dt,
+            ElementState {
+                thickness: t,
+                stress: s,
+                history: h,
+                shear: sh,
+                hourglass: &mut hg[..F::HOURGLASS_VARS],
+                drilling: dr,
+            },
+        );
+        out.set_lane(l, &r);
     }
 }
 
