@@ -667,3 +667,106 @@ impl BelytschkoTsay {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::{Hardening, J2History, J2PlaneStress, Material};
+
+    /// The block kernel compiled for the baseline target (SSE2) and for AVX2
+    /// gives the same bits (IEEE operations lane by lane, no contraction), so
+    /// a run does not depend on the processor it lands on. Skipped (passes)
+    /// on a processor without AVX2. Tolerance: none.
+    #[test]
+    fn baseline_and_avx2_block_kernels_agree_bit_for_bit() {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let mat = J2PlaneStress::new(
+                206_000.0,
+                0.3,
+                7.85e-9,
+                Hardening::swift(565.32, 0.007117, 0.2589).unwrap(),
+            )
+            .unwrap();
+            let sec = Section::new(0.8).unwrap();
+            let bt = BelytschkoTsay {
+                warping_correction: true,
+                ..Default::default()
+            };
+            // Four warped quads, large strain increments (plastic flow).
+            let x: [[F4; 3]; 4] = std::array::from_fn(|i| {
+                let (xi, eta) = ([0.0, 1.0, 1.0, 0.0][i], [0.0, 0.0, 1.0, 1.0][i]);
+                [
+                    F4::from_fn(|l| xi + 0.1 * l as f64 * eta),
+                    F4::from_fn(|l| eta - 0.05 * l as f64 * xi),
+                    F4::from_fn(|l| 0.02 * (l as f64 + 1.0) * (xi - 0.5) * (eta - 0.5)),
+                ]
+            });
+            let v: [[F4; 3]; 4] = std::array::from_fn(|i| {
+                [
+                    F4::from_fn(|l| 300.0 * x[i][0].0[l] + 10.0 * l as f64),
+                    F4::from_fn(|l| -120.0 * x[i][1].0[l]),
+                    F4::from_fn(|l| 40.0 * x[i][0].0[l] * x[i][1].0[l]),
+                ]
+            });
+            let w: [[F4; 3]; 4] = std::array::from_fn(|i| {
+                [
+                    F4::from_fn(|l| 5.0 * x[i][1].0[l] - l as f64),
+                    F4::from_fn(|l| -7.0 * x[i][0].0[l]),
+                    F4::from_fn(|l| 0.3 * l as f64),
+                ]
+            });
+            let fresh = || {
+                (
+                    [0.8; 4],
+                    vec![[0.0; 3]; 20],
+                    vec![mat.initial_history(); 20],
+                    vec![[0.0; 2]; 4],
+                    vec![0.0; 20],
+                    [[0.0; 4]; 4],
+                )
+            };
+            let (mut a, mut b) = (fresh(), fresh());
+            type State = (
+                [f64; 4],
+                Vec<[f64; 3]>,
+                Vec<J2History>,
+                Vec<[f64; 2]>,
+                Vec<f64>,
+                [[f64; 4]; 4],
+            );
+            fn block(s: &mut State) -> ElementBlock<'_, J2History> {
+                ElementBlock {
+                    thickness: &mut s.0,
+                    stress: &mut s.1,
+                    history: &mut s.2,
+                    shear: &mut s.3,
+                    hourglass: &mut s.4,
+                    drilling: &mut s.5,
+                }
+            }
+            for _ in 0..20 {
+                let (mut ra, mut rb) = (ElementResult::<F4>::default(), ElementResult::default());
+                bt.lanes::<J2PlaneStress, 5>(&mat, &sec, &x, &v, &w, 1e-5, block(&mut a), &mut ra);
+                // SAFETY: AVX2 is present (checked above).
+                unsafe {
+                    bt.lanes_avx2::<J2PlaneStress, 5>(
+                        &mat,
+                        &sec,
+                        &x,
+                        &v,
+                        &w,
+                        1e-5,
+                        block(&mut b),
+                        &mut rb,
+                    )
+                };
+                for l in 0..4 {
+                    assert_eq!(ra.lane(l), rb.lane(l));
+                }
+                assert_eq!(a, b);
+            }
+            assert!(a.2.iter().any(|h| h.eps_p > 0.0), "no plastic flow");
+        }
+    }
+}
