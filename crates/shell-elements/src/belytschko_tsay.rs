@@ -1,4 +1,4 @@
-//! `BelytschkoTsay`: the one-point co-rotational shell with stiffness-based hourglass control and the optional BWC warping correction.
+//! `BelytschkoTsay`: the one-point co-rotational shell with stiffness-based hourglass control, warped-element projection and the optional BWC-style warping correction.
 //!
 //! Kinematics (Belytschko, Lin & Tsay 1984): Mindlin plate in the element's
 //! co-rotational frame, velocity at height z: `v̂ + z (ω̂_y, −ω̂_x, 0)`, so with
@@ -12,14 +12,31 @@
 //!   Belytschko–Wong–Chiang element), which makes the element pass the
 //!   bending patch test on distorted meshes.
 //!
-//! Warping correction (after Belytschko, Wong & Chiang 1992): for a warped
-//! element whose nodes lie at heights `ẑ_I` off the mean plane, the twist
-//! `c = Σ h_I ẑ_I / A` of the mid-surface couples membrane rates into the
-//! curvature rate of the fibres: `κ_xx += c d_xy`, `κ_yy += c d_xy`,
-//! `2κ_xy += c (d_xx + d_yy)` (tensor `d_xy`), the first-order term of the
-//! rate of deformation of a Mindlin continuum on a twisted reference surface,
-//! with the element spin standing in for the drilling rotation (so that a
-//! rigid rotation produces no strain).
+//! Warped elements (issue 4; `docs/shells.md`): the nodes lie at heights
+//! `ẑ_I = (h·ẑ/4) h_I` off the mean plane, so a rigid rotation `ω̂` about the
+//! in-plane axes moves them in-plane by `(ω̂y ẑ_I, −ω̂x ẑ_I)`. The centre B is
+//! orthogonal to `h` and does not see it, but the membrane hourglass rates
+//! did (`γ·ẑ = ½ h·ẑ`). Always on: the element's rigid rotation about its
+//! in-plane axes, `ω̄x = Σ B2_I v̂z_I`, `ω̄y = −Σ B1_I v̂z_I`, is removed from
+//! the in-plane velocities (after Belytschko & Leviathan 1994; see
+//! `formulation::remove_warp_rotation`), which here reduces to
+//! `q_x −= ω̄y ½h·ẑ`, `q_y += ω̄x ½h·ẑ`, with the transpose on the forces,
+//! `f̂z_J += ½ h·ẑ (B1_J Q_x + B2_J Q_y)`.
+//!
+//! Warping correction (option, after Belytschko, Wong & Chiang 1992; derived
+//! here): first-order Mindlin kinematics on the twisted surface
+//! `z = c x̂ ŷ`, `c = Σ h_I ẑ_I / A`. The fibres lie along the surface
+//! normals at the nodes, `n_I = e3 − c (ŷ_I, x̂_I, 0)`, so a nodal rotation
+//! about `e3` turns them: the curvature reads `θ̂x + c ŷ_I θ̂z`,
+//! `θ̂y + c x̂_I θ̂z`; and the surface's metric varies through the thickness,
+//! adding `κ_xx += c ∂v̂x/∂y`, `κ_yy += c ∂v̂y/∂x`,
+//! `2κ_xy += c (d_xx + d_yy)`. Rigid motions still give no strain (the two
+//! terms cancel for a rotation about the normal); a homogeneous deformation
+//! of the body no longer bends the section (unit test); and the nodal
+//! rotation about the element normal, which the drilling penalty alone holds
+//! only weakly, now bends warped elements as the fibres' tilt demands, which
+//! is what keeps the twisted beam from going soft with a small drilling
+//! coefficient (+30 % without the correction).
 //!
 //! Hourglass control (stiffness-based, Flanagan–Belytschko vectors
 //! `γ_I = ½(h_I − (h·x̂) B1_I − (h·ŷ) B2_I)`): membrane `q_x = γ·v̂x`,
@@ -36,6 +53,12 @@
 //! [`drilling`](BelytschkoTsay::drilling) (default 1e-3); rigid motions and
 //! in-plane rotations give no drilling force. Its work is internal energy
 //! (see `formulation::drilling_penalty`).
+//!
+//! The kernel is written once over [`Real`] (`rates`, then the section's
+//! points, then `forces`): `f64` for one element ([`ShellFormulation::compute`]),
+//! `F4` for four consecutive elements in SIMD lanes
+//! ([`ShellFormulation::compute_x4`], AVX2 chosen at run time), bit for bit
+//! alike (`tests/lanes_match_scalar.rs`).
 
 use crate::error::ShellError;
 use crate::formulation::{
@@ -51,7 +74,10 @@ use crate::section::Section;
 /// The Belytschko–Tsay one-point shell and its options.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BelytschkoTsay {
-    /// Belytschko–Wong–Chiang warping (twist) correction of the curvature; default off.
+    /// Warping correction of the curvature (after Belytschko–Wong–Chiang:
+    /// fibres along the warped surface's nodal normals and the twisted
+    /// metric, see the module docs); default on: without it the element is
+    /// drilling-soft on warped meshes (twisted beam +25 to +32 %).
     pub warping_correction: bool,
     /// Bathe–Dvorkin edge-tied transverse shear evaluated at the centre
     /// (default on); off gives the original centre-point shear with
@@ -66,7 +92,7 @@ pub struct BelytschkoTsay {
 impl Default for BelytschkoTsay {
     fn default() -> Self {
         Self {
-            warping_correction: false,
+            warping_correction: true,
             shear_projection: true,
             drilling: DEFAULT_DRILLING,
         }

@@ -34,8 +34,8 @@ use crate::section::Section;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FullyIntegrated {
     /// Warping correction of the curvature, as in
-    /// [`BelytschkoTsay`](crate::BelytschkoTsay); default off. Recommended for
-    /// warped meshes: without it the element is drilling-soft on them.
+    /// [`BelytschkoTsay`](crate::BelytschkoTsay); default on: without it the
+    /// element is drilling-soft on warped meshes (twisted beam +25 to +32 %).
     pub warping_correction: bool,
     /// Drilling coefficient γ (-) of the relative drilling penalty
     /// `k = γ G t A`, as in [`BelytschkoTsay`](crate::BelytschkoTsay)
@@ -46,7 +46,7 @@ pub struct FullyIntegrated {
 impl Default for FullyIntegrated {
     fn default() -> Self {
         Self {
-            warping_correction: false,
+            warping_correction: true,
             drilling: DEFAULT_DRILLING,
         }
     }

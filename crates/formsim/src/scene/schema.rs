@@ -107,8 +107,8 @@ pub struct Blank {
     pub drilling: f64,
     /// Warping correction of either shell (after Belytschko–Wong–Chiang:
     /// fibres along the warped surface's nodal normals, twisted metric;
-    /// default off, recommended for warped meshes; docs/shells.md).
-    #[serde(default)]
+    /// default on; docs/shells.md).
+    #[serde(default = "default_warping_correction")]
     pub warping_correction: bool,
     /// `[blank.material]`.
     pub material: Material,
@@ -122,6 +122,10 @@ fn default_hourglass() -> f64 {
 }
 fn default_drilling() -> f64 {
     shell_elements::formulation::DEFAULT_DRILLING
+}
+
+fn default_warping_correction() -> bool {
+    shell_elements::BelytschkoTsay::default().warping_correction
 }
 
 /// Shell element formulation.
