@@ -67,7 +67,7 @@ use crate::formulation::{
     local_velocities, new_thickness,
 };
 use crate::geometry::{Frame, H, ShearB, V3, assumed_shear};
-use crate::lanes::{F4, M4, Real};
+use crate::lanes::{F4, Real};
 use crate::material::Material;
 use crate::section::Section;
 
@@ -339,8 +339,12 @@ impl BelytschkoTsay {
         let stress = stress.as_flattened_mut().as_chunks_mut::<4>().0;
         let (Some(history), Some(shear), Some(hourglass), true) = (
             history.as_chunks_mut::<N>().0.first_chunk_mut::<4>(),
-            shear.as_flattened_mut().first_chunk_mut::<8>(),
-            hourglass.first_chunk_mut::<20>(),
+            shear
+                .as_flattened_mut()
+                .as_chunks_mut::<4>()
+                .0
+                .first_chunk_mut::<2>(),
+            hourglass.as_chunks_mut::<4>().0.first_chunk_mut::<5>(),
             stress.len() == 3 * N,
         ) else {
             unreachable!("lanes_dispatch checked the block's sizes");
@@ -352,30 +356,14 @@ impl BelytschkoTsay {
             }
         }
         let mut t = F4(*thickness);
-        let mut sh = [F4::default(); 2];
-        for c in 0..2 {
-            sh[c] = F4([
-                shear[4 * c],
-                shear[4 * c + 1],
-                shear[4 * c + 2],
-                shear[4 * c + 3],
-            ]);
-        }
-        let mut hg = [F4::default(); 5];
-        for k in 0..5 {
-            hg[k] = F4([
-                hourglass[4 * k],
-                hourglass[4 * k + 1],
-                hourglass[4 * k + 2],
-                hourglass[4 * k + 3],
-            ]);
-        }
+        let mut sh = shear.map(F4);
+        let mut hg = hourglass.map(F4);
         let mut dr = [F4::default(); 4];
         for i in 0..4 {
             dr[i] = F4(drilling[i]);
         }
-        let all_valid = rt.valid.all();
-        let saved = if all_valid { None } else { Some(*history) };
+        let valid = rt.valid;
+        let saved = if valid.all() { None } else { Some(*history) };
         let sr = integrate_section_x4(mat, &sec.rule, t, rt.membrane, rt.bending, &mut s, history);
         let r = self.forces(
             &Moduli::of(mat, sec),
@@ -389,19 +377,14 @@ impl BelytschkoTsay {
                 drilling: &mut dr,
             },
         );
-        let valid = if let Some(saved) = &saved {
-            let mut keep = [true; 4];
+        // Degenerate lanes keep their old state.
+        if let Some(saved) = &saved {
             for l in 0..4 {
-                keep[l] = rt.valid.lane(l);
-                if !keep[l] {
+                if !valid.lane(l) {
                     history[l] = saved[l];
                 }
             }
-            M4::from_bools(keep)
-        } else {
-            M4::from_bools([true; 4])
-        };
-        // Degenerate lanes keep their old state.
+        }
         for k in 0..N {
             for c in 0..3 {
                 stress[3 * k + c] = F4::select(valid, s[k][c], F4(stress[3 * k + c])).0;
@@ -409,22 +392,10 @@ impl BelytschkoTsay {
         }
         *thickness = F4::select(valid, t, F4(*thickness)).0;
         for c in 0..2 {
-            let old = F4([
-                shear[4 * c],
-                shear[4 * c + 1],
-                shear[4 * c + 2],
-                shear[4 * c + 3],
-            ]);
-            shear[4 * c..4 * c + 4].copy_from_slice(&F4::select(valid, sh[c], old).0);
+            shear[c] = F4::select(valid, sh[c], F4(shear[c])).0;
         }
         for k in 0..5 {
-            let old = F4([
-                hourglass[4 * k],
-                hourglass[4 * k + 1],
-                hourglass[4 * k + 2],
-                hourglass[4 * k + 3],
-            ]);
-            hourglass[4 * k..4 * k + 4].copy_from_slice(&F4::select(valid, hg[k], old).0);
+            hourglass[k] = F4::select(valid, hg[k], F4(hourglass[k])).0;
         }
         for i in 0..4 {
             drilling[i] = F4::select(valid, dr[i], F4(drilling[i])).0;

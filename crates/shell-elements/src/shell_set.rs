@@ -38,6 +38,7 @@ pub struct ShellSet<E: ShellFormulation, M: Material> {
     drilling: Vec<[f64; 4]>,
     drilling_energy: f64,
     density_scale: Vec<f64>,
+    /// Results of the elements after the last whole block (`len % 4` of them).
     results: Vec<ElementResult>,
     /// Results of the blocks of four (element `4b + l` in lane `l` of entry `b`).
     results_x4: Vec<ElementResult<F4>>,
@@ -137,7 +138,7 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             drilling: vec![[0.0; 4]; ne],
             drilling_energy: 0.0,
             density_scale: vec![1.0; ne],
-            results: vec![ElementResult::default(); ne],
+            results: vec![ElementResult::default(); ne % 4],
             results_x4: vec![ElementResult::default(); ne / 4],
             max_node: quads
                 .iter()
@@ -544,7 +545,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         let (t_b, t_r) = self.thickness.as_chunks_mut::<4>();
         let (dr_b, dr_r) = self.drilling.as_chunks_mut::<4>();
         let res_b = &mut self.results_x4[..];
-        let res_r = &mut self.results[4 * nb..];
+        let res_r = &mut self.results[..];
         let (s_b, s_r) = self.stress.split_at_mut(4 * nb * nsp);
         let (h_b, h_r) = self.history.split_at_mut(4 * nb * nsp);
         let (sh_b, sh_r) = self.shear.split_at_mut(4 * nb * ip);
@@ -598,7 +599,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             let r = &if e < 4 * nb {
                 self.results_x4[e / 4].lane(e % 4)
             } else {
-                self.results[e]
+                self.results[e - 4 * nb]
             };
             if r.length.is_nan() || r.length <= 0.0 {
                 self.cached_dt = Some(StableDt {
