@@ -60,6 +60,7 @@
 //! ([`ShellFormulation::compute_x4`], AVX2 chosen at run time), bit for bit
 //! alike (`tests/lanes_match_scalar.rs`).
 
+use crate::block_nodes::BlockNodes;
 use crate::error::ShellError;
 use crate::formulation::{
     DEFAULT_DRILLING, ElementBlock, ElementResult, ElementState, SectionResult, ShellFormulation,
@@ -181,19 +182,17 @@ impl ShellFormulation for BelytschkoTsay {
         &self,
         mat: &M,
         sec: &Section,
-        x: &[[F4; 3]; 4],
-        v: &[[F4; 3]; 4],
-        w: &[[F4; 3]; 4],
+        nodes: &BlockNodes<'_>,
         dt: f64,
         st: ElementBlock<'_, M::History>,
         out: &mut ElementResult<F4>,
     ) {
         match sec.rule.n {
-            5 => self.lanes_dispatch::<M, 5>(mat, sec, x, v, w, dt, st, out),
-            3 => self.lanes_dispatch::<M, 3>(mat, sec, x, v, w, dt, st, out),
-            7 => self.lanes_dispatch::<M, 7>(mat, sec, x, v, w, dt, st, out),
+            5 => self.lanes_dispatch::<M, 5>(mat, sec, nodes, dt, st, out),
+            3 => self.lanes_dispatch::<M, 3>(mat, sec, nodes, dt, st, out),
+            7 => self.lanes_dispatch::<M, 7>(mat, sec, nodes, dt, st, out),
             _ => {
-                compute_by_element(self, mat, sec, x, v, w, dt, st, out);
+                compute_by_element(self, mat, sec, nodes, dt, st, out);
             }
         }
     }
@@ -264,40 +263,38 @@ impl BelytschkoTsay {
         &self,
         mat: &M,
         sec: &Section,
-        x: &[[F4; 3]; 4],
-        v: &[[F4; 3]; 4],
-        w: &[[F4; 3]; 4],
+        nodes: &BlockNodes<'_>,
         dt: f64,
         st: ElementBlock<'_, M::History>,
         out: &mut ElementResult<F4>,
     ) {
         if st.stress.len() != 4 * N || st.shear.len() != 4 || st.hourglass.len() != 20 {
-            return compute_by_element(self, mat, sec, x, v, w, dt, st, out);
+            return compute_by_element(self, mat, sec, nodes, dt, st, out);
         }
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the processor has AVX2 (checked just above).
-            return unsafe { self.lanes_avx2::<M, N>(mat, sec, x, v, w, dt, st, out) };
+            return unsafe { self.lanes_avx2::<M, N>(mat, sec, nodes, dt, st, out) };
         }
-        self.lanes::<M, N>(mat, sec, x, v, w, dt, st, out)
+        let [x, v, w] = nodes.gather();
+        self.lanes::<M, N>(mat, sec, &x, &v, &w, dt, st, out)
     }
 
-    /// [`Self::lanes`] compiled for AVX2.
+    /// The block's nodes gathered and [`Self::lanes`] run, compiled for AVX2.
     #[cfg(target_arch = "x86_64")]
-    #[allow(clippy::too_many_arguments)]
     #[target_feature(enable = "avx2")]
     unsafe fn lanes_avx2<M: Material, const N: usize>(
         &self,
         mat: &M,
         sec: &Section,
-        x: &[[F4; 3]; 4],
-        v: &[[F4; 3]; 4],
-        w: &[[F4; 3]; 4],
+        nodes: &BlockNodes<'_>,
         dt: f64,
         st: ElementBlock<'_, M::History>,
         out: &mut ElementResult<F4>,
     ) {
-        self.lanes::<M, N>(mat, sec, x, v, w, dt, st, out)
+        // SAFETY: this function's caller has checked for AVX2.
+        let [x, v, w] = unsafe { nodes.gather_avx2() };
+        self.lanes::<M, N>(mat, sec, &x, &v, &w, dt, st, out)
     }
 
     /// Four elements with `N` points each through the kernel in lanes:
@@ -742,6 +739,18 @@ mod tests {
                     drilling: &mut s.5,
                 }
             }
+            // The same blocks as nodal arrays: element l's node i is node 4l + i.
+            let nodal = |a: &[[F4; 3]; 4]| -> Vec<fem_core::Vec3> {
+                (0..16)
+                    .map(|k| {
+                        let (l, i) = (k / 4, k % 4);
+                        fem_core::Vec3::new(a[i][0].0[l], a[i][1].0[l], a[i][2].0[l])
+                    })
+                    .collect()
+            };
+            let (xn, vn, wn) = (nodal(&x), nodal(&v), nodal(&w));
+            let q = [[0, 1, 2, 3], [4, 5, 6, 7], [8, 9, 10, 11], [12, 13, 14, 15]];
+            let nodes = BlockNodes::new(&xn, &vn, &wn, &q).unwrap();
             for _ in 0..20 {
                 let (mut ra, mut rb) = (ElementResult::<F4>::default(), ElementResult::default());
                 bt.lanes::<J2PlaneStress, 5>(&mat, &sec, &x, &v, &w, 1e-5, block(&mut a), &mut ra);
@@ -750,9 +759,7 @@ mod tests {
                     bt.lanes_avx2::<J2PlaneStress, 5>(
                         &mat,
                         &sec,
-                        &x,
-                        &v,
-                        &w,
+                        &nodes,
                         1e-5,
                         block(&mut b),
                         &mut rb,

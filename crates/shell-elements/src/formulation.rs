@@ -1,5 +1,6 @@
 //! The `ShellFormulation` trait (one element's force kernel) and the through-thickness integration both elements share.
 
+use crate::block_nodes::BlockNodes;
 use crate::error::{ShellError, check};
 use crate::geometry::{Frame, V3};
 use crate::lanes::{F4, Real};
@@ -167,9 +168,8 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
         st: ElementState<'_, M::History>,
     ) -> ElementResult;
 
-    /// Four consecutive elements at once (`x[i][c]`: component `c` of node
-    /// `i`, element `l` in lane `l`; likewise `v`, `w`), element `l`'s
-    /// result into lane `l` of `out`. By default one after the other
+    /// Four consecutive elements at once (their nodes in `nodes`), element
+    /// `l`'s result into lane `l` of `out`. By default one after the other
     /// through [`compute`](Self::compute); a formulation that overrides it
     /// must give each element the same bits as `compute`.
     #[allow(clippy::too_many_arguments)]
@@ -178,14 +178,12 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
         &self,
         mat: &M,
         sec: &Section,
-        x: &[[F4; 3]; 4],
-        v: &[[F4; 3]; 4],
-        w: &[[F4; 3]; 4],
+        nodes: &BlockNodes<'_>,
         dt: f64,
         st: ElementBlock<'_, M::History>,
         out: &mut ElementResult<F4>,
     ) {
-        compute_by_element(self, mat, sec, x, v, w, dt, st, out);
+        compute_by_element(self, mat, sec, nodes, dt, st, out);
     }
 }
 
@@ -197,9 +195,7 @@ pub(crate) fn compute_by_element<F: ShellFormulation, M: Material>(
     form: &F,
     mat: &M,
     sec: &Section,
-    x: &[[F4; 3]; 4],
-    v: &[[F4; 3]; 4],
-    w: &[[F4; 3]; 4],
+    nodes: &BlockNodes<'_>,
     dt: f64,
     st: ElementBlock<'_, M::History>,
     out: &mut ElementResult<F4>,
@@ -217,12 +213,13 @@ pub(crate) fn compute_by_element<F: ShellFormulation, M: Material>(
         .zip(st.drilling.iter_mut())
         .enumerate()
     {
+        let (x, v, w) = nodes.element(l);
         let r = form.compute(
             mat,
             sec,
-            &lane_nodes(x, l),
-            &lane_nodes(v, l),
-            &lane_nodes(w, l),
+            &x,
+            &v,
+            &w,
             dt,
             ElementState {
                 thickness: t,

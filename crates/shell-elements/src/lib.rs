@@ -18,6 +18,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod belytschko_tsay;
+pub mod block_nodes;
 pub mod error;
 pub mod formulation;
 pub mod fully_integrated;
@@ -31,6 +32,7 @@ pub mod shell_set;
 mod warped_tests;
 
 pub use belytschko_tsay::BelytschkoTsay;
+pub use block_nodes::BlockNodes;
 pub use error::ShellError;
 pub use formulation::{ElementBlock, ElementResult, ElementState, ShellFormulation};
 pub use fully_integrated::FullyIntegrated;

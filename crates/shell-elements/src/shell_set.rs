@@ -11,6 +11,7 @@
 use fem_core::{Effect, EnergyTally, FemError, Forces, Mesh, NodalState, StableDt, StepContext};
 use rayon::prelude::*;
 
+use crate::block_nodes::BlockNodes;
 use crate::error::ShellError;
 use crate::formulation::{ElementBlock, ElementResult, ElementState, ShellFormulation};
 use crate::geometry::{Frame, V3};
@@ -501,33 +502,13 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                      hg: &mut [f64],
                      dr: &mut [[f64; 4]; 4],
                      r: &mut ElementResult<F4>| {
-            // Node i, component c, lane l = element l of the block.
-            let mut x = [[F4::default(); 3]; 4];
-            let mut v = x;
-            let mut w = x;
-            for l in 0..4 {
-                for i in 0..4 {
-                    let n = q[l][i] as usize;
-                    // SAFETY: every node index is at most `max_node`, which
-                    // `add_forces` checked against the three arrays' lengths.
-                    let (p, u, o) = unsafe {
-                        (
-                            xs.get_unchecked(n),
-                            vs.get_unchecked(n),
-                            ws.get_unchecked(n),
-                        )
-                    };
-                    (x[i][0].0[l], x[i][1].0[l], x[i][2].0[l]) = (p.x, p.y, p.z);
-                    (v[i][0].0[l], v[i][1].0[l], v[i][2].0[l]) = (u.x, u.y, u.z);
-                    (w[i][0].0[l], w[i][1].0[l], w[i][2].0[l]) = (o.x, o.y, o.z);
-                }
-            }
+            // SAFETY: every node index is at most `max_node`, which
+            // `add_forces` checked against the three arrays' lengths.
+            let nodes = unsafe { BlockNodes::new_unchecked(xs, vs, ws, q) };
             form.compute_x4(
                 mat,
                 sec,
-                &x,
-                &v,
-                &w,
+                &nodes,
                 dt,
                 ElementBlock {
                     thickness: t,

@@ -10,9 +10,10 @@
 //! must stay untouched), both hardening kinds, 3/4/5/7-point rules and every
 //! BT option. Tolerance: none (bitwise equality).
 
+use fem_core::Vec3;
 use shell_elements::{
-    BelytschkoTsay, ElementBlock, ElementResult, ElementState, F4, FullyIntegrated, Hardening,
-    J2History, J2PlaneStress, RuleKind, Section, ShellFormulation, ThroughThickness, V3,
+    BelytschkoTsay, BlockNodes, ElementBlock, ElementResult, ElementState, F4, FullyIntegrated,
+    Hardening, J2History, J2PlaneStress, RuleKind, Section, ShellFormulation, ThroughThickness, V3,
 };
 
 /// A small deterministic generator (xorshift64*), uniform in [-1, 1).
@@ -190,11 +191,15 @@ fn check<F: ShellFormulation>(
             // The folded element stays folded.
             v[2] = [[0.0; 3]; 4];
         }
-        let to_lanes = |a: &[[V3; 4]; 4]| -> [[F4; 3]; 4] {
-            std::array::from_fn(|i| {
-                std::array::from_fn(|c| F4(std::array::from_fn(|l| a[l][i][c])))
-            })
+        // Nodal arrays: element l's node i is node 4l + i.
+        let nodal = |a: &[[V3; 4]; 4]| -> Vec<Vec3> {
+            (0..16)
+                .map(|k| Vec3::new(a[k / 4][k % 4][0], a[k / 4][k % 4][1], a[k / 4][k % 4][2]))
+                .collect()
         };
+        let (xn, vn, wn) = (nodal(&x), nodal(&v), nodal(&w));
+        let q = [[0, 1, 2, 3], [4, 5, 6, 7], [8, 9, 10, 11], [12, 13, 14, 15]];
+        let nodes = BlockNodes::new(&xn, &vn, &wn, &q).expect("indices in range");
         let mut out4 = ElementResult::<F4>::default();
         let lane_major = form.lane_major(sec);
         let mut blk = if lane_major {
@@ -205,9 +210,7 @@ fn check<F: ShellFormulation>(
         form.compute_x4(
             mat,
             sec,
-            &to_lanes(&x),
-            &to_lanes(&v),
-            &to_lanes(&w),
+            &nodes,
             dt,
             ElementBlock {
                 thickness: &mut blk.t,
