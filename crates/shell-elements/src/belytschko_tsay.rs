@@ -444,15 +444,15 @@ impl BelytschkoTsay {
             (zero, zero, zero, zero, zero, zero, zero);
         let (mut ox, mut oy) = (zero, zero);
         for i in 0..4 {
-            dxx += b1[i] * vl[i][0];
-            dyy += b2[i] * vl[i][1];
-            vxy += b2[i] * vl[i][0];
-            vyx += b1[i] * vl[i][1];
-            kxx += b1[i] * wl[i][1];
-            kyy -= b2[i] * wl[i][0];
-            kxy += b2[i] * wl[i][1] - b1[i] * wl[i][0];
-            ox += b2[i] * vl[i][2];
-            oy -= b1[i] * vl[i][2];
+            dxx = b1[i].madd(vl[i][0], dxx);
+            dyy = b2[i].madd(vl[i][1], dyy);
+            vxy = b2[i].madd(vl[i][0], vxy);
+            vyx = b1[i].madd(vl[i][1], vyx);
+            kxx = b1[i].madd(wl[i][1], kxx);
+            kyy = (-b2[i]).madd(wl[i][0], kyy);
+            kxy += b2[i].madd(wl[i][1], -(b1[i] * wl[i][0]));
+            ox = b2[i].madd(vl[i][2], ox);
+            oy = (-b1[i]).madd(vl[i][2], oy);
         }
         let gxy = vxy + vyx;
         let c = if self.warping_correction {
@@ -466,13 +466,13 @@ impl BelytschkoTsay {
             // velocity gradient).
             for i in 0..4 {
                 let tz = c * wl[i][2];
-                kxx += b1[i] * xl[i] * tz;
-                kyy -= b2[i] * yl[i] * tz;
-                kxy += (b2[i] * xl[i] - b1[i] * yl[i]) * tz;
+                kxx = (b1[i] * xl[i]).madd(tz, kxx);
+                kyy = (-(b2[i] * yl[i])).madd(tz, kyy);
+                kxy = b2[i].madd(xl[i], -(b1[i] * yl[i])).madd(tz, kxy);
             }
-            kxx += c * vxy;
-            kyy += c * vyx;
-            kxy += c * (dxx + dyy);
+            kxx = c.madd(vxy, kxx);
+            kyy = c.madd(vyx, kyy);
+            kxy = c.madd(dxx + dyy, kxy);
         }
         // Transverse shear coefficients: [w, θx, θy] per node.
         let sb = if self.shear_projection {
@@ -485,8 +485,8 @@ impl BelytschkoTsay {
         };
         let (mut gxz, mut gyz) = (zero, zero);
         for i in 0..4 {
-            gxz += sb.xz[0][i] * vl[i][2] + sb.xz[1][i] * wl[i][0] + sb.xz[2][i] * wl[i][1];
-            gyz += sb.yz[0][i] * vl[i][2] + sb.yz[1][i] * wl[i][0] + sb.yz[2][i] * wl[i][1];
+            gxz += sb.xz[2][i].madd(wl[i][1], sb.xz[1][i].madd(wl[i][0], sb.xz[0][i] * vl[i][2]));
+            gyz += sb.yz[2][i].madd(wl[i][1], sb.yz[1][i].madd(wl[i][0], sb.yz[0][i] * vl[i][2]));
         }
 
         Ok(Rates {
@@ -541,23 +541,24 @@ impl BelytschkoTsay {
         let (g, ks) = (md.shear, md.ks);
         let tau_old = *st.shear;
         let tau = [
-            tau_old[0] + gxz * (ks * g) * dt,
-            tau_old[1] + gyz * (ks * g) * dt,
+            (gxz * (ks * g)).madd(T::splat(dt), tau_old[0]),
+            (gyz * (ks * g)).madd(T::splat(dt), tau_old[1]),
         ];
         *st.shear = tau;
-        let shear_work = t * 0.5 * ((tau_old[0] + tau[0]) * gxz + (tau_old[1] + tau[1]) * gyz) * dt;
+        let shear_work =
+            t * 0.5 * (tau_old[1] + tau[1]).madd(gyz, (tau_old[0] + tau[0]) * gxz) * dt;
         let (nr, mr) = (sr.n, sr.m);
         let (qx, qy) = (t * tau[0], t * tau[1]);
 
         // Hourglass control.
         let (mut hx, mut hy) = (zero, zero);
         for i in 0..4 {
-            hx += xl[i] * H[i];
-            hy += yl[i] * H[i];
+            hx = xl[i].madd(T::splat(H[i]), hx);
+            hy = yl[i].madd(T::splat(H[i]), hy);
         }
         let mut gam = [zero; 4];
         for i in 0..4 {
-            gam[i] = (T::splat(H[i]) - hx * b1[i] - hy * b2[i]) * 0.5;
+            gam[i] = (-hy).madd(b2[i], (-hx).madd(b1[i], T::splat(H[i]))) * 0.5;
         }
         // Warped element: the rigid rotation about the in-plane axes moves
         // the nodes in-plane by (ω̄y ẑ_I, −ω̄x ẑ_I) and is removed from the
@@ -567,15 +568,16 @@ impl BelytschkoTsay {
         let gz = fr.warp * 0.5;
         let mut q = [-oy * gz, ox * gz, zero, zero, zero];
         for i in 0..4 {
-            q[0] += gam[i] * vl[i][0];
-            q[1] += gam[i] * vl[i][1];
-            q[2] += gam[i] * wl[i][0];
-            q[3] += gam[i] * wl[i][1];
-            q[4] += gam[i] * (vl[i][2] - (yl[i] * wl[i][0] - xl[i] * wl[i][1]) * 0.5);
+            q[0] = gam[i].madd(vl[i][0], q[0]);
+            q[1] = gam[i].madd(vl[i][1], q[1]);
+            q[2] = gam[i].madd(wl[i][0], q[2]);
+            q[3] = gam[i].madd(wl[i][1], q[3]);
+            let tilt = yl[i].madd(wl[i][0], -(xl[i] * wl[i][1]));
+            q[4] = gam[i].madd((-tilt).madd(T::splat(0.5), vl[i][2]), q[4]);
         }
         let mut bb = zero;
         for i in 0..4 {
-            bb += b1[i] * b1[i] + b2[i] * b2[i];
+            bb += b2[i].madd(b2[i], b1[i] * b1[i]);
         }
         let (r, e) = (md.hourglass, md.young);
         let cm = t * (r * e) * a * bb / 8.0;
@@ -587,10 +589,10 @@ impl BelytschkoTsay {
         let mut qf = [zero; 5];
         for k in 0..5 {
             let old = hg[k];
-            let new = old + cs[k] * q[k] * dt;
+            let new = (cs[k] * q[k]).madd(T::splat(dt), old);
             hg[k] = new;
             qf[k] = new;
-            d_hg += (old + new) * 0.5 * q[k] * dt;
+            d_hg = ((old + new) * 0.5 * q[k]).madd(T::splat(dt), d_hg);
         }
 
         // Relative drilling penalty (about the nodal normals with the correction).
@@ -626,31 +628,39 @@ impl BelytschkoTsay {
         // The warping correction's membrane terms fold into the membrane
         // forces: f̂x = A((N_xx + c M_xy) B1 + (N_xy + c M_xx) B2), f̂y likewise;
         // its tilted drilling penalty adds c (S_y B2 − S_x B1).
-        let (hqx, hqy) = (gz * qf[0] - c * sx, gz * qf[1] + c * sy);
-        let (nxx, nyy) = (a * (nr[0] + c * mr[2]), a * (nr[1] + c * mr[2]));
-        let (nxy_x, nxy_y) = (a * (nr[2] + c * mr[0]) + hmd, a * (nr[2] + c * mr[1]) - hmd);
+        let (hqx, hqy) = (gz.madd(qf[0], -(c * sx)), gz.madd(qf[1], c * sy));
+        let (nxx, nyy) = (a * c.madd(mr[2], nr[0]), a * c.madd(mr[2], nr[1]));
+        let (nxy_x, nxy_y) = (
+            a.madd(c.madd(mr[0], nr[2]), hmd),
+            a.madd(c.madd(mr[1], nr[2]), -hmd),
+        );
         for i in 0..4 {
-            let mxb = -a * (mr[1] * b2[i] + mr[2] * b1[i]);
-            let myb = a * (mr[0] * b1[i] + mr[2] * b2[i]);
-            let fx = nxx * b1[i] + nxy_x * b2[i] + gam[i] * qf[0];
-            let fy = nyy * b2[i] + nxy_y * b1[i] + gam[i] * qf[1];
-            let fz = a * (qx * sb.xz[0][i] + qy * sb.yz[0][i])
-                + gam[i] * qf[4]
-                + b1[i] * hqx
-                + b2[i] * hqy;
-            let mut mx = mxb
-                + a * (qx * sb.xz[1][i] + qy * sb.yz[1][i])
-                + gam[i] * (qf[2] - yl[i] * 0.5 * qf[4]);
-            let mut my = myb
-                + a * (qx * sb.xz[2][i] + qy * sb.yz[2][i])
-                + gam[i] * (qf[3] + xl[i] * 0.5 * qf[4]);
+            let mxb = -a * mr[2].madd(b1[i], mr[1] * b2[i]);
+            let myb = a * mr[2].madd(b2[i], mr[0] * b1[i]);
+            let fx = gam[i].madd(qf[0], nxy_x.madd(b2[i], nxx * b1[i]));
+            let fy = gam[i].madd(qf[1], nxy_y.madd(b1[i], nyy * b2[i]));
+            let fz = b2[i].madd(
+                hqy,
+                b1[i].madd(
+                    hqx,
+                    gam[i].madd(qf[4], a * qy.madd(sb.yz[0][i], qx * sb.xz[0][i])),
+                ),
+            );
+            let mut mx = gam[i].madd(
+                (-(yl[i] * 0.5)).madd(qf[4], qf[2]),
+                a.madd(qy.madd(sb.yz[1][i], qx * sb.xz[1][i]), mxb),
+            );
+            let mut my = gam[i].madd(
+                (xl[i] * 0.5).madd(qf[4], qf[3]),
+                a.madd(qy.madd(sb.yz[2][i], qx * sb.xz[2][i]), myb),
+            );
             let mut mz = st.drilling[i];
             if self.warping_correction {
                 // Tilted fibres: the bending moments' share about the normal,
                 // and the drilling moment's share about the in-plane axes.
-                mz += c * (yl[i] * mxb + xl[i] * myb);
-                mx -= c * yl[i] * st.drilling[i];
-                my -= c * xl[i] * st.drilling[i];
+                mz = c.madd(xl[i].madd(myb, yl[i] * mxb), mz);
+                mx = (-(c * yl[i])).madd(st.drilling[i], mx);
+                my = (-(c * xl[i])).madd(st.drilling[i], my);
             }
             let fg = fr.global([fx, fy, fz]);
             let mg = fr.global([mx, my, mz]);

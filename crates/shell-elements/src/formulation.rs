@@ -338,9 +338,9 @@ pub(crate) fn section_increments<T: Real, const N: usize>(
     for k in 0..N {
         z[k] = h * rule.zeta[k];
         d[k] = [
-            de[0] + z[k] * dk[0],
-            de[1] + z[k] * dk[1],
-            de[2] + z[k] * dk[2],
+            z[k].madd(dk[0], de[0]),
+            z[k].madd(dk[1], de[1]),
+            z[k].madd(dk[2], de[2]),
         ];
     }
     (h, z, d)
@@ -362,15 +362,17 @@ pub(crate) fn section_sums<T: Real, const N: usize>(
     for k in 0..N {
         let wk = h * rule.weight[k];
         let (s, o, d) = (stress[k], old[k], d[k]);
-        r.n[0] += wk * s[0];
-        r.n[1] += wk * s[1];
-        r.n[2] += wk * s[2];
-        r.m[0] += wk * z[k] * s[0];
-        r.m[1] += wk * z[k] * s[1];
-        r.m[2] += wk * z[k] * s[2];
-        r.work += wk * 0.5 * ((o[0] + s[0]) * d[0] + (o[1] + s[1]) * d[1] + (o[2] + s[2]) * d[2]);
-        r.dissipation += wk * u[k].dissipation;
-        r.deps_zz += u[k].deps_zz * rule.weight[k];
+        let wz = wk * z[k];
+        r.n[0] = wk.madd(s[0], r.n[0]);
+        r.n[1] = wk.madd(s[1], r.n[1]);
+        r.n[2] = wk.madd(s[2], r.n[2]);
+        r.m[0] = wz.madd(s[0], r.m[0]);
+        r.m[1] = wz.madd(s[1], r.m[1]);
+        r.m[2] = wz.madd(s[2], r.m[2]);
+        let pw = (o[2] + s[2]).madd(d[2], (o[1] + s[1]).madd(d[1], (o[0] + s[0]) * d[0]));
+        r.work = (wk * 0.5).madd(pw, r.work);
+        r.dissipation = wk.madd(u[k].dissipation, r.dissipation);
+        r.deps_zz = u[k].deps_zz.madd(T::splat(rule.weight[k]), r.deps_zz);
     }
     r.deps_zz = r.deps_zz * 0.5;
     r
@@ -533,7 +535,7 @@ pub(crate) fn drilling_penalty<T: Real>(
     let zero = T::splat(0.0);
     let mut spin = zero;
     for i in 0..4 {
-        spin += b1[i] * vl[i][1] - b2[i] * vl[i][0];
+        spin += b1[i].madd(vl[i][1], -(b2[i] * vl[i][0]));
     }
     spin = spin * 0.5;
     let mut rate = [zero; 4];
@@ -542,23 +544,23 @@ pub(crate) fn drilling_penalty<T: Real>(
     }
     if let Some((c, ox, oy)) = tilt {
         for i in 0..4 {
-            rate[i] -= c * (y[i] * (wl[i][0] - ox) + x[i] * (wl[i][1] - oy));
+            rate[i] = (-c).madd(x[i].madd(wl[i][1] - oy, y[i] * (wl[i][0] - ox)), rate[i]);
         }
     }
     let kdt = k * dt;
     let (mut sum, mut work) = (zero, zero);
     for i in 0..4 {
         let old = m[i];
-        let new = old + kdt * rate[i];
+        let new = kdt.madd(rate[i], old);
         m[i] = new;
         sum += new;
-        work += (old + new) * rate[i];
+        work = (old + new).madd(rate[i], work);
     }
     let (mut sx, mut sy) = (zero, zero);
     if tilt.is_some() {
         for i in 0..4 {
-            sx += x[i] * m[i];
-            sy += y[i] * m[i];
+            sx = x[i].madd(m[i], sx);
+            sy = y[i].madd(m[i], sy);
         }
     }
     (sum, work * 0.5 * dt, sx, sy)
@@ -567,7 +569,7 @@ pub(crate) fn drilling_penalty<T: Real>(
 /// Thickness after a thickness-strain increment (second-order exponential).
 #[inline(always)]
 pub(crate) fn new_thickness<T: Real>(t: T, dzz: T) -> T {
-    t * (dzz + 1.0 + dzz * 0.5 * dzz)
+    t * (dzz * 0.5).madd(dzz, dzz + 1.0)
 }
 
 #[cfg(test)]

@@ -20,14 +20,14 @@ pub(crate) fn sub<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
 }
 #[inline(always)]
 pub(crate) fn dot<T: Real>(a: [T; 3], b: [T; 3]) -> T {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    a[2].madd(b[2], a[1].madd(b[1], a[0] * b[0]))
 }
 #[inline(always)]
 pub(crate) fn cross<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
     [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
+        a[1].madd(b[2], -(a[2] * b[1])),
+        a[2].madd(b[0], -(a[0] * b[2])),
+        a[0].madd(b[1], -(a[1] * b[0])),
     ]
 }
 
@@ -70,7 +70,11 @@ impl<T: Real> Frame<T> {
             p[1][2] - p[0][2] + p[2][2] - p[3][2],
         ];
         let sn = dot(s, e3);
-        let s = [s[0] - sn * e3[0], s[1] - sn * e3[1], s[2] - sn * e3[2]];
+        let s = [
+            (-sn).madd(e3[0], s[0]),
+            (-sn).madd(e3[1], s[1]),
+            (-sn).madd(e3[2], s[2]),
+        ];
         let sl = dot(s, s).sqrt();
         let isl = T::splat(1.0) / sl;
         let e1 = [s[0] * isl, s[1] * isl, s[2] * isl];
@@ -89,7 +93,7 @@ impl<T: Real> Frame<T> {
             y[i] = dot(e2, d);
             z[i] = dot(e3, d);
         }
-        let area = ((x[2] - x[0]) * (y[3] - y[1]) - (x[3] - x[1]) * (y[2] - y[0])) * 0.5;
+        let area = (x[2] - x[0]).madd(y[3] - y[1], -((x[3] - x[1]) * (y[2] - y[0]))) * 0.5;
         Frame {
             r: [e1, e2, e3],
             x,
@@ -113,9 +117,9 @@ impl<T: Real> Frame<T> {
     pub fn global(&self, v: [T; 3]) -> [T; 3] {
         let r = &self.r;
         [
-            r[0][0] * v[0] + r[1][0] * v[1] + r[2][0] * v[2],
-            r[0][1] * v[0] + r[1][1] * v[1] + r[2][1] * v[2],
-            r[0][2] * v[0] + r[1][2] * v[1] + r[2][2] * v[2],
+            r[2][0].madd(v[2], r[1][0].madd(v[1], r[0][0] * v[0])),
+            r[2][1].madd(v[2], r[1][1].madd(v[1], r[0][1] * v[0])),
+            r[2][2].madd(v[2], r[1][2].madd(v[1], r[0][2] * v[0])),
         ]
     }
 
@@ -150,7 +154,7 @@ impl<T: Real> Frame<T> {
             let j = (i + 1) & 3;
             let dx = self.x[j] - self.x[i];
             let dy = self.y[j] - self.y[i];
-            m = m.max(dx * dx + dy * dy);
+            m = m.max(dy.madd(dy, dx * dx));
         }
         self.area / m.sqrt()
     }
@@ -267,12 +271,13 @@ pub(crate) fn assumed_shear<T: Real>(f: &Frame<T>, xi: f64, eta: f64) -> ShearB<
     for i in 0..4 {
         let nxi = 0.25 * XI[i] * (1.0 + ETA[i] * eta);
         let neta = 0.25 * ETA[i] * (1.0 + XI[i] * xi);
-        x_xi += x[i] * nxi;
-        x_eta += x[i] * neta;
-        y_xi += y[i] * nxi;
-        y_eta += y[i] * neta;
+        let (nxi, neta) = (T::splat(nxi), T::splat(neta));
+        x_xi = x[i].madd(nxi, x_xi);
+        x_eta = x[i].madd(neta, x_eta);
+        y_xi = y[i].madd(nxi, y_xi);
+        y_eta = y[i].madd(neta, y_eta);
     }
-    let inv = T::splat(1.0) / (x_xi * y_eta - x_eta * y_xi);
+    let inv = T::splat(1.0) / x_xi.madd(y_eta, -(x_eta * y_xi));
     // [γx; γy] = J⁻¹ [γξ; γη], J = [[x,ξ, y,ξ], [x,η, y,η]].
     let (a, b, c, d) = (inv * y_eta, -inv * y_xi, -inv * x_eta, inv * x_xi);
     let mut s = ShearB {
@@ -280,12 +285,13 @@ pub(crate) fn assumed_shear<T: Real>(f: &Frame<T>, xi: f64, eta: f64) -> ShearB<
         yz: [[zero; 4]; 3],
     };
     for i in 0..4 {
-        s.xz[0][i] = a * gxi_w[i] + b * get_w[i];
-        s.xz[1][i] = a * gxi_tx[i] + b * get_tx[i];
-        s.xz[2][i] = a * gxi_ty[i] + b * get_ty[i];
-        s.yz[0][i] = c * gxi_w[i] + d * get_w[i];
-        s.yz[1][i] = c * gxi_tx[i] + d * get_tx[i];
-        s.yz[2][i] = c * gxi_ty[i] + d * get_ty[i];
+        let (gw, ew) = (T::splat(gxi_w[i]), T::splat(get_w[i]));
+        s.xz[0][i] = b.madd(ew, a * gw);
+        s.xz[1][i] = b.madd(get_tx[i], a * gxi_tx[i]);
+        s.xz[2][i] = b.madd(get_ty[i], a * gxi_ty[i]);
+        s.yz[0][i] = d.madd(ew, c * gw);
+        s.yz[1][i] = d.madd(get_tx[i], c * gxi_tx[i]);
+        s.yz[2][i] = d.madd(get_ty[i], c * gxi_ty[i]);
     }
     s
 }

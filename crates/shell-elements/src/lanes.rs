@@ -58,6 +58,10 @@ pub trait Real:
     type Mask: Copy;
     /// Every lane equal to `x`.
     fn splat(x: f64) -> Self;
+    /// `self · a + b`: rounded once in [`F4`]'s lanes (fused multiply–add),
+    /// twice for `f64` (`self * a + b`, so that one-element kernels keep
+    /// their bits where no FMA unit is compiled in).
+    fn madd(self, a: Self, b: Self) -> Self;
     /// Square root.
     fn sqrt(self) -> Self;
     /// Maximum with `f64::max`'s NaN rule (a NaN operand loses).
@@ -77,6 +81,10 @@ impl Real for f64 {
     #[inline(always)]
     fn splat(x: f64) -> Self {
         x
+    }
+    #[inline(always)]
+    fn madd(self, a: Self, b: Self) -> Self {
+        self * a + b
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
@@ -220,6 +228,10 @@ impl Real for F4 {
     #[inline(always)]
     fn splat(x: f64) -> Self {
         F4([x; 4])
+    }
+    #[inline(always)]
+    fn madd(self, a: Self, b: Self) -> Self {
+        F4(lanes!(|l| self.0[l] * a.0[l] + b.0[l]))
     }
     #[inline(always)]
     fn sqrt(self) -> Self {

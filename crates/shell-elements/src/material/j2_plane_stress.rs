@@ -452,10 +452,11 @@ impl J2PlaneStress {
             sy0[p] = F4::from_fn(|l| h[l][p].sigma_y);
             eps_p[p] = F4::from_fn(|l| h[l][p].eps_p);
             let d = de[p];
-            let t0 = s[p][0] + d[0] * self.c11 + d[1] * self.c12;
-            let t1 = s[p][1] + d[0] * self.c12 + d[1] * self.c11;
-            let t2 = s[p][2] + d[2] * self.shear;
-            let vm2 = t0 * t0 + t1 * t1 - t0 * t1 + t2 * 3.0 * t2;
+            let (c11, c12) = (F4::splat(self.c11), F4::splat(self.c12));
+            let t0 = d[1].madd(c12, d[0].madd(c11, s[p][0]));
+            let t1 = d[1].madd(c11, d[0].madd(c12, s[p][1]));
+            let t2 = d[2].madd(F4::splat(self.shear), s[p][2]);
+            let vm2 = (t2 * 3.0).madd(t2, (-t0).madd(t1, t1.madd(t1, t0 * t0)));
             let elastic = vm2.le(sy0[p] * sy0[p]);
             t[p] = [t0, t1, t2];
             s[p] = t[p];
@@ -484,7 +485,7 @@ impl J2PlaneStress {
             let sum = t0 + t1;
             let dif = t0 - t1;
             ret[p].a1 = sum * sum * (1.0 / 6.0);
-            ret[p].a2 = dif * 0.5 * dif + t2 * 2.0 * t2;
+            ret[p].a2 = (t2 * 2.0).madd(t2, dif * 0.5 * dif);
             phi0[p] = (ret[p].a1 + ret[p].a2).sqrt();
         }
         let mut dl0 = [z4; N];
@@ -494,17 +495,17 @@ impl J2PlaneStress {
             let hm0 = sy * n * inv_e[p];
             let dhm0 = hm0 * (n - 1.0) * inv_e[p];
             let phi2_0 = a1 + a2;
-            let f0 = phi2_0 * 0.5 - sy * sy * (1.0 / 3.0);
-            let dphi2_0 = (a1 * ap + a2 * g2) * -2.0;
-            let ddphi2_0 = (a1 * (ap * ap) + a2 * (g2 * g2)) * 6.0;
+            let f0 = (-(sy * sy)).madd(F4::splat(1.0 / 3.0), phi2_0 * 0.5);
+            let dphi2_0 = a2.madd(F4::splat(g2), a1 * ap) * -2.0;
+            let ddphi2_0 = a2.madd(F4::splat(g2 * g2), a1 * (ap * ap)) * 6.0;
             let dd_0 = phi0[p] * R23;
             let ddd_0 = dphi2_0 * R23 / phi0[p];
             let dy_0 = hm0 * dd_0;
-            let ddy_0 = dhm0 * dd_0 * dd_0 + hm0 * ddd_0;
-            let df0 = dphi2_0 * 0.5 - sy * (2.0 / 3.0) * dy_0;
-            let ddf0 = ddphi2_0 * 0.5 - (dy_0 * dy_0 + sy * ddy_0) * (2.0 / 3.0);
+            let ddy_0 = (dhm0 * dd_0).madd(dd_0, hm0 * ddd_0);
+            let df0 = (-(sy * (2.0 / 3.0))).madd(dy_0, dphi2_0 * 0.5);
+            let ddf0 = (-sy.madd(ddy_0, dy_0 * dy_0)).madd(F4::splat(2.0 / 3.0), ddphi2_0 * 0.5);
             let df0sq = df0 * df0;
-            let den = df0sq - f0 * 0.5 * ddf0;
+            let den = (-(f0 * 0.5)).madd(ddf0, df0sq);
             dl0[p] = -f0 * df0 / F4::select(den.gt(df0sq * 0.5), den, df0sq);
         }
         for p in 0..N {
@@ -522,20 +523,20 @@ impl J2PlaneStress {
             // return_iterate, stage by stage over the points.
             for p in 0..N {
                 let dl = ret[p].dl;
-                let den1 = dl * ap + 1.0;
-                let den2 = dl * g2 + 1.0;
+                let den1 = dl.madd(F4::splat(ap), one);
+                let den2 = dl.madd(F4::splat(g2), one);
                 let inv = one / (den1 * den2);
                 (f1[p], f2[p]) = (den2 * inv, den1 * inv);
-                phi2[p] = ret[p].a1 * f1[p] * f1[p] + ret[p].a2 * f2[p] * f2[p];
+                phi2[p] = (ret[p].a2 * f2[p]).madd(f2[p], ret[p].a1 * f1[p] * f1[p]);
                 phi[p] = phi2[p].sqrt();
                 d[p] = dl * R23 * phi[p];
                 x[p] = d[p] * inv_e[p];
-                acc[p] = x[p] * c[8];
+                acc[p] = x[p].madd(F4::splat(c[8]), F4::splat(c[7]));
             }
             // swift_flow: the binomial series (Horner), powf beyond it.
-            for j in (1..8).rev() {
+            for j in (0..7).rev() {
                 for p in 0..N {
-                    acc[p] = x[p] * (acc[p] + c[j]);
+                    acc[p] = x[p].madd(acc[p], F4::splat(c[j]));
                 }
             }
             let mut busy = false;
@@ -543,7 +544,7 @@ impl J2PlaneStress {
                 let act = active[p];
                 let r = &mut ret[p];
                 let dl = r.dl;
-                let mut sy = sy0[p] * (acc[p] + c[0]);
+                let mut sy = sy0[p] * acc[p];
                 let far = act.and_not(x[p].abs().lt(F4::splat(0.02)));
                 if F4::any(far) {
                     sy = F4::select(far, swift_powf(k, n, e[p], d[p], far), sy);
@@ -553,12 +554,12 @@ impl J2PlaneStress {
                 r.f2 = F4::select(act, f2, r.f2);
                 r.d = F4::select(act, d, r.d);
                 r.sy = F4::select(act, sy, r.sy);
-                let f = phi2 * 0.5 - sy * sy * (1.0 / 3.0);
+                let f = (-(sy * sy)).madd(F4::splat(1.0 / 3.0), phi2 * 0.5);
                 let still = act.and_not(f.abs().le(r.tol));
                 let (hn, hd) = (sy * n, e[p] + d);
-                let dphi2 = (r.a1 * ap * f1 * f1 * f1 + r.a2 * g2 * f2 * f2 * f2) * -2.0;
-                let df_scaled = dphi2 * 0.5 * hd * phi
-                    - sy * ((2.0 / 3.0) * R23) * hn * (phi2 + dl * 0.5 * dphi2);
+                let dphi2 = (r.a2 * g2 * f2 * f2).madd(f2, r.a1 * ap * f1 * f1 * f1) * -2.0;
+                let df_scaled = (-(sy * ((2.0 / 3.0) * R23) * hn))
+                    .madd((dl * 0.5).madd(dphi2, phi2), dphi2 * 0.5 * hd * phi);
                 let next = dl - f * hd * phi / df_scaled;
                 let next = F4::select(next.gt(z4), next, dl * 0.5);
                 r.dl = F4::select(still, next, dl);
@@ -581,7 +582,7 @@ impl J2PlaneStress {
             let sn = [ps + qs, ps - qs, t2 * r.f2];
             let tr_p = r.dl * (sn[0] + sn[1]) * (1.0 / 3.0);
             let d = de[p];
-            let deps_zz = (d[0] + d[1] - tr_p) * -self.nu_ratio - tr_p;
+            let deps_zz = (d[0] + d[1] - tr_p).madd(F4::splat(-self.nu_ratio), -tr_p);
             let ep = eps_p[p] + r.d;
             for c in 0..3 {
                 s[p][c] = F4::select(pl, sn[c], s[p][c]);
