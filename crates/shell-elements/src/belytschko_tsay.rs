@@ -57,8 +57,9 @@
 //! The kernel is written once over [`Real`] (`rates`, then the section's
 //! points, then `forces`): `f64` for one element ([`ShellFormulation::compute`]),
 //! `F4` for four consecutive elements in SIMD lanes
-//! ([`ShellFormulation::compute_x4`], AVX2 chosen at run time), bit for bit
-//! alike (`tests/lanes_match_scalar.rs`).
+//! ([`ShellFormulation::compute_x4`], AVX2 + FMA chosen at run time), alike
+//! to rounding: the lanes fuse the products of `Real::madd`
+//! (`tests/lanes_match_scalar.rs`).
 
 use crate::block_nodes::BlockNodes;
 use crate::error::ShellError;
@@ -272,8 +273,9 @@ impl BelytschkoTsay {
             return compute_by_element(self, mat, sec, nodes, dt, st, out);
         }
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the processor has AVX2 (checked just above).
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the processor has AVX2 and FMA (checked just above).
             return unsafe { self.lanes_avx2::<M, N>(mat, sec, nodes, dt, st, out) };
         }
         let [x, v, w] = nodes.gather();
@@ -282,7 +284,7 @@ impl BelytschkoTsay {
 
     /// The block's nodes gathered and [`Self::lanes`] run, compiled for AVX2.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,fma")]
     unsafe fn lanes_avx2<M: Material, const N: usize>(
         &self,
         mat: &M,
@@ -677,14 +679,17 @@ mod tests {
     use super::*;
     use crate::material::{Hardening, J2History, J2PlaneStress, Material};
 
-    /// The block kernel compiled for the baseline target (SSE2) and for AVX2
-    /// gives the same bits (IEEE operations lane by lane, no contraction), so
-    /// a run does not depend on the processor it lands on. Skipped (passes)
-    /// on a processor without AVX2. Tolerance: none.
+    /// The block kernel compiled for the baseline target (SSE2, where
+    /// `madd` is the C library's exact `fma`) and for AVX2 + FMA gives the
+    /// same bits (IEEE operations lane by lane, fused multiply–adds exactly
+    /// where the kernel writes `madd`), so a run does not depend on the
+    /// processor it lands on. Skipped (passes) on a processor without AVX2
+    /// and FMA. Tolerance: none.
     #[test]
     fn baseline_and_avx2_block_kernels_agree_bit_for_bit() {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
             let mat = J2PlaneStress::new(
                 206_000.0,
                 0.3,

@@ -171,7 +171,8 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
     /// Four consecutive elements at once (their nodes in `nodes`), element
     /// `l`'s result into lane `l` of `out`. By default one after the other
     /// through [`compute`](Self::compute); a formulation that overrides it
-    /// must give each element the same bits as `compute`.
+    /// must give each element what `compute` gives it, to rounding (BT's
+    /// lanes fuse the products of [`Real::madd`](crate::Real::madd)).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn compute_x4<M: Material>(

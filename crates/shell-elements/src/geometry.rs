@@ -7,7 +7,7 @@
 //! starts. Coordinates are relative to the node average.
 //!
 //! Written over [`Real`], so that the same code serves one element (`f64`)
-//! and four in SIMD lanes (`F4`), bit for bit alike.
+//! and four in SIMD lanes (`F4`, whose [`Real::madd`] is fused).
 
 use crate::lanes::Real;
 

@@ -2,10 +2,16 @@
 //!
 //! A kernel written once over `T: Real` runs on one element (`T = f64`) or
 //! on four at a time (`T = F4`). `F4` does every operation lane by lane in
-//! IEEE arithmetic (no fused multiply–add, no reassociation), so lane `l`
-//! of a four-element run is bit for bit the one-element run of element `l`;
-//! branches become masks ([`Real::select`]). Compiled inside a function with
-//! the `avx2` target feature the lane loops become 256-bit instructions.
+//! IEEE arithmetic, in the order the kernel writes (no reassociation), and
+//! branches become masks ([`Real::select`]). The one difference from the
+//! one-element run is [`Real::madd`]: `F4` fuses its product and sum (one
+//! rounding, `f64::mul_add`), `f64` rounds twice; so lane `l` of a
+//! four-element run is the one-element run of element `l` to rounding
+//! (`tests/lanes_match_scalar.rs`), and the same bits on every processor (a
+//! fused multiply–add is exactly specified). Compiled inside a function with
+//! the `avx2` and `fma` target features the lane loops become 256-bit
+//! instructions and `madd` one `vfmadd`; elsewhere (a processor without FMA)
+//! `mul_add` is the C library's exact `fma`, slower but the same bits.
 
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
 
@@ -231,7 +237,7 @@ impl Real for F4 {
     }
     #[inline(always)]
     fn madd(self, a: Self, b: Self) -> Self {
-        F4(lanes!(|l| self.0[l] * a.0[l] + b.0[l]))
+        F4(lanes!(|l| self.0[l].mul_add(a.0[l], b.0[l])))
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
@@ -285,5 +291,19 @@ mod tests {
             );
         }
         assert!(F4::any(Real::is_finite(a)) && !Real::is_finite(a).all());
+    }
+
+    /// `madd` rounds once in lanes (the exact `f64::mul_add`) and twice for
+    /// `f64`: with `x = 1 + 2⁻²⁷`, `x·x − 1 = 2⁻²⁶ + 2⁻⁵⁴` exactly, which the
+    /// fused form keeps and the two-rounding form loses. Tolerance: none.
+    #[test]
+    fn madd_is_fused_in_lanes_and_not_in_f64() {
+        let x = 1.0 + 2f64.powi(-27);
+        let fused = F4::splat(x).madd(F4::splat(x), F4::splat(-1.0));
+        let plain = Real::madd(x, x, -1.0);
+        for l in 0..4 {
+            assert_eq!(fused.0[l], 2f64.powi(-26) + 2f64.powi(-54));
+        }
+        assert_eq!(plain, 2f64.powi(-26));
     }
 }

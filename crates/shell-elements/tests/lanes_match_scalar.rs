@@ -1,14 +1,19 @@
-//! The four-lane (SIMD) element path against the one-element path: the same
-//! bits, element by element and step by step.
+//! The four-lane (SIMD) element path against the one-element path, element
+//! by element and step by step.
 //!
-//! `ShellFormulation::compute_x4` promises each element of a block exactly
-//! what `compute` gives it (F4 does every operation lane by lane in IEEE
-//! arithmetic, in the same order, and branches become masks). Checked here on
+//! `ShellFormulation::compute_x4` promises each element of a block what
+//! `compute` gives it. BT's lane kernel does every operation lane by lane in
+//! IEEE arithmetic, in the one-element order, with branches as masks, except
+//! that its `Real::madd` products are fused (one rounding) where the
+//! one-element code rounds twice. So each step is started from the same
+//! state both ways (the lane path's) and compared within
+//! [`BT_TOL`] of each quantity's scale in the block; the formulations that
+//! keep the default (element by element) must match bit for bit. Checked on
 //! warped, distorted blocks driven through elastic loading, plastic flow with
 //! small and large increments (the Swift series and its `powf` fallback),
 //! unloading, mixed elastic/plastic lanes, a degenerate element (its state
-//! must stay untouched), both hardening kinds, 3/4/5/7-point rules and every
-//! BT option. Tolerance: none (bitwise equality).
+//! must stay untouched, bit for bit), both hardening kinds, 3/4/5/7-point
+//! rules and every BT option.
 
 use fem_core::Vec3;
 use shell_elements::{
@@ -91,48 +96,69 @@ fn from_lane_major(s: &State, np: usize, ip: usize, nhg: usize) -> State {
     o
 }
 
-fn bits(r: &ElementResult) -> Vec<u64> {
-    let mut v: Vec<u64> =
-        r.f.iter()
-            .chain(&r.m)
-            .flatten()
-            .map(|x| x.to_bits())
-            .collect();
-    v.extend(
-        [
-            r.d_internal,
-            r.d_drilling,
-            r.d_hourglass,
-            r.d_plastic,
-            r.length,
-        ]
-        .map(f64::to_bits),
-    );
-    v
+/// Relative tolerance of the BT lane kernel against the one-element kernel
+/// over one step, on each quantity's largest magnitude in the block: the
+/// fused products change the last bits of single operations (measured:
+/// at most 2.4e-14 here), while a lane path that ran a different
+/// computation (e.g. its return mapping stopped at 1e-6 instead of
+/// `RETURN_TOL`) differs by orders of magnitude more.
+const BT_TOL: f64 = 1e-12;
+
+/// The quantities of a result, grouped by scale: forces, moments, the
+/// energy increments (whose sum the ledger keeps; a small hourglass or
+/// drilling increment is a difference of larger terms), and the length.
+fn result_groups(r: &ElementResult) -> Vec<Vec<f64>> {
+    vec![
+        r.f.iter().flatten().copied().collect(),
+        r.m.iter().flatten().copied().collect(),
+        vec![r.d_internal, r.d_drilling, r.d_hourglass, r.d_plastic],
+        vec![r.length],
+    ]
 }
 
-fn state_bits(s: &State) -> Vec<u64> {
-    let mut v: Vec<u64> = s.t.iter().map(|x| x.to_bits()).collect();
-    v.extend(s.stress.iter().flatten().map(|x| x.to_bits()));
-    v.extend(
-        s.hist
-            .iter()
-            .flat_map(|h| [h.eps_p.to_bits(), h.sigma_y.to_bits()]),
-    );
-    v.extend(s.shear.iter().flatten().map(|x| x.to_bits()));
-    v.extend(s.hg.iter().map(|x| x.to_bits()));
-    v.extend(s.dr.iter().flatten().map(|x| x.to_bits()));
-    v
+/// The quantities of a state, grouped by scale.
+fn state_groups(s: &State) -> Vec<Vec<f64>> {
+    vec![
+        s.t.to_vec(),
+        s.stress.iter().flatten().copied().collect(),
+        s.hist.iter().map(|h| h.eps_p).collect(),
+        s.hist.iter().map(|h| h.sigma_y).collect(),
+        s.shear.iter().flatten().copied().collect(),
+        s.hg.clone(),
+        s.dr.iter().flatten().copied().collect(),
+    ]
 }
 
-/// Run `steps` steps of one block both ways and compare every bit.
+/// Whether `a` and `b` agree: bit for bit (`tol = None`), or each entry
+/// within `tol` times the group's largest magnitude. The largest relative
+/// difference seen is kept in `worst`.
+fn agree(a: &[Vec<f64>], b: &[Vec<f64>], tol: Option<f64>, worst: &mut f64) -> bool {
+    a.iter().zip(b).all(|(ga, gb)| {
+        let scale = ga.iter().chain(gb).fold(0.0f64, |m, x| m.max(x.abs()));
+        ga.iter().zip(gb).all(|(x, y)| match tol {
+            None => x.to_bits() == y.to_bits(),
+            Some(t) => {
+                let d = (x - y).abs();
+                if scale > 0.0 {
+                    *worst = worst.max(d / scale);
+                }
+                d <= t * scale
+            }
+        })
+    })
+}
+
+/// Run 60 steps of one block, each step both ways from the same state, and
+/// compare (see [`agree`]); returns the largest relative difference.
 fn check<F: ShellFormulation>(
     form: F,
     mat: &J2PlaneStress,
     sec: &Section,
     seed: u64,
     degenerate: bool,
-) {
+    tol: Option<f64>,
+) -> f64 {
+    let mut worst = 0.0f64;
     let mut rng = Rng(seed);
     let np = F::IN_PLANE_POINTS * sec.rule.n;
     let nhg = F::HOURGLASS_VARS.max(1);
@@ -160,7 +186,7 @@ fn check<F: ShellFormulation>(
         hg: vec![0.0; 4 * nhg],
         dr: [[0.0; 4]; 4],
     };
-    let (mut a, mut b) = (init.clone(), init);
+    let mut a = init;
     let dt = 1e-6;
     for step in 0..60 {
         // Velocities: loading with a random pattern, growing, then unloading.
@@ -200,6 +226,8 @@ fn check<F: ShellFormulation>(
         let (xn, vn, wn) = (nodal(&x), nodal(&v), nodal(&w));
         let q = [[0, 1, 2, 3], [4, 5, 6, 7], [8, 9, 10, 11], [12, 13, 14, 15]];
         let nodes = BlockNodes::new(&xn, &vn, &wn, &q).expect("indices in range");
+        // Both paths start the step from the same state.
+        let mut b = a.clone();
         let mut out4 = ElementResult::<F4>::default();
         let lane_major = form.lane_major(sec);
         let mut blk = if lane_major {
@@ -246,9 +274,13 @@ fn check<F: ShellFormulation>(
                     drilling: &mut b.dr[l],
                 },
             );
-            assert_eq!(
-                bits(&out_a[l]),
-                bits(&out_b),
+            assert!(
+                agree(
+                    &result_groups(&out_a[l]),
+                    &result_groups(&out_b),
+                    tol,
+                    &mut worst
+                ),
                 "{} step {step} element {l}: results differ\n{:?}\n{:?}",
                 F::NAME,
                 out_a[l],
@@ -259,10 +291,9 @@ fn check<F: ShellFormulation>(
                 assert!(ok, "non-finite force in path {k}");
             }
         }
-        assert_eq!(
-            state_bits(&a),
-            state_bits(&b),
-            "{} step {step}: states differ",
+        assert!(
+            agree(&state_groups(&a), &state_groups(&b), tol, &mut worst),
+            "{} step {step}: states differ\n{a:?}\n{b:?}",
             F::NAME
         );
         for l in 0..4 {
@@ -272,9 +303,11 @@ fn check<F: ShellFormulation>(
     if degenerate {
         assert_eq!(a.t[2], 0.81, "the degenerate element's thickness changed");
         assert!(a.stress[2 * np..3 * np].iter().flatten().all(|s| *s == 0.0));
+        assert!(a.hist[2 * np..3 * np].iter().all(|h| h.eps_p == 0.0));
     }
     // Plastic flow did happen (the comparison covered the return mapping).
     assert!(a.hist.iter().any(|h| h.eps_p > 1e-3), "no plastic flow");
+    worst
 }
 
 trait Initial {
@@ -303,9 +336,11 @@ fn section(rule: RuleKind, n: usize) -> Section {
     s
 }
 
+/// BT's lane kernel against its one-element kernel. Tolerance: [`BT_TOL`].
 #[test]
-fn bt_four_lanes_match_one_element_bit_for_bit() {
+fn bt_four_lanes_match_one_element_to_rounding() {
     let mat = swift();
+    let mut worst = 0.0f64;
     for (n, seed) in [(5, 1), (3, 2), (7, 3), (4, 4)] {
         for warp in [false, true] {
             for shear_projection in [true, false] {
@@ -314,48 +349,56 @@ fn bt_four_lanes_match_one_element_bit_for_bit() {
                     shear_projection,
                     ..Default::default()
                 };
-                check(bt, &mat, &section(RuleKind::Gauss, n), seed, false);
+                let sec = section(RuleKind::Gauss, n);
+                worst = worst.max(check(bt, &mat, &sec, seed, false, Some(BT_TOL)));
             }
         }
     }
     let lobatto = section(RuleKind::Lobatto, 5);
-    check(BelytschkoTsay::default(), &mat, &lobatto, 5, false);
+    let bt = BelytschkoTsay::default();
+    worst = worst.max(check(bt, &mat, &lobatto, 5, false, Some(BT_TOL)));
+    println!("largest relative difference: {worst:.2e}");
 }
 
+/// A degenerate element in a block keeps its state bit for bit; the others
+/// match. Tolerance: [`BT_TOL`].
 #[test]
 fn bt_four_lanes_leave_a_degenerate_element_untouched() {
+    let sec = section(RuleKind::Gauss, 5);
     check(
         BelytschkoTsay::default(),
         &swift(),
-        &section(RuleKind::Gauss, 5),
+        &sec,
         6,
         true,
+        Some(BT_TOL),
     );
 }
 
+/// Tabulated hardening (its lanes run the one-element return one by one).
+/// Tolerance: [`BT_TOL`].
 #[test]
-fn bt_four_lanes_with_tabulated_hardening_match_bit_for_bit() {
+fn bt_four_lanes_with_tabulated_hardening_match_to_rounding() {
     let table =
         Hardening::table(&[(0.0, 300.0), (0.05, 420.0), (0.2, 520.0), (1.0, 700.0)]).unwrap();
     let mat = J2PlaneStress::new(206_000.0, 0.3, 7.85e-9, table).unwrap();
+    let sec = section(RuleKind::Gauss, 5);
     check(
         BelytschkoTsay::default(),
         &mat,
-        &section(RuleKind::Gauss, 5),
+        &sec,
         7,
         false,
+        Some(BT_TOL),
     );
 }
 
+/// The default four-element path (element by element) is the one-element
+/// path. Tolerance: none (bitwise).
 #[test]
 fn fully_integrated_default_four_element_path_matches() {
-    check(
-        FullyIntegrated::default(),
-        &swift(),
-        &section(RuleKind::Gauss, 5),
-        8,
-        false,
-    );
+    let sec = section(RuleKind::Gauss, 5);
+    check(FullyIntegrated::default(), &swift(), &sec, 8, false, None);
 }
 
 /// The shell set's accessors read the lane-major blocks right: a 3 × 3 blank

@@ -381,8 +381,9 @@ impl Material for J2PlaneStress {
     }
 
     /// Four elements' sections in lanes: the same projected return, each
-    /// branch a lane mask, bit for bit the lanes' [`update_points`](Material::update_points)
-    /// (Swift hardening; a tabulated curve goes lane by lane).
+    /// branch a lane mask, the lanes' [`update_points`](Material::update_points)
+    /// to rounding (fused [`Real::madd`]; Swift hardening, a tabulated curve
+    /// goes lane by lane).
     #[inline(always)]
     fn update_points_x4<const N: usize>(
         &self,

@@ -69,8 +69,9 @@ pub trait Material: Clone + Send + Sync + 'static {
     /// in lane `l` of the stresses and increments and in `history[l]`
     /// (the shell set's own layout). By default lane by lane through
     /// [`Material::update_points`]; a material that overrides it must give
-    /// each lane the same bits as that (the element kernels' four-lane path
-    /// is tested against the one-element path bit for bit).
+    /// each lane that result to rounding (the element kernels' four-lane
+    /// path is tested against the one-element path within 1e-12 of each
+    /// quantity's scale).
     #[inline(always)]
     fn update_points_x4<const N: usize>(
         &self,
