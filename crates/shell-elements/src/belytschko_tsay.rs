@@ -164,6 +164,7 @@ impl ShellFormulation for BelytschkoTsay {
             stress,
             history,
         );
+        let mut out = ElementResult::default();
         self.forces(
             &Moduli::of(mat, sec),
             &rt,
@@ -175,7 +176,9 @@ impl ShellFormulation for BelytschkoTsay {
                 hourglass,
                 drilling,
             },
-        )
+            &mut out,
+        );
+        out
     }
 
     #[inline]
@@ -364,7 +367,7 @@ impl BelytschkoTsay {
         let valid = rt.valid;
         let saved = if valid.all() { None } else { Some(*history) };
         let sr = integrate_section_x4(mat, &sec.rule, t, rt.membrane, rt.bending, &mut s, history);
-        let r = self.forces(
+        self.forces(
             &Moduli::of(mat, sec),
             &rt,
             sr,
@@ -375,6 +378,7 @@ impl BelytschkoTsay {
                 hourglass: &mut hg,
                 drilling: &mut dr,
             },
+            out,
         );
         // Degenerate lanes keep their old state.
         if let Some(saved) = &saved {
@@ -384,22 +388,40 @@ impl BelytschkoTsay {
                 }
             }
         }
-        for k in 0..N {
-            for c in 0..3 {
-                stress[3 * k + c] = F4::select(valid, s[k][c], F4(stress[3 * k + c])).0;
+        if saved.is_some() {
+            // Rare: keep the degenerate lanes' state (the masks stay out of
+            // the common path, where they would turn into masked stores).
+            for k in 0..N {
+                for c in 0..3 {
+                    s[k][c] = F4::select(valid, s[k][c], F4(stress[3 * k + c]));
+                }
+            }
+            t = F4::select(valid, t, F4(*thickness));
+            for c in 0..2 {
+                sh[c] = F4::select(valid, sh[c], F4(shear[c]));
+            }
+            for k in 0..5 {
+                hg[k] = F4::select(valid, hg[k], F4(hourglass[k]));
+            }
+            for i in 0..4 {
+                dr[i] = F4::select(valid, dr[i], F4(drilling[i]));
             }
         }
-        *thickness = F4::select(valid, t, F4(*thickness)).0;
+        for k in 0..N {
+            for c in 0..3 {
+                stress[3 * k + c] = s[k][c].0;
+            }
+        }
+        *thickness = t.0;
         for c in 0..2 {
-            shear[c] = F4::select(valid, sh[c], F4(shear[c])).0;
+            shear[c] = sh[c].0;
         }
         for k in 0..5 {
-            hourglass[k] = F4::select(valid, hg[k], F4(hourglass[k])).0;
+            hourglass[k] = hg[k].0;
         }
         for i in 0..4 {
-            drilling[i] = F4::select(valid, dr[i], F4(drilling[i])).0;
+            drilling[i] = dr[i].0;
         }
-        *out = r;
         if saved.is_some() {
             // A degenerate lane reports only its length (≤ 0 or NaN).
             let zero = F4::splat(0.0);
@@ -519,7 +541,8 @@ impl BelytschkoTsay {
         sr: SectionResult<T>,
         dt: f64,
         st: Lanes<'_, T>,
-    ) -> ElementResult<T> {
+        out: &mut ElementResult<T>,
+    ) {
         let Rates {
             fr,
             valid,
@@ -618,14 +641,12 @@ impl BelytschkoTsay {
         let hmd = md_sum * 0.5;
 
         // Nodal forces (local, internal), then global forces on the nodes.
-        let mut out = ElementResult {
-            d_internal: a * (sr.work + shear_work) + d_drill,
-            d_drilling: d_drill,
-            d_hourglass: d_hg,
-            d_plastic: a * sr.dissipation,
-            length: T::select(*valid, fr.char_length(), a),
-            ..Default::default()
-        };
+        // (Every field of `out` is written: the energies here, the nodes below.)
+        out.d_internal = a * (sr.work + shear_work) + d_drill;
+        out.d_drilling = d_drill;
+        out.d_hourglass = d_hg;
+        out.d_plastic = a * sr.dissipation;
+        out.length = T::select(*valid, fr.char_length(), a);
         // Transpose of the projection: f̂z_J += ½ h·ẑ (B1_J Q_x + B2_J Q_y).
         // The warping correction's membrane terms fold into the membrane
         // forces: f̂x = A((N_xx + c M_xy) B1 + (N_xy + c M_xx) B2), f̂y likewise;
@@ -670,7 +691,6 @@ impl BelytschkoTsay {
             out.m[i] = [-mg[0], -mg[1], -mg[2]];
         }
         *st.thickness = new_thickness(t, sr.deps_zz);
-        out
     }
 }
 

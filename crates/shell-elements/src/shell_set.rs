@@ -58,6 +58,57 @@ fn v3(p: &fem_core::Vec3) -> V3 {
     [p.x, p.y, p.z]
 }
 
+/// The serial part of a step: element results added to the nodal forces,
+/// energy increments summed (internal, hourglass, plastic, drilling) and the
+/// smallest stable time step kept.
+struct Scatter {
+    best: StableDt,
+    energy: [f64; 4],
+}
+
+impl Scatter {
+    /// Element `e` with nodes `q`: false (and nothing added) when its
+    /// length says it degenerated. `fm(k, i)`: component `i` of node `k`'s
+    /// force and moment.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn element(
+        &mut self,
+        forces: &mut Forces,
+        e: usize,
+        q: &[u32; 4],
+        length: f64,
+        density_scale: f64,
+        wave_speed: f64,
+        energy: [f64; 4],
+        fm: impl Fn(usize, usize) -> (f64, f64),
+    ) -> bool {
+        if length.is_nan() || length <= 0.0 {
+            return false;
+        }
+        for k in 0..4 {
+            let n = q[k] as usize;
+            let (f, m) = (&mut forces.f[n], &mut forces.m[n]);
+            let ((fx, mx), (fy, my), (fz, mz)) = (fm(k, 0), fm(k, 1), fm(k, 2));
+            f.x += fx;
+            f.y += fy;
+            f.z += fz;
+            m.x += mx;
+            m.y += my;
+            m.z += mz;
+        }
+        for (s, d) in self.energy.iter_mut().zip(energy) {
+            *s += d;
+        }
+        let dte = length * density_scale.sqrt() / wave_speed;
+        if dte < self.best.dt {
+            self.best.dt = dte;
+            self.best.element = e;
+        }
+        true
+    }
+}
+
 impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
     /// Shells on `quads` (0-based node indices into `nodes`, counter-clockwise
     /// seen from the shell's top) with one section, formulation and material.
@@ -569,53 +620,64 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             .zip(dr_r.iter_mut())
             .zip(res_r.iter_mut())
             .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| kernel(q, t, s, h, sh, hg, dr, r));
-        // Serial scatter, energies and the stable time step.
-        let mut best = StableDt {
-            dt: f64::INFINITY,
-            element: 0,
-            what: "shell area / longest side / plate wave speed",
+        // Serial scatter, energies and the stable time step; the blocks'
+        // results are read in their lanes.
+        let mut acc = Scatter {
+            best: StableDt {
+                dt: f64::INFINITY,
+                element: 0,
+                what: "shell area / longest side / plate wave speed",
+            },
+            energy: [0.0; 4],
         };
-        let (mut di, mut dh, mut dp, mut dd) = (0.0, 0.0, 0.0, 0.0);
-        for (e, q) in self.conn.iter().enumerate() {
-            let r = &if e < 4 * nb {
-                self.results_x4[e / 4].lane(e % 4)
-            } else {
-                self.results[e - 4 * nb]
-            };
-            if r.length.is_nan() || r.length <= 0.0 {
-                self.cached_dt = Some(StableDt {
-                    dt: 0.0,
-                    element: e,
-                    what: "shell degenerated (zero or negative area)",
+        let (ds, c) = (&self.density_scale, self.wave_speed);
+        let mut bad = None;
+        'blocks: for (b, (qs, r)) in conn_b.iter().zip(&self.results_x4).enumerate() {
+            for l in 0..4 {
+                let e = 4 * b + l;
+                let en = [
+                    r.d_internal.0[l],
+                    r.d_hourglass.0[l],
+                    r.d_plastic.0[l],
+                    r.d_drilling.0[l],
+                ];
+                let ok = acc.element(forces, e, &qs[l], r.length.0[l], ds[e], c, en, |k, i| {
+                    (r.f[k][i].0[l], r.m[k][i].0[l])
                 });
-                return Err(FemError::Element {
-                    effect: self.name.clone(),
-                    element: e,
-                    message: format!(
-                        "shell inverted or degenerated at t = {} s (projected area or Jacobian {} mm²)",
-                        ctx.time, r.length
-                    ),
-                });
-            }
-            for k in 0..4 {
-                let n = q[k] as usize;
-                forces.f[n].x += r.f[k][0];
-                forces.f[n].y += r.f[k][1];
-                forces.f[n].z += r.f[k][2];
-                forces.m[n].x += r.m[k][0];
-                forces.m[n].y += r.m[k][1];
-                forces.m[n].z += r.m[k][2];
-            }
-            di += r.d_internal;
-            dh += r.d_hourglass;
-            dp += r.d_plastic;
-            dd += r.d_drilling;
-            let dte = r.length * self.density_scale[e].sqrt() / self.wave_speed;
-            if dte < best.dt {
-                best.dt = dte;
-                best.element = e;
+                if !ok {
+                    bad = Some((e, r.length.0[l]));
+                    break 'blocks;
+                }
             }
         }
+        if bad.is_none() {
+            for (j, (q, r)) in conn_r.iter().zip(&self.results).enumerate() {
+                let e = 4 * nb + j;
+                let en = [r.d_internal, r.d_hourglass, r.d_plastic, r.d_drilling];
+                if !acc.element(forces, e, q, r.length, ds[e], c, en, |k, i| {
+                    (r.f[k][i], r.m[k][i])
+                }) {
+                    bad = Some((e, r.length));
+                    break;
+                }
+            }
+        }
+        if let Some((e, length)) = bad {
+            self.cached_dt = Some(StableDt {
+                dt: 0.0,
+                element: e,
+                what: "shell degenerated (zero or negative area)",
+            });
+            return Err(FemError::Element {
+                effect: self.name.clone(),
+                element: e,
+                message: format!(
+                    "shell inverted or degenerated at t = {} s (projected area or Jacobian {length} mm²)",
+                    ctx.time
+                ),
+            });
+        }
+        let (best, [di, dh, dp, dd]) = (acc.best, acc.energy);
         self.energy.internal += di;
         self.energy.hourglass += dh;
         self.energy.plastic += dp;
