@@ -267,6 +267,61 @@ impl Real for F4 {
     }
 }
 
+/// The first and the second values of four pairs, each in lanes (pair `l`
+/// in lane `l`): one 128-bit load per pair and two unpacks per two lanes, in
+/// registers.
+#[inline(always)]
+pub fn unzip4(p: [&[f64; 2]; 4]) -> (F4, F4) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_loadu_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd};
+        let (mut a, mut b) = (F4::default(), F4::default());
+        // SAFETY: SSE2 is part of x86_64; every pointer is to two f64 and
+        // every store to two f64 of `a` or `b`.
+        unsafe {
+            let v = p.map(|q| _mm_loadu_pd(q.as_ptr()));
+            _mm_storeu_pd(a.0.as_mut_ptr(), _mm_unpacklo_pd(v[0], v[1]));
+            _mm_storeu_pd(a.0.as_mut_ptr().add(2), _mm_unpacklo_pd(v[2], v[3]));
+            _mm_storeu_pd(b.0.as_mut_ptr(), _mm_unpackhi_pd(v[0], v[1]));
+            _mm_storeu_pd(b.0.as_mut_ptr().add(2), _mm_unpackhi_pd(v[2], v[3]));
+        }
+        (a, b)
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    (F4(lanes!(|l| p[l][0])), F4(lanes!(|l| p[l][1])))
+}
+
+/// Four pairs out of two lanes' values (the inverse of [`unzip4`]), stored
+/// with one 128-bit store each.
+#[inline(always)]
+pub fn zip4(a: F4, b: F4, p: [&mut [f64; 2]; 4]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_loadu_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd};
+        // SAFETY: SSE2 is part of x86_64; the loads read two f64 of `a` or
+        // `b`, every store writes the two f64 of one pair.
+        unsafe {
+            let (a01, a23) = (
+                _mm_loadu_pd(a.0.as_ptr()),
+                _mm_loadu_pd(a.0.as_ptr().add(2)),
+            );
+            let (b01, b23) = (
+                _mm_loadu_pd(b.0.as_ptr()),
+                _mm_loadu_pd(b.0.as_ptr().add(2)),
+            );
+            let [p0, p1, p2, p3] = p;
+            _mm_storeu_pd(p0.as_mut_ptr(), _mm_unpacklo_pd(a01, b01));
+            _mm_storeu_pd(p1.as_mut_ptr(), _mm_unpackhi_pd(a01, b01));
+            _mm_storeu_pd(p2.as_mut_ptr(), _mm_unpacklo_pd(a23, b23));
+            _mm_storeu_pd(p3.as_mut_ptr(), _mm_unpackhi_pd(a23, b23));
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    for (l, q) in p.into_iter().enumerate() {
+        *q = [a.0[l], b.0[l]];
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -291,6 +346,21 @@ mod tests {
             );
         }
         assert!(F4::any(Real::is_finite(a)) && !Real::is_finite(a).all());
+    }
+
+    /// `unzip4` and `zip4` move each pair's values to their lanes and back.
+    #[test]
+    fn pairs_unzip_to_lanes_and_zip_back() {
+        let mut p = [[1.0, -1.0], [2.0, -2.0], [3.0, -3.0], [4.0, -4.0]];
+        let [p0, p1, p2, p3] = &p;
+        let (a, b) = unzip4([p0, p1, p2, p3]);
+        assert_eq!(
+            (a, b),
+            (F4([1.0, 2.0, 3.0, 4.0]), F4([-1.0, -2.0, -3.0, -4.0]))
+        );
+        let [q0, q1, q2, q3] = &mut p;
+        zip4(b, a, [q0, q1, q2, q3]);
+        assert_eq!(p, [[-1.0, 1.0], [-2.0, 2.0], [-3.0, 3.0], [-4.0, 4.0]]);
     }
 
     /// `madd` rounds once in lanes (the exact `f64::mul_add`) and twice for

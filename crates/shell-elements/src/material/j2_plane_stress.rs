@@ -42,8 +42,10 @@ pub struct J2PlaneStress {
     swift_binomial: [f64; 9],
 }
 
-/// History of one integration point of [`J2PlaneStress`].
+/// History of one integration point of [`J2PlaneStress`] (`repr(C)`: the
+/// lane kernel moves the two values with one 128-bit load or store).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[repr(C)]
 pub struct J2History {
     /// Equivalent plastic strain ε_p (-).
     pub eps_p: f64,
@@ -419,8 +421,6 @@ fn swift_powf(k: f64, n: f64, e: F4, d: F4, far: M4) -> F4 {
 /// State of four lanes' projected return (see [`Return`]).
 #[derive(Debug, Clone, Copy, Default)]
 struct Return4 {
-    a1: F4,
-    a2: F4,
     dl: F4,
     f1: F4,
     f2: F4,
@@ -432,7 +432,10 @@ struct Return4 {
 impl J2PlaneStress {
     /// [`Material::update_points_x4`] with Swift hardening: the lane form of
     /// `trial`, `return_start`, `return_iterate` (with `swift_flow`) and
-    /// `return_finish`, each expression evaluated in the same order.
+    /// `return_finish`, each expression evaluated in the same order. The
+    /// plastic points return one after the other, each in registers (their
+    /// independent division / square-root chains overlap in the processor's
+    /// out-of-order window); lanes that are elastic or converged are masked.
     #[inline(always)]
     fn swift_x4<const N: usize>(
         &self,
@@ -444,23 +447,22 @@ impl J2PlaneStress {
         de: &[[F4; 3]; N],
     ) -> [PointUpdate<F4>; N] {
         let mut out = [PointUpdate::<F4>::default(); N];
-        let mut t = [[F4::default(); 3]; N];
         let mut plastic = [M4::default(); N];
-        let mut sy0 = [F4::default(); N];
-        let mut eps_p = [F4::default(); N];
         let mut any_plastic = false;
+        let (c11, c12, g) = (
+            F4::splat(self.c11),
+            F4::splat(self.c12),
+            F4::splat(self.shear),
+        );
         for p in 0..N {
-            sy0[p] = F4::from_fn(|l| h[l][p].sigma_y);
-            eps_p[p] = F4::from_fn(|l| h[l][p].eps_p);
+            let sy0 = F4::from_fn(|l| h[l][p].sigma_y);
             let d = de[p];
-            let (c11, c12) = (F4::splat(self.c11), F4::splat(self.c12));
             let t0 = d[1].madd(c12, d[0].madd(c11, s[p][0]));
             let t1 = d[1].madd(c11, d[0].madd(c12, s[p][1]));
-            let t2 = d[2].madd(F4::splat(self.shear), s[p][2]);
+            let t2 = d[2].madd(g, s[p][2]);
             let vm2 = (t2 * 3.0).madd(t2, (-t0).madd(t1, t1.madd(t1, t0 * t0)));
-            let elastic = vm2.le(sy0[p] * sy0[p]);
-            t[p] = [t0, t1, t2];
-            s[p] = t[p];
+            let elastic = vm2.le(sy0 * sy0);
+            s[p] = [t0, t1, t2];
             out[p].deps_zz = (d[0] + d[1]) * -self.nu_ratio;
             plastic[p] = M4::from_bools([true; 4]).and_not(elastic);
             any_plastic |= F4::any(plastic[p]);
@@ -468,136 +470,150 @@ impl J2PlaneStress {
         if !any_plastic {
             return out;
         }
-        // From here every statement runs over all N points (stage by stage,
-        // so that the points' long division / square-root chains overlap);
-        // lanes that are elastic or converged are masked out.
         let ap = self.a_p;
         let g2 = 2.0 * self.shear;
         let c = &self.swift_binomial;
         let z4 = F4::default();
         let one = F4::splat(1.0);
-        let (mut e, mut inv_e, mut phi0) = ([z4; N], [z4; N], [z4; N]);
-        let mut ret = [Return4::default(); N];
-        // return_start: Halley step from Δλ = 0.
         for p in 0..N {
-            e[p] = eps_p[p] + eps0;
-            inv_e[p] = one / e[p];
-            let [t0, t1, t2] = t[p];
+            let pl = plastic[p];
+            if !F4::any(pl) {
+                continue;
+            }
+            let (eps_p, sy0) = J2History::lanes(h, p);
+            let [t0, t1, t2] = s[p];
+            // return_start: Halley step from Δλ = 0.
+            let e = eps_p + eps0;
+            let inv_e = one / e;
             let sum = t0 + t1;
             let dif = t0 - t1;
-            ret[p].a1 = sum * sum * (1.0 / 6.0);
-            ret[p].a2 = (t2 * 2.0).madd(t2, dif * 0.5 * dif);
-            phi0[p] = (ret[p].a1 + ret[p].a2).sqrt();
-        }
-        let mut dl0 = [z4; N];
-        for p in 0..N {
-            let sy = sy0[p];
-            let (a1, a2) = (ret[p].a1, ret[p].a2);
-            let hm0 = sy * n * inv_e[p];
-            let dhm0 = hm0 * (n - 1.0) * inv_e[p];
+            let a1 = sum * sum * (1.0 / 6.0);
+            let a2 = (t2 * 2.0).madd(t2, dif * 0.5 * dif);
+            let phi0 = (a1 + a2).sqrt();
+            let sy = sy0;
+            let hm0 = sy * n * inv_e;
+            let dhm0 = hm0 * (n - 1.0) * inv_e;
             let phi2_0 = a1 + a2;
             let f0 = (-(sy * sy)).madd(F4::splat(1.0 / 3.0), phi2_0 * 0.5);
             let dphi2_0 = a2.madd(F4::splat(g2), a1 * ap) * -2.0;
             let ddphi2_0 = a2.madd(F4::splat(g2 * g2), a1 * (ap * ap)) * 6.0;
-            let dd_0 = phi0[p] * R23;
-            let ddd_0 = dphi2_0 * R23 / phi0[p];
+            let dd_0 = phi0 * R23;
+            let ddd_0 = dphi2_0 * R23 / phi0;
             let dy_0 = hm0 * dd_0;
             let ddy_0 = (dhm0 * dd_0).madd(dd_0, hm0 * ddd_0);
             let df0 = (-(sy * (2.0 / 3.0))).madd(dy_0, dphi2_0 * 0.5);
             let ddf0 = (-sy.madd(ddy_0, dy_0 * dy_0)).madd(F4::splat(2.0 / 3.0), ddphi2_0 * 0.5);
             let df0sq = df0 * df0;
             let den = (-(f0 * 0.5)).madd(ddf0, df0sq);
-            dl0[p] = -f0 * df0 / F4::select(den.gt(df0sq * 0.5), den, df0sq);
-        }
-        for p in 0..N {
-            let dl = dl0[p];
-            ret[p].dl = F4::select(dl.gt(z4), dl, z4);
-            ret[p].f1 = one;
-            ret[p].f2 = one;
-            ret[p].sy = sy0[p];
-            ret[p].tol = sy0[p] * RETURN_TOL * sy0[p];
-        }
-        let mut active = plastic;
-        let (mut f1, mut f2, mut phi2, mut phi) = ([z4; N], [z4; N], [z4; N], [z4; N]);
-        let (mut d, mut x, mut acc) = ([z4; N], [z4; N], [z4; N]);
-        for _ in 0..60 {
-            // return_iterate, stage by stage over the points.
-            for p in 0..N {
-                let dl = ret[p].dl;
+            let dl0 = -f0 * df0 / F4::select(den.gt(df0sq * 0.5), den, df0sq);
+            let mut r = Return4 {
+                dl: F4::select(dl0.gt(z4), dl0, z4),
+                f1: one,
+                f2: one,
+                d: z4,
+                sy: sy0,
+                tol: sy0 * RETURN_TOL * sy0,
+            };
+            // return_iterate until every plastic lane has converged.
+            let mut active = pl;
+            for _ in 0..60 {
+                let dl = r.dl;
                 let den1 = dl.madd(F4::splat(ap), one);
                 let den2 = dl.madd(F4::splat(g2), one);
                 let inv = one / (den1 * den2);
-                (f1[p], f2[p]) = (den2 * inv, den1 * inv);
-                phi2[p] = (ret[p].a2 * f2[p]).madd(f2[p], ret[p].a1 * f1[p] * f1[p]);
-                phi[p] = phi2[p].sqrt();
-                d[p] = dl * R23 * phi[p];
-                x[p] = d[p] * inv_e[p];
-                acc[p] = x[p].madd(F4::splat(c[8]), F4::splat(c[7]));
-            }
-            // swift_flow: the binomial series (Horner), powf beyond it.
-            for j in (0..7).rev() {
-                for p in 0..N {
-                    acc[p] = x[p].madd(acc[p], F4::splat(c[j]));
+                let (f1, f2) = (den2 * inv, den1 * inv);
+                let phi2 = (a2 * f2).madd(f2, a1 * f1 * f1);
+                let phi = phi2.sqrt();
+                let d = dl * R23 * phi;
+                // swift_flow: the binomial series (Horner), powf beyond it.
+                let x = d * inv_e;
+                let mut acc = x.madd(F4::splat(c[8]), F4::splat(c[7]));
+                for j in (0..7).rev() {
+                    acc = x.madd(acc, F4::splat(c[j]));
                 }
-            }
-            let mut busy = false;
-            for p in 0..N {
-                let act = active[p];
-                let r = &mut ret[p];
-                let dl = r.dl;
-                let mut sy = sy0[p] * acc[p];
-                let far = act.and_not(x[p].abs().lt(F4::splat(0.02)));
+                let mut sy = sy0 * acc;
+                let far = active.and_not(x.abs().lt(F4::splat(0.02)));
                 if F4::any(far) {
-                    sy = F4::select(far, swift_powf(k, n, e[p], d[p], far), sy);
+                    sy = F4::select(far, swift_powf(k, n, e, d, far), sy);
                 }
-                let (f1, f2, phi2, phi, d) = (f1[p], f2[p], phi2[p], phi[p], d[p]);
-                r.f1 = F4::select(act, f1, r.f1);
-                r.f2 = F4::select(act, f2, r.f2);
-                r.d = F4::select(act, d, r.d);
-                r.sy = F4::select(act, sy, r.sy);
+                r.f1 = F4::select(active, f1, r.f1);
+                r.f2 = F4::select(active, f2, r.f2);
+                r.d = F4::select(active, d, r.d);
+                r.sy = F4::select(active, sy, r.sy);
                 let f = (-(sy * sy)).madd(F4::splat(1.0 / 3.0), phi2 * 0.5);
-                let still = act.and_not(f.abs().le(r.tol));
-                let (hn, hd) = (sy * n, e[p] + d);
-                let dphi2 = (r.a2 * g2 * f2 * f2).madd(f2, r.a1 * ap * f1 * f1 * f1) * -2.0;
+                let still = active.and_not(f.abs().le(r.tol));
+                if !F4::any(still) {
+                    break;
+                }
+                let (hn, hd) = (sy * n, e + d);
+                let dphi2 = (a2 * g2 * f2 * f2).madd(f2, a1 * ap * f1 * f1 * f1) * -2.0;
                 let df_scaled = (-(sy * ((2.0 / 3.0) * R23) * hn))
                     .madd((dl * 0.5).madd(dphi2, phi2), dphi2 * 0.5 * hd * phi);
                 let next = dl - f * hd * phi / df_scaled;
                 let next = F4::select(next.gt(z4), next, dl * 0.5);
                 r.dl = F4::select(still, next, dl);
-                active[p] = still;
-                busy |= F4::any(still);
+                active = still;
             }
-            if !busy {
-                break;
-            }
-        }
-        for p in 0..N {
-            let pl = plastic[p];
-            if !F4::any(pl) {
-                continue;
-            }
-            let r = &ret[p];
-            let [t0, t1, t2] = t[p];
+            // return_finish.
             let ps = (t0 + t1) * 0.5 * r.f1;
             let qs = (t0 - t1) * 0.5 * r.f2;
             let sn = [ps + qs, ps - qs, t2 * r.f2];
             let tr_p = r.dl * (sn[0] + sn[1]) * (1.0 / 3.0);
             let d = de[p];
             let deps_zz = (d[0] + d[1] - tr_p).madd(F4::splat(-self.nu_ratio), -tr_p);
-            let ep = eps_p[p] + r.d;
             for c in 0..3 {
                 s[p][c] = F4::select(pl, sn[c], s[p][c]);
             }
             out[p].deps_zz = F4::select(pl, deps_zz, out[p].deps_zz);
             out[p].dissipation = F4::select(pl, r.sy * r.d, F4::splat(0.0));
-            for l in 0..4 {
-                if pl.lane(l) {
-                    h[l][p].eps_p = ep.0[l];
-                    h[l][p].sigma_y = r.sy.0[l];
-                }
-            }
+            J2History::set_lanes(
+                h,
+                p,
+                F4::select(pl, eps_p + r.d, eps_p),
+                F4::select(pl, r.sy, sy0),
+            );
         }
         out
+    }
+}
+
+impl J2History {
+    /// `[ε_p, σ_y]` in memory (the struct is `repr(C)`).
+    #[inline(always)]
+    fn pair(&self) -> &[f64; 2] {
+        // SAFETY: `J2History` is `repr(C)` with two `f64` fields, which is
+        // the layout of `[f64; 2]`.
+        unsafe { &*(self as *const Self).cast::<[f64; 2]>() }
+    }
+
+    /// `[ε_p, σ_y]` in memory, writable.
+    #[inline(always)]
+    fn pair_mut(&mut self) -> &mut [f64; 2] {
+        // SAFETY: as in `pair`.
+        unsafe { &mut *(self as *mut Self).cast::<[f64; 2]>() }
+    }
+
+    /// Point `p`'s `(ε_p, σ_y)` of four elements in lanes, built in registers.
+    #[inline(always)]
+    fn lanes<const N: usize>(h: &[[J2History; N]; 4], p: usize) -> (F4, F4) {
+        let [h0, h1, h2, h3] = h;
+        crate::lanes::unzip4([h0[p].pair(), h1[p].pair(), h2[p].pair(), h3[p].pair()])
+    }
+
+    /// Point `p`'s `(ε_p, σ_y)` of four elements from lanes.
+    #[inline(always)]
+    fn set_lanes<const N: usize>(h: &mut [[J2History; N]; 4], p: usize, eps_p: F4, sy: F4) {
+        let [h0, h1, h2, h3] = h;
+        crate::lanes::zip4(
+            eps_p,
+            sy,
+            [
+                h0[p].pair_mut(),
+                h1[p].pair_mut(),
+                h2[p].pair_mut(),
+                h3[p].pair_mut(),
+            ],
+        );
     }
 }
 
