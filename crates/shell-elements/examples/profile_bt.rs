@@ -2,7 +2,7 @@
 //! 2,500-element plastic blank, 300 warm-up cycles, then `N` measured cycles
 //! (default 100) in `measured_cycles`, which is what to count with
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measured_cycles*'`.
-//! Run: `cargo run --release -p shell-elements --example profile_bt [N]`.
+//! Run: `cargo run --release -p shell-elements --example profile_bt [N] [elastic]`.
 
 use fem_core::{Effect, Forces, NodalState, StepContext, Vec3, rectangle};
 use shell_elements::{BelytschkoTsay, Hardening, J2PlaneStress, Section, ShellSet};
@@ -35,13 +35,16 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(100);
+    // `elastic` as the second argument: the same blank with a flow stress
+    // no point reaches (to measure the kernel without the return mapping).
+    let elastic = std::env::args().nth(2).as_deref() == Some("elastic");
     let n = 50;
     let mesh = rectangle(n as f64, n as f64, n, n).expect("mesh");
     let mat = J2PlaneStress::new(
         206_000.0,
         0.3,
         7.85e-9,
-        Hardening::swift(565.32, 0.007117, 0.2589).expect("swift"),
+        Hardening::swift(if elastic { 1e9 } else { 565.32 }, 0.007117, 0.2589).expect("swift"),
     )
     .expect("material");
     let set = ShellSet::from_mesh(
