@@ -69,7 +69,9 @@ use crate::formulation::{
     local_velocities, new_thickness,
 };
 use crate::geometry::{Frame, H, ShearB, V3, assumed_shear};
-use crate::lanes::{F4, Real};
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::F4x;
+use crate::lanes::{F4, Lanes4, Real};
 use crate::material::Material;
 use crate::section::Section;
 
@@ -282,7 +284,7 @@ impl BelytschkoTsay {
             return unsafe { self.lanes_avx2::<M, N>(mat, sec, nodes, dt, st, out) };
         }
         let [x, v, w] = nodes.gather();
-        self.lanes::<M, N>(mat, sec, &x, &v, &w, dt, st, out)
+        self.lanes::<M, F4, N>(mat, sec, &x, &v, &w, dt, st, out)
     }
 
     /// The block's nodes gathered and [`Self::lanes`] run, compiled for AVX2.
@@ -299,7 +301,19 @@ impl BelytschkoTsay {
     ) {
         // SAFETY: this function's caller has checked for AVX2.
         let [x, v, w] = unsafe { nodes.gather_avx2() };
-        self.lanes::<M, N>(mat, sec, &x, &v, &w, dt, st, out)
+        // The kernel on AVX registers (`F4x`: this function has AVX2 and FMA).
+        // (Loops, not `array::map`, whose out-of-line instances would run
+        // the AVX conversions outside this function's target features.)
+        let avx = |a: [[F4; 3]; 4]| {
+            let mut o = [[F4x::splat(0.0); 3]; 4];
+            for i in 0..4 {
+                for c in 0..3 {
+                    o[i][c] = F4x::from_array(a[i][c].0);
+                }
+            }
+            o
+        };
+        self.lanes::<M, F4x, N>(mat, sec, &avx(x), &avx(v), &avx(w), dt, st, out)
     }
 
     /// Four elements with `N` points each through the kernel in lanes:
@@ -308,13 +322,13 @@ impl BelytschkoTsay {
     /// its state, as in [`compute`](ShellFormulation::compute)).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn lanes<M: Material, const N: usize>(
+    fn lanes<M: Material, L: Lanes4, const N: usize>(
         &self,
         mat: &M,
         sec: &Section,
-        x: &[[F4; 3]; 4],
-        v: &[[F4; 3]; 4],
-        w: &[[F4; 3]; 4],
+        x: &[[L; 3]; 4],
+        v: &[[L; 3]; 4],
+        w: &[[L; 3]; 4],
         dt: f64,
         st: ElementBlock<'_, M::History>,
         out: &mut ElementResult<F4>,
@@ -323,7 +337,7 @@ impl BelytschkoTsay {
             Ok(rt) => rt,
             Err(a) => {
                 *out = ElementResult {
-                    length: a,
+                    length: F4(a.to_array()),
                     ..Default::default()
                 };
                 return;
@@ -351,22 +365,30 @@ impl BelytschkoTsay {
         ) else {
             unreachable!("lanes_dispatch checked the block's sizes");
         };
-        let mut s = [[F4::default(); 3]; N];
+        let mut s = [[L::splat(0.0); 3]; N];
         for k in 0..N {
             for c in 0..3 {
-                s[k][c] = F4(stress[3 * k + c]);
+                s[k][c] = L::from_array(stress[3 * k + c]);
             }
         }
-        let mut t = F4(*thickness);
-        let mut sh = shear.map(F4);
-        let mut hg = hourglass.map(F4);
-        let mut dr = [F4::default(); 4];
+        let mut t = L::from_array(*thickness);
+        let mut sh = [L::from_array(shear[0]), L::from_array(shear[1])];
+        let mut hg = [L::splat(0.0); 5];
+        for k in 0..5 {
+            hg[k] = L::from_array(hourglass[k]);
+        }
+        let mut dr = [L::splat(0.0); 4];
         for i in 0..4 {
-            dr[i] = F4(drilling[i]);
+            dr[i] = L::from_array(drilling[i]);
         }
         let valid = rt.valid;
-        let saved = if valid.all() { None } else { Some(*history) };
+        let saved = if L::mask_all(valid) {
+            None
+        } else {
+            Some(*history)
+        };
         let sr = integrate_section_x4(mat, &sec.rule, t, rt.membrane, rt.bending, &mut s, history);
+        let mut res = ElementResult::<L>::zero();
         self.forces(
             &Moduli::of(mat, sec),
             &rt,
@@ -378,12 +400,12 @@ impl BelytschkoTsay {
                 hourglass: &mut hg,
                 drilling: &mut dr,
             },
-            out,
+            &mut res,
         );
         // Degenerate lanes keep their old state.
         if let Some(saved) = &saved {
             for l in 0..4 {
-                if !valid.lane(l) {
+                if !L::mask_lane(valid, l) {
                     history[l] = saved[l];
                 }
             }
@@ -393,49 +415,50 @@ impl BelytschkoTsay {
             // the common path, where they would turn into masked stores).
             for k in 0..N {
                 for c in 0..3 {
-                    s[k][c] = F4::select(valid, s[k][c], F4(stress[3 * k + c]));
+                    s[k][c] = L::select(valid, s[k][c], L::from_array(stress[3 * k + c]));
                 }
             }
-            t = F4::select(valid, t, F4(*thickness));
+            t = L::select(valid, t, L::from_array(*thickness));
             for c in 0..2 {
-                sh[c] = F4::select(valid, sh[c], F4(shear[c]));
+                sh[c] = L::select(valid, sh[c], L::from_array(shear[c]));
             }
             for k in 0..5 {
-                hg[k] = F4::select(valid, hg[k], F4(hourglass[k]));
+                hg[k] = L::select(valid, hg[k], L::from_array(hourglass[k]));
             }
             for i in 0..4 {
-                dr[i] = F4::select(valid, dr[i], F4(drilling[i]));
+                dr[i] = L::select(valid, dr[i], L::from_array(drilling[i]));
             }
         }
         for k in 0..N {
             for c in 0..3 {
-                stress[3 * k + c] = s[k][c].0;
+                stress[3 * k + c] = s[k][c].to_array();
             }
         }
-        *thickness = t.0;
+        *thickness = t.to_array();
         for c in 0..2 {
-            shear[c] = sh[c].0;
+            shear[c] = sh[c].to_array();
         }
         for k in 0..5 {
-            hourglass[k] = hg[k].0;
+            hourglass[k] = hg[k].to_array();
         }
         for i in 0..4 {
-            drilling[i] = dr[i].0;
+            drilling[i] = dr[i].to_array();
         }
         if saved.is_some() {
             // A degenerate lane reports only its length (≤ 0 or NaN).
-            let zero = F4::splat(0.0);
+            let zero = L::splat(0.0);
             for i in 0..4 {
                 for c in 0..3 {
-                    out.f[i][c] = F4::select(valid, out.f[i][c], zero);
-                    out.m[i][c] = F4::select(valid, out.m[i][c], zero);
+                    res.f[i][c] = L::select(valid, res.f[i][c], zero);
+                    res.m[i][c] = L::select(valid, res.m[i][c], zero);
                 }
             }
-            out.d_internal = F4::select(valid, out.d_internal, zero);
-            out.d_drilling = F4::select(valid, out.d_drilling, zero);
-            out.d_hourglass = F4::select(valid, out.d_hourglass, zero);
-            out.d_plastic = F4::select(valid, out.d_plastic, zero);
+            res.d_internal = L::select(valid, res.d_internal, zero);
+            res.d_drilling = L::select(valid, res.d_drilling, zero);
+            res.d_hourglass = L::select(valid, res.d_hourglass, zero);
+            res.d_plastic = L::select(valid, res.d_plastic, zero);
         }
+        *out = res.into_f4();
     }
 
     /// First half of the element kernel over [`Real`] (one element, `f64`,
@@ -788,7 +811,16 @@ mod tests {
             let nodes = BlockNodes::new(&xn, &vn, &wn, &q).unwrap();
             for _ in 0..20 {
                 let (mut ra, mut rb) = (ElementResult::<F4>::default(), ElementResult::default());
-                bt.lanes::<J2PlaneStress, 5>(&mat, &sec, &x, &v, &w, 1e-5, block(&mut a), &mut ra);
+                bt.lanes::<J2PlaneStress, F4, 5>(
+                    &mat,
+                    &sec,
+                    &x,
+                    &v,
+                    &w,
+                    1e-5,
+                    block(&mut a),
+                    &mut ra,
+                );
                 // SAFETY: AVX2 is present (checked above).
                 unsafe {
                     bt.lanes_avx2::<J2PlaneStress, 5>(

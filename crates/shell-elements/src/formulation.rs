@@ -3,7 +3,7 @@
 use crate::block_nodes::BlockNodes;
 use crate::error::{ShellError, check};
 use crate::geometry::{Frame, V3};
-use crate::lanes::{F4, Real};
+use crate::lanes::{F4, Lanes4, Real};
 use crate::material::{Material, PointUpdate};
 use crate::section::{Section, ThroughThickness};
 
@@ -64,6 +64,49 @@ pub struct ElementResult<T = f64> {
     /// Characteristic length for the stable time step (mm); ≤ 0 or NaN
     /// when the element degenerated.
     pub length: T,
+}
+
+impl<T: Real> ElementResult<T> {
+    /// All zero (built in place: `Default` for the arrays is out of line,
+    /// and would leave an AVX kernel).
+    #[inline(always)]
+    pub(crate) fn zero() -> Self {
+        let z = T::splat(0.0);
+        ElementResult {
+            f: [[z; 3]; 4],
+            m: [[z; 3]; 4],
+            d_internal: z,
+            d_drilling: z,
+            d_hourglass: z,
+            d_plastic: z,
+            length: z,
+        }
+    }
+}
+
+impl<L: Lanes4> ElementResult<L> {
+    /// The same result in [`F4`] lanes.
+    #[inline(always)]
+    pub(crate) fn into_f4(self) -> ElementResult<F4> {
+        let v = |x: L| F4(x.to_array());
+        // (Loops, not `array::map`: see `BelytschkoTsay::lanes_avx2`.)
+        let (mut f, mut m) = ([[F4::default(); 3]; 4], [[F4::default(); 3]; 4]);
+        for i in 0..4 {
+            for c in 0..3 {
+                f[i][c] = v(self.f[i][c]);
+                m[i][c] = v(self.m[i][c]);
+            }
+        }
+        ElementResult {
+            f,
+            m,
+            d_internal: v(self.d_internal),
+            d_drilling: v(self.d_drilling),
+            d_hourglass: v(self.d_hourglass),
+            d_plastic: v(self.d_plastic),
+            length: v(self.length),
+        }
+    }
 }
 
 impl ElementResult<F4> {
@@ -308,15 +351,15 @@ fn integrate_points<M: Material, const N: usize>(
 /// [`integrate_section`] for four elements in lanes, `N` points each
 /// (`history[l]`: element `l`'s points).
 #[inline(always)]
-pub(crate) fn integrate_section_x4<M: Material, const N: usize>(
+pub(crate) fn integrate_section_x4<M: Material, L: Lanes4, const N: usize>(
     mat: &M,
     rule: &ThroughThickness,
-    t: F4,
-    de: [F4; 3],
-    dk: [F4; 3],
-    stress: &mut [[F4; 3]; N],
+    t: L,
+    de: [L; 3],
+    dk: [L; 3],
+    stress: &mut [[L; 3]; N],
     history: &mut [[M::History; N]; 4],
-) -> SectionResult<F4> {
+) -> SectionResult<L> {
     let (h, z, d) = section_increments(rule, t, de, dk);
     let old = *stress;
     let u = mat.update_points_x4(stress, history, &d);
@@ -359,7 +402,14 @@ pub(crate) fn section_sums<T: Real, const N: usize>(
     stress: &[[T; 3]; N],
     u: &[PointUpdate<T>; N],
 ) -> SectionResult<T> {
-    let mut r = SectionResult::<T>::default();
+    let z0 = T::splat(0.0);
+    let mut r = SectionResult::<T> {
+        n: [z0; 3],
+        m: [z0; 3],
+        work: z0,
+        dissipation: z0,
+        deps_zz: z0,
+    };
     for k in 0..N {
         let wk = h * rule.weight[k];
         let (s, o, d) = (stress[k], old[k], d[k]);

@@ -267,6 +267,75 @@ impl Real for F4 {
     }
 }
 
+/// A four-lane number type of the element kernels: [`F4`] (portable) or the
+/// AVX2 register type the AVX2 kernels run on (crate-private), the same bits
+/// lane by lane.
+pub trait Lanes4: Real {
+    /// The four lanes of `a`.
+    fn from_array(a: [f64; 4]) -> Self;
+    /// The four lanes.
+    fn to_array(self) -> [f64; 4];
+    /// `self <= o`, lane by lane (false where either is NaN).
+    fn le(self, o: Self) -> Self::Mask;
+    /// `self < o`, lane by lane (false where either is NaN).
+    fn lt(self, o: Self) -> Self::Mask;
+    /// Absolute value.
+    fn abs(self) -> Self;
+    /// Lanes set in both.
+    fn mask_and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// Lanes set in `a` and clear in `b`.
+    fn mask_and_not(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// Lanes clear in `a`.
+    fn mask_not(a: Self::Mask) -> Self::Mask;
+    /// Whether every lane is set.
+    fn mask_all(a: Self::Mask) -> bool;
+    /// Lane `l` as a `bool`.
+    fn mask_lane(a: Self::Mask, l: usize) -> bool;
+}
+
+impl Lanes4 for F4 {
+    #[inline(always)]
+    fn from_array(a: [f64; 4]) -> Self {
+        F4(a)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f64; 4] {
+        self.0
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> M4 {
+        F4::le(self, o)
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> M4 {
+        F4::lt(self, o)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        F4::abs(self)
+    }
+    #[inline(always)]
+    fn mask_and(a: M4, b: M4) -> M4 {
+        a.and(b)
+    }
+    #[inline(always)]
+    fn mask_and_not(a: M4, b: M4) -> M4 {
+        a.and_not(b)
+    }
+    #[inline(always)]
+    fn mask_not(a: M4) -> M4 {
+        M4::from_bools([true; 4]).and_not(a)
+    }
+    #[inline(always)]
+    fn mask_all(a: M4) -> bool {
+        a.all()
+    }
+    #[inline(always)]
+    fn mask_lane(a: M4, l: usize) -> bool {
+        a.lane(l)
+    }
+}
+
 /// The first and the second values of four pairs, each in lanes (pair `l`
 /// in lane `l`): one 128-bit load per pair and two unpacks per two lanes, in
 /// registers.
@@ -322,6 +391,176 @@ pub fn zip4(a: F4, b: F4, p: [&mut [f64; 2]; 4]) {
     }
 }
 
+/// Four `f64` lanes in one AVX register, for the kernels compiled with the
+/// `avx2` and `fma` target features: every operation one AVX instruction
+/// with the IEEE result of [`F4`]'s lane-by-lane code (so the same bits).
+///
+/// Crate-private, and used only inside functions that run after the
+/// run-time check for AVX2 and FMA (its operations are AVX instructions).
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub(crate) struct F4x(std::arch::x86_64::__m256d);
+
+/// A lane mask of [`F4x`]: all bits set (true) or clear (false) per lane.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub(crate) struct M4x(std::arch::x86_64::__m256d);
+
+#[cfg(target_arch = "x86_64")]
+mod avx {
+    use super::{F4x, Lanes4, M4x, Real};
+    use std::arch::x86_64::*;
+    use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
+
+    // SAFETY (every `unsafe` block of this module): `F4x` and `M4x` exist
+    // only in code that runs after the check for AVX2 and FMA (see `F4x`).
+
+    macro_rules! avx_op {
+        ($tr:ident, $f:ident, $tra:ident, $fa:ident, $intr:ident) => {
+            impl $tr for F4x {
+                type Output = F4x;
+                #[inline(always)]
+                fn $f(self, o: F4x) -> F4x {
+                    F4x(unsafe { $intr(self.0, o.0) })
+                }
+            }
+            impl $tr<f64> for F4x {
+                type Output = F4x;
+                #[inline(always)]
+                fn $f(self, o: f64) -> F4x {
+                    F4x(unsafe { $intr(self.0, _mm256_set1_pd(o)) })
+                }
+            }
+            impl $tr<F4x> for f64 {
+                type Output = F4x;
+                #[inline(always)]
+                fn $f(self, o: F4x) -> F4x {
+                    F4x(unsafe { $intr(_mm256_set1_pd(self), o.0) })
+                }
+            }
+            impl $tra for F4x {
+                #[inline(always)]
+                fn $fa(&mut self, o: F4x) {
+                    *self = $tr::$f(*self, o);
+                }
+            }
+        };
+    }
+    avx_op!(Add, add, AddAssign, add_assign, _mm256_add_pd);
+    avx_op!(Sub, sub, SubAssign, sub_assign, _mm256_sub_pd);
+    avx_op!(Mul, mul, MulAssign, mul_assign, _mm256_mul_pd);
+    avx_op!(Div, div, DivAssign, div_assign, _mm256_div_pd);
+
+    impl Neg for F4x {
+        type Output = F4x;
+        #[inline(always)]
+        fn neg(self) -> F4x {
+            F4x(unsafe { _mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)) })
+        }
+    }
+
+    impl Default for F4x {
+        #[inline(always)]
+        fn default() -> Self {
+            F4x(unsafe { _mm256_setzero_pd() })
+        }
+    }
+
+    impl Real for F4x {
+        type Mask = M4x;
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            F4x(unsafe { _mm256_set1_pd(x) })
+        }
+        #[inline(always)]
+        fn madd(self, a: Self, b: Self) -> Self {
+            F4x(unsafe { _mm256_fmadd_pd(self.0, a.0, b.0) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            F4x(unsafe { _mm256_sqrt_pd(self.0) })
+        }
+        #[inline(always)]
+        fn max(self, o: Self) -> Self {
+            // f64::max as compiled for x86: `max_pd(o, self)` (which gives
+            // its second operand, `self`, when `o` is NaN or the two are
+            // equal, as ±0), and `o` where `self` is NaN.
+            unsafe {
+                let m = _mm256_max_pd(o.0, self.0);
+                let self_nan = _mm256_cmp_pd::<_CMP_UNORD_Q>(self.0, self.0);
+                F4x(_mm256_blendv_pd(m, o.0, self_nan))
+            }
+        }
+        #[inline(always)]
+        fn gt(self, o: Self) -> M4x {
+            M4x(unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn is_finite(self) -> M4x {
+            // x − x is 0 exactly for finite x and NaN otherwise.
+            unsafe {
+                let d = _mm256_sub_pd(self.0, self.0);
+                M4x(_mm256_cmp_pd::<_CMP_EQ_OQ>(d, _mm256_setzero_pd()))
+            }
+        }
+        #[inline(always)]
+        fn select(m: M4x, a: Self, b: Self) -> Self {
+            F4x(unsafe { _mm256_blendv_pd(b.0, a.0, m.0) })
+        }
+        #[inline(always)]
+        fn any(m: M4x) -> bool {
+            unsafe { _mm256_movemask_pd(m.0) != 0 }
+        }
+    }
+
+    impl Lanes4 for F4x {
+        #[inline(always)]
+        fn from_array(a: [f64; 4]) -> Self {
+            F4x(unsafe { _mm256_loadu_pd(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f64; 4] {
+            let mut a = [0.0; 4];
+            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
+            a
+        }
+        #[inline(always)]
+        fn le(self, o: Self) -> M4x {
+            M4x(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn lt(self, o: Self) -> M4x {
+            M4x(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            F4x(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
+        }
+        #[inline(always)]
+        fn mask_and(a: M4x, b: M4x) -> M4x {
+            M4x(unsafe { _mm256_and_pd(a.0, b.0) })
+        }
+        #[inline(always)]
+        fn mask_and_not(a: M4x, b: M4x) -> M4x {
+            M4x(unsafe { _mm256_andnot_pd(b.0, a.0) })
+        }
+        #[inline(always)]
+        fn mask_not(a: M4x) -> M4x {
+            M4x(unsafe { _mm256_xor_pd(a.0, _mm256_castsi256_pd(_mm256_set1_epi64x(-1))) })
+        }
+        #[inline(always)]
+        fn mask_all(a: M4x) -> bool {
+            unsafe { _mm256_movemask_pd(a.0) == 0b1111 }
+        }
+        #[inline(always)]
+        fn mask_lane(a: M4x, l: usize) -> bool {
+            unsafe { (_mm256_movemask_pd(a.0) >> l) & 1 != 0 }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -346,6 +585,81 @@ mod tests {
             );
         }
         assert!(F4::any(Real::is_finite(a)) && !Real::is_finite(a).all());
+    }
+
+    /// The AVX register type gives `F4`'s bits for every operation,
+    /// including NaN, infinities and signed zeros in `max` (but for the
+    /// unspecified max of +0 and −0), comparisons,
+    /// `is_finite`, `select`, `abs`, negation and the fused `madd`; and its
+    /// masks read as `F4`'s. Skipped (passes) without AVX2 and FMA.
+    /// Tolerance: none.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn avx_lanes_match_portable_lanes_bit_for_bit() {
+        if !(std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("fma"))
+        {
+            return;
+        }
+        let vals = [
+            1.5,
+            -0.0,
+            0.0,
+            f64::NAN,
+            3e-300,
+            -2.25,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let bits = |x: [f64; 4]| x.map(f64::to_bits);
+        for i in 0..vals.len() {
+            for j in 0..vals.len() {
+                let a4 = [vals[i], vals[j], vals[(i + j) % 8], vals[(i + 3) % 8]];
+                let b4 = [vals[j], vals[(i + 5) % 8], vals[i], vals[(j + 1) % 8]];
+                let c4 = [vals[(j + 2) % 8], vals[i], vals[j], vals[(i + j + 1) % 8]];
+                let (a, b, c) = (F4(a4), F4(b4), F4(c4));
+                let (x, y, z) = (
+                    F4x::from_array(a4),
+                    F4x::from_array(b4),
+                    F4x::from_array(c4),
+                );
+                assert_eq!(bits((x + y).to_array()), bits((a + b).0));
+                assert_eq!(bits((x - y * 2.0).to_array()), bits((a - b * 2.0).0));
+                assert_eq!(bits((x / y).to_array()), bits((a / b).0));
+                assert_eq!(bits((-x).to_array()), bits((-a).0));
+                assert_eq!(bits(x.madd(y, z).to_array()), bits(a.madd(b, c).0));
+                assert_eq!(bits(x.sqrt().to_array()), bits(a.sqrt().0));
+                // (`f64::max` of +0 and −0 may give either, and does differ
+                // between compilations; the kernel's `max` reads sums of
+                // squares, never −0.)
+                let (mx, ma) = (Real::max(x, y).to_array(), Real::max(a, b).0);
+                for l in 0..4 {
+                    if !(a4[l] == 0.0 && b4[l] == 0.0) {
+                        assert_eq!(mx[l].to_bits(), ma[l].to_bits());
+                    }
+                }
+                assert_eq!(bits(Lanes4::abs(x).to_array()), bits(F4::abs(a).0));
+                let masks = [
+                    (Real::gt(x, y), Real::gt(a, b)),
+                    (Lanes4::le(x, y), F4::le(a, b)),
+                    (Lanes4::lt(x, y), F4::lt(a, b)),
+                    (Real::is_finite(x), Real::is_finite(a)),
+                ];
+                for (mx, ma) in masks {
+                    for l in 0..4 {
+                        assert_eq!(F4x::mask_lane(mx, l), ma.lane(l));
+                    }
+                    assert_eq!(F4x::any(mx), F4::any(ma));
+                    assert_eq!(F4x::mask_all(mx), ma.all());
+                    let sel = F4x::select(mx, x, y).to_array();
+                    assert_eq!(bits(sel), bits(F4::select(ma, a, b).0));
+                    let not = F4x::mask_not(mx);
+                    for l in 0..4 {
+                        assert_eq!(F4x::mask_lane(not, l), !ma.lane(l));
+                    }
+                }
+            }
+        }
     }
 
     /// `unzip4` and `zip4` move each pair's values to their lanes and back.

@@ -22,7 +22,7 @@
 
 use super::{Hardening, Material, PointUpdate, update_points_by_lane, von_mises};
 use crate::error::{ShellError, check};
-use crate::lanes::{F4, M4, Real};
+use crate::lanes::{F4, Lanes4};
 
 /// Isotropic plane-stress J2 plasticity with a [`Hardening`] curve.
 #[derive(Debug, Clone, PartialEq)]
@@ -387,12 +387,12 @@ impl Material for J2PlaneStress {
     /// to rounding (fused [`Real::madd`]; Swift hardening, a tabulated curve
     /// goes lane by lane).
     #[inline(always)]
-    fn update_points_x4<const N: usize>(
+    fn update_points_x4<L: Lanes4, const N: usize>(
         &self,
-        s: &mut [[F4; 3]; N],
+        s: &mut [[L; 3]; N],
         h: &mut [[J2History; N]; 4],
-        de: &[[F4; 3]; N],
-    ) -> [PointUpdate<F4>; N] {
+        de: &[[L; 3]; N],
+    ) -> [PointUpdate<L>; N] {
         match self.hardening {
             Hardening::Swift { k, eps0, n } => self.swift_x4(k, eps0, n, s, h, de),
             Hardening::Table { .. } => update_points_by_lane(self, s, h, de),
@@ -408,11 +408,11 @@ impl Material for J2PlaneStress {
 /// of `ε0 + ε_p`), out of line so that the lanes around it stay in vectors.
 #[cold]
 #[inline(never)]
-fn swift_powf(k: f64, n: f64, e: F4, d: F4, far: M4) -> F4 {
-    let mut out = F4::splat(0.0);
+fn swift_powf(k: f64, n: f64, e: [f64; 4], d: [f64; 4], far: [bool; 4]) -> [f64; 4] {
+    let mut out = [0.0; 4];
     for l in 0..4 {
-        if far.lane(l) {
-            out.0[l] = k * (e.0[l] + d.0[l]).powf(n);
+        if far[l] {
+            out[l] = k * (e[l] + d[l]).powf(n);
         }
     }
     out
@@ -420,13 +420,13 @@ fn swift_powf(k: f64, n: f64, e: F4, d: F4, far: M4) -> F4 {
 
 /// State of four lanes' projected return (see [`Return`]).
 #[derive(Debug, Clone, Copy, Default)]
-struct Return4 {
-    dl: F4,
-    f1: F4,
-    f2: F4,
-    d: F4,
-    sy: F4,
-    tol: F4,
+struct Return4<L> {
+    dl: L,
+    f1: L,
+    f2: L,
+    d: L,
+    sy: L,
+    tol: L,
 }
 
 impl J2PlaneStress {
@@ -437,35 +437,36 @@ impl J2PlaneStress {
     /// independent division / square-root chains overlap in the processor's
     /// out-of-order window); lanes that are elastic or converged are masked.
     #[inline(always)]
-    fn swift_x4<const N: usize>(
+    fn swift_x4<L: Lanes4, const N: usize>(
         &self,
         k: f64,
         eps0: f64,
         n: f64,
-        s: &mut [[F4; 3]; N],
+        s: &mut [[L; 3]; N],
         h: &mut [[J2History; N]; 4],
-        de: &[[F4; 3]; N],
-    ) -> [PointUpdate<F4>; N] {
-        let mut out = [PointUpdate::<F4>::default(); N];
-        let mut plastic = [M4::default(); N];
+        de: &[[L; 3]; N],
+    ) -> [PointUpdate<L>; N] {
+        let mut out = [PointUpdate::<L>::default(); N];
+        let mut plastic = [L::splat(0.0).gt(L::splat(0.0)); N];
         let mut any_plastic = false;
-        let (c11, c12, g) = (
-            F4::splat(self.c11),
-            F4::splat(self.c12),
-            F4::splat(self.shear),
-        );
+        let (c11, c12, g) = (L::splat(self.c11), L::splat(self.c12), L::splat(self.shear));
         for p in 0..N {
-            let sy0 = F4::from_fn(|l| h[l][p].sigma_y);
+            let sy0 = L::from_array([
+                h[0][p].sigma_y,
+                h[1][p].sigma_y,
+                h[2][p].sigma_y,
+                h[3][p].sigma_y,
+            ]);
             let d = de[p];
             let t0 = d[1].madd(c12, d[0].madd(c11, s[p][0]));
             let t1 = d[1].madd(c11, d[0].madd(c12, s[p][1]));
             let t2 = d[2].madd(g, s[p][2]);
             let vm2 = (t2 * 3.0).madd(t2, (-t0).madd(t1, t1.madd(t1, t0 * t0)));
-            let elastic = vm2.le(sy0 * sy0);
+            let elastic = L::le(vm2, sy0 * sy0);
             s[p] = [t0, t1, t2];
             out[p].deps_zz = (d[0] + d[1]) * -self.nu_ratio;
-            plastic[p] = M4::from_bools([true; 4]).and_not(elastic);
-            any_plastic |= F4::any(plastic[p]);
+            plastic[p] = L::mask_not(elastic);
+            any_plastic |= L::any(plastic[p]);
         }
         if !any_plastic {
             return out;
@@ -473,14 +474,14 @@ impl J2PlaneStress {
         let ap = self.a_p;
         let g2 = 2.0 * self.shear;
         let c = &self.swift_binomial;
-        let z4 = F4::default();
-        let one = F4::splat(1.0);
+        let z4 = L::splat(0.0);
+        let one = L::splat(1.0);
         for p in 0..N {
             let pl = plastic[p];
-            if !F4::any(pl) {
+            if !L::any(pl) {
                 continue;
             }
-            let (eps_p, sy0) = J2History::lanes(h, p);
+            let (eps_p, sy0) = J2History::lanes::<L, N>(h, p);
             let [t0, t1, t2] = s[p];
             // return_start: Halley step from Δλ = 0.
             let e = eps_p + eps0;
@@ -494,20 +495,20 @@ impl J2PlaneStress {
             let hm0 = sy * n * inv_e;
             let dhm0 = hm0 * (n - 1.0) * inv_e;
             let phi2_0 = a1 + a2;
-            let f0 = (-(sy * sy)).madd(F4::splat(1.0 / 3.0), phi2_0 * 0.5);
-            let dphi2_0 = a2.madd(F4::splat(g2), a1 * ap) * -2.0;
-            let ddphi2_0 = a2.madd(F4::splat(g2 * g2), a1 * (ap * ap)) * 6.0;
+            let f0 = (-(sy * sy)).madd(L::splat(1.0 / 3.0), phi2_0 * 0.5);
+            let dphi2_0 = a2.madd(L::splat(g2), a1 * ap) * -2.0;
+            let ddphi2_0 = a2.madd(L::splat(g2 * g2), a1 * (ap * ap)) * 6.0;
             let dd_0 = phi0 * R23;
             let ddd_0 = dphi2_0 * R23 / phi0;
             let dy_0 = hm0 * dd_0;
             let ddy_0 = (dhm0 * dd_0).madd(dd_0, hm0 * ddd_0);
             let df0 = (-(sy * (2.0 / 3.0))).madd(dy_0, dphi2_0 * 0.5);
-            let ddf0 = (-sy.madd(ddy_0, dy_0 * dy_0)).madd(F4::splat(2.0 / 3.0), ddphi2_0 * 0.5);
+            let ddf0 = (-sy.madd(ddy_0, dy_0 * dy_0)).madd(L::splat(2.0 / 3.0), ddphi2_0 * 0.5);
             let df0sq = df0 * df0;
             let den = (-(f0 * 0.5)).madd(ddf0, df0sq);
-            let dl0 = -f0 * df0 / F4::select(den.gt(df0sq * 0.5), den, df0sq);
+            let dl0 = -f0 * df0 / L::select(den.gt(df0sq * 0.5), den, df0sq);
             let mut r = Return4 {
-                dl: F4::select(dl0.gt(z4), dl0, z4),
+                dl: L::select(dl0.gt(z4), dl0, z4),
                 f1: one,
                 f2: one,
                 d: z4,
@@ -518,8 +519,8 @@ impl J2PlaneStress {
             let mut active = pl;
             for _ in 0..60 {
                 let dl = r.dl;
-                let den1 = dl.madd(F4::splat(ap), one);
-                let den2 = dl.madd(F4::splat(g2), one);
+                let den1 = dl.madd(L::splat(ap), one);
+                let den2 = dl.madd(L::splat(g2), one);
                 let inv = one / (den1 * den2);
                 let (f1, f2) = (den2 * inv, den1 * inv);
                 let phi2 = (a2 * f2).madd(f2, a1 * f1 * f1);
@@ -527,22 +528,29 @@ impl J2PlaneStress {
                 let d = dl * R23 * phi;
                 // swift_flow: the binomial series (Horner), powf beyond it.
                 let x = d * inv_e;
-                let mut acc = x.madd(F4::splat(c[8]), F4::splat(c[7]));
+                let mut acc = x.madd(L::splat(c[8]), L::splat(c[7]));
                 for j in (0..7).rev() {
-                    acc = x.madd(acc, F4::splat(c[j]));
+                    acc = x.madd(acc, L::splat(c[j]));
                 }
                 let mut sy = sy0 * acc;
-                let far = active.and_not(x.abs().lt(F4::splat(0.02)));
-                if F4::any(far) {
-                    sy = F4::select(far, swift_powf(k, n, e, d, far), sy);
+                let far = L::mask_and_not(active, L::lt(L::abs(x), L::splat(0.02)));
+                if L::any(far) {
+                    let lanes = [
+                        L::mask_lane(far, 0),
+                        L::mask_lane(far, 1),
+                        L::mask_lane(far, 2),
+                        L::mask_lane(far, 3),
+                    ];
+                    let far_sy = swift_powf(k, n, e.to_array(), d.to_array(), lanes);
+                    sy = L::select(far, L::from_array(far_sy), sy);
                 }
-                r.f1 = F4::select(active, f1, r.f1);
-                r.f2 = F4::select(active, f2, r.f2);
-                r.d = F4::select(active, d, r.d);
-                r.sy = F4::select(active, sy, r.sy);
-                let f = (-(sy * sy)).madd(F4::splat(1.0 / 3.0), phi2 * 0.5);
-                let still = active.and_not(f.abs().le(r.tol));
-                if !F4::any(still) {
+                r.f1 = L::select(active, f1, r.f1);
+                r.f2 = L::select(active, f2, r.f2);
+                r.d = L::select(active, d, r.d);
+                r.sy = L::select(active, sy, r.sy);
+                let f = (-(sy * sy)).madd(L::splat(1.0 / 3.0), phi2 * 0.5);
+                let still = L::mask_and_not(active, L::le(L::abs(f), r.tol));
+                if !L::any(still) {
                     break;
                 }
                 let (hn, hd) = (sy * n, e + d);
@@ -550,8 +558,8 @@ impl J2PlaneStress {
                 let df_scaled = (-(sy * ((2.0 / 3.0) * R23) * hn))
                     .madd((dl * 0.5).madd(dphi2, phi2), dphi2 * 0.5 * hd * phi);
                 let next = dl - f * hd * phi / df_scaled;
-                let next = F4::select(next.gt(z4), next, dl * 0.5);
-                r.dl = F4::select(still, next, dl);
+                let next = L::select(next.gt(z4), next, dl * 0.5);
+                r.dl = L::select(still, next, dl);
                 active = still;
             }
             // return_finish.
@@ -560,17 +568,17 @@ impl J2PlaneStress {
             let sn = [ps + qs, ps - qs, t2 * r.f2];
             let tr_p = r.dl * (sn[0] + sn[1]) * (1.0 / 3.0);
             let d = de[p];
-            let deps_zz = (d[0] + d[1] - tr_p).madd(F4::splat(-self.nu_ratio), -tr_p);
+            let deps_zz = (d[0] + d[1] - tr_p).madd(L::splat(-self.nu_ratio), -tr_p);
             for c in 0..3 {
-                s[p][c] = F4::select(pl, sn[c], s[p][c]);
+                s[p][c] = L::select(pl, sn[c], s[p][c]);
             }
-            out[p].deps_zz = F4::select(pl, deps_zz, out[p].deps_zz);
-            out[p].dissipation = F4::select(pl, r.sy * r.d, F4::splat(0.0));
+            out[p].deps_zz = L::select(pl, deps_zz, out[p].deps_zz);
+            out[p].dissipation = L::select(pl, r.sy * r.d, L::splat(0.0));
             J2History::set_lanes(
                 h,
                 p,
-                F4::select(pl, eps_p + r.d, eps_p),
-                F4::select(pl, r.sy, sy0),
+                L::select(pl, eps_p + r.d, eps_p),
+                L::select(pl, r.sy, sy0),
             );
         }
         out
@@ -595,18 +603,24 @@ impl J2History {
 
     /// Point `p`'s `(ε_p, σ_y)` of four elements in lanes, built in registers.
     #[inline(always)]
-    fn lanes<const N: usize>(h: &[[J2History; N]; 4], p: usize) -> (F4, F4) {
+    fn lanes<L: Lanes4, const N: usize>(h: &[[J2History; N]; 4], p: usize) -> (L, L) {
         let [h0, h1, h2, h3] = h;
-        crate::lanes::unzip4([h0[p].pair(), h1[p].pair(), h2[p].pair(), h3[p].pair()])
+        let (e, s) = crate::lanes::unzip4([h0[p].pair(), h1[p].pair(), h2[p].pair(), h3[p].pair()]);
+        (L::from_array(e.0), L::from_array(s.0))
     }
 
     /// Point `p`'s `(ε_p, σ_y)` of four elements from lanes.
     #[inline(always)]
-    fn set_lanes<const N: usize>(h: &mut [[J2History; N]; 4], p: usize, eps_p: F4, sy: F4) {
+    fn set_lanes<L: Lanes4, const N: usize>(
+        h: &mut [[J2History; N]; 4],
+        p: usize,
+        eps_p: L,
+        sy: L,
+    ) {
         let [h0, h1, h2, h3] = h;
         crate::lanes::zip4(
-            eps_p,
-            sy,
+            F4(eps_p.to_array()),
+            F4(sy.to_array()),
             [
                 h0[p].pair_mut(),
                 h1[p].pair_mut(),

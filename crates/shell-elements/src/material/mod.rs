@@ -11,7 +11,7 @@ mod j2_plane_stress;
 pub use hardening::Hardening;
 pub use j2_plane_stress::{J2History, J2PlaneStress, RETURN_TOL};
 
-use crate::lanes::F4;
+use crate::lanes::Lanes4;
 
 /// What a stress update reports besides the new stress (of one point, or
 /// of four in lanes with `T = F4`).
@@ -73,12 +73,12 @@ pub trait Material: Clone + Send + Sync + 'static {
     /// path is tested against the one-element path within 1e-12 of each
     /// quantity's scale).
     #[inline(always)]
-    fn update_points_x4<const N: usize>(
+    fn update_points_x4<L: Lanes4, const N: usize>(
         &self,
-        stress: &mut [[F4; 3]; N],
+        stress: &mut [[L; 3]; N],
         history: &mut [[Self::History; N]; 4],
-        deps: &[[F4; 3]; N],
-    ) -> [PointUpdate<F4>; N] {
+        deps: &[[L; 3]; N],
+    ) -> [PointUpdate<L>; N] {
         update_points_by_lane(self, stress, history, deps)
     }
     /// Equivalent plastic strain of a point (-).
@@ -93,26 +93,32 @@ pub trait Material: Clone + Send + Sync + 'static {
 
 /// [`Material::update_points_x4`] lane by lane through [`Material::update_points`].
 #[inline(always)]
-pub fn update_points_by_lane<M: Material, const N: usize>(
+pub fn update_points_by_lane<M: Material, L: Lanes4, const N: usize>(
     mat: &M,
-    stress: &mut [[F4; 3]; N],
+    stress: &mut [[L; 3]; N],
     history: &mut [[M::History; N]; 4],
-    deps: &[[F4; 3]; N],
-) -> [PointUpdate<F4>; N] {
-    let mut out = [PointUpdate::<F4>::default(); N];
+    deps: &[[L; 3]; N],
+) -> [PointUpdate<L>; N] {
+    let mut st = stress.map(|p| p.map(|c| c.to_array()));
+    let de = deps.map(|p| p.map(|c| c.to_array()));
+    let mut out = [PointUpdate::<[f64; 4]>::default(); N];
     for (l, h) in history.iter_mut().enumerate() {
-        let mut s: [[f64; 3]; N] = std::array::from_fn(|p| stress[p].map(|c| c.0[l]));
-        let d: [[f64; 3]; N] = std::array::from_fn(|p| deps[p].map(|c| c.0[l]));
+        let mut s: [[f64; 3]; N] = std::array::from_fn(|p| st[p].map(|c| c[l]));
+        let d: [[f64; 3]; N] = std::array::from_fn(|p| de[p].map(|c| c[l]));
         let u = mat.update_points(&mut s, h, &d);
         for p in 0..N {
             for c in 0..3 {
-                stress[p][c].0[l] = s[p][c];
+                st[p][c][l] = s[p][c];
             }
-            out[p].deps_zz.0[l] = u[p].deps_zz;
-            out[p].dissipation.0[l] = u[p].dissipation;
+            out[p].deps_zz[l] = u[p].deps_zz;
+            out[p].dissipation[l] = u[p].dissipation;
         }
     }
-    out
+    *stress = st.map(|p| p.map(L::from_array));
+    out.map(|u| PointUpdate {
+        deps_zz: L::from_array(u.deps_zz),
+        dissipation: L::from_array(u.dissipation),
+    })
 }
 
 /// Von Mises stress of a plane-stress state `[σ_xx, σ_yy, σ_xy]` (MPa).
