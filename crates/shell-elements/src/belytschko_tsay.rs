@@ -204,6 +204,20 @@ impl ShellFormulation for BelytschkoTsay {
     }
 }
 
+/// Nodal lanes in another lane type (loops, not `array::map` or closures,
+/// whose out-of-line instances would run the AVX conversions outside the
+/// caller's target features).
+#[inline(always)]
+fn to_lanes<L: Lanes4>(a: &[[F4; 3]; 4]) -> [[L; 3]; 4] {
+    let mut o = [[L::splat(0.0); 3]; 4];
+    for i in 0..4 {
+        for c in 0..3 {
+            o[i][c] = L::from_array(a[i][c].0);
+        }
+    }
+    o
+}
+
 /// The material and section constants the kernel reads.
 struct Moduli {
     /// Young's modulus E (MPa).
@@ -302,18 +316,12 @@ impl BelytschkoTsay {
         // SAFETY: this function's caller has checked for AVX2.
         let [x, v, w] = unsafe { nodes.gather_avx2() };
         // The kernel on AVX registers (`F4x`: this function has AVX2 and FMA).
-        // (Loops, not `array::map`, whose out-of-line instances would run
-        // the AVX conversions outside this function's target features.)
-        let avx = |a: [[F4; 3]; 4]| {
-            let mut o = [[F4x::splat(0.0); 3]; 4];
-            for i in 0..4 {
-                for c in 0..3 {
-                    o[i][c] = F4x::from_array(a[i][c].0);
-                }
-            }
-            o
-        };
-        self.lanes::<M, F4x, N>(mat, sec, &avx(x), &avx(v), &avx(w), dt, st, out)
+        let (x, v, w) = (
+            to_lanes::<F4x>(&x),
+            to_lanes::<F4x>(&v),
+            to_lanes::<F4x>(&w),
+        );
+        self.lanes::<M, F4x, N>(mat, sec, &x, &v, &w, dt, st, out)
     }
 
     /// Four elements with `N` points each through the kernel in lanes:

@@ -88,23 +88,22 @@ impl<L: Lanes4> ElementResult<L> {
     /// The same result in [`F4`] lanes.
     #[inline(always)]
     pub(crate) fn into_f4(self) -> ElementResult<F4> {
-        let v = |x: L| F4(x.to_array());
-        // (Loops, not `array::map`: see `BelytschkoTsay::lanes_avx2`.)
+        // (Loops, not `array::map` or closures: see `belytschko_tsay::to_lanes`.)
         let (mut f, mut m) = ([[F4::default(); 3]; 4], [[F4::default(); 3]; 4]);
         for i in 0..4 {
             for c in 0..3 {
-                f[i][c] = v(self.f[i][c]);
-                m[i][c] = v(self.m[i][c]);
+                f[i][c] = F4(self.f[i][c].to_array());
+                m[i][c] = F4(self.m[i][c].to_array());
             }
         }
         ElementResult {
             f,
             m,
-            d_internal: v(self.d_internal),
-            d_drilling: v(self.d_drilling),
-            d_hourglass: v(self.d_hourglass),
-            d_plastic: v(self.d_plastic),
-            length: v(self.length),
+            d_internal: F4(self.d_internal.to_array()),
+            d_drilling: F4(self.d_drilling.to_array()),
+            d_hourglass: F4(self.d_hourglass.to_array()),
+            d_plastic: F4(self.d_plastic.to_array()),
+            length: F4(self.length.to_array()),
         }
     }
 }
