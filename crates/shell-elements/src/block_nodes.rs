@@ -3,7 +3,7 @@
 //! A block kernel wants node `i`'s component `c` of its four elements in one
 //! vector (`[[F4; 3]; 4]`, element `l` in lane `l`), while the nodal state
 //! stores each node's `x, y, z` side by side. [`BlockNodes::gather`] builds
-//! the lanes; [`BlockNodes::gather_avx2`] does the same with two 128-bit
+//! the lanes; `BlockNodes::gather_avx2` does the same with two 128-bit
 //! loads, one broadcast pair and two unpacks per node and array, in
 //! registers, so that the kernel does not load vectors from lanes stored one
 //! by one (a load that spans four separate stores cannot be forwarded and

@@ -214,7 +214,7 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
     /// `l`'s result into lane `l` of `out`. By default one after the other
     /// through [`compute`](Self::compute); a formulation that overrides it
     /// must give each element what `compute` gives it, to rounding (BT's
-    /// lanes fuse the products of [`Real::madd`](crate::Real::madd)).
+    /// lanes fuse the products of [`Real::madd`]).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn compute_x4<M: Material>(

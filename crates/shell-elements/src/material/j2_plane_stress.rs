@@ -417,7 +417,7 @@ impl Material for J2PlaneStress {
 
     /// Four elements' sections in lanes: the same projected return, each
     /// branch a lane mask, the lanes' [`update_points`](Material::update_points)
-    /// to rounding (fused [`Real::madd`]; Swift hardening, a tabulated curve
+    /// to rounding (fused [`Real::madd`](crate::Real::madd); Swift hardening, a tabulated curve
     /// goes lane by lane).
     #[inline(always)]
     fn update_points_x4<L: Lanes4, const N: usize>(

@@ -9,7 +9,7 @@ mod hardening;
 mod j2_plane_stress;
 
 pub use hardening::Hardening;
-pub use j2_plane_stress::{J2History, J2PlaneStress, RETURN_TOL};
+pub use j2_plane_stress::{J2History, J2PlaneStress, RETURN_CLOSE, RETURN_TOL};
 
 use crate::lanes::Lanes4;
 
