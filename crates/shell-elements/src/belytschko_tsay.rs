@@ -410,17 +410,15 @@ impl BelytschkoTsay {
             },
             &mut res,
         );
-        // Degenerate lanes keep their old state.
         if let Some(saved) = &saved {
+            // Rare: a degenerate lane keeps its old state and reports only
+            // its length (≤ 0 or NaN); the masks stay out of the common
+            // path, where they would turn into masked stores.
             for l in 0..4 {
                 if !L::mask_lane(valid, l) {
                     history[l] = saved[l];
                 }
             }
-        }
-        if saved.is_some() {
-            // Rare: keep the degenerate lanes' state (the masks stay out of
-            // the common path, where they would turn into masked stores).
             for k in 0..N {
                 for c in 0..3 {
                     s[k][c] = L::select(valid, s[k][c], L::from_array(stress[3 * k + c]));
@@ -436,6 +434,17 @@ impl BelytschkoTsay {
             for i in 0..4 {
                 dr[i] = L::select(valid, dr[i], L::from_array(drilling[i]));
             }
+            let zero = L::splat(0.0);
+            for i in 0..4 {
+                for c in 0..3 {
+                    res.f[i][c] = L::select(valid, res.f[i][c], zero);
+                    res.m[i][c] = L::select(valid, res.m[i][c], zero);
+                }
+            }
+            res.d_internal = L::select(valid, res.d_internal, zero);
+            res.d_drilling = L::select(valid, res.d_drilling, zero);
+            res.d_hourglass = L::select(valid, res.d_hourglass, zero);
+            res.d_plastic = L::select(valid, res.d_plastic, zero);
         }
         for k in 0..N {
             for c in 0..3 {
@@ -451,20 +460,6 @@ impl BelytschkoTsay {
         }
         for i in 0..4 {
             drilling[i] = dr[i].to_array();
-        }
-        if saved.is_some() {
-            // A degenerate lane reports only its length (≤ 0 or NaN).
-            let zero = L::splat(0.0);
-            for i in 0..4 {
-                for c in 0..3 {
-                    res.f[i][c] = L::select(valid, res.f[i][c], zero);
-                    res.m[i][c] = L::select(valid, res.m[i][c], zero);
-                }
-            }
-            res.d_internal = L::select(valid, res.d_internal, zero);
-            res.d_drilling = L::select(valid, res.d_drilling, zero);
-            res.d_hourglass = L::select(valid, res.d_hourglass, zero);
-            res.d_plastic = L::select(valid, res.d_plastic, zero);
         }
         *out = res.into_f4();
     }
