@@ -136,11 +136,23 @@ impl J2PlaneStress {
         // the correction is not small.
         let df0sq = df0 * df0 * phi0;
         let den = df0sq - 0.5 * f0 * ddf0_phi;
-        let dl = -f0 * df0 * phi0 / if den > 0.5 * df0sq { den } else { df0sq };
+        // Δλ0 = num / den0 (num clamped at 0), and the first evaluation's
+        // f1 = 1 / (1 + a_p Δλ0) = den0 / b1, f2 = den0 / b2 with
+        // b1 = den0 + a_p num, b2 = den0 + 2G num: all three from one
+        // division by den0 b1 b2.
+        let num = -f0 * df0 * phi0;
+        let num = if num > 0.0 { num } else { 0.0 };
+        let den0 = if den > 0.5 * df0sq { den } else { df0sq };
+        let b1 = num * ap + den0;
+        let b2 = num * g2 + den0;
+        let b12 = b1 * b2;
+        let inv0 = 1.0 / (den0 * b12);
+        let den0sq = den0 * den0;
         Return {
             a1,
             a2,
-            dl: if dl > 0.0 { dl } else { 0.0 },
+            dl: num * b12 * inv0,
+            first: Some((den0sq * b2 * inv0, den0sq * b1 * inv0)),
             f1: 1.0,
             f2: 1.0,
             d: 0.0,
@@ -169,10 +181,15 @@ impl J2PlaneStress {
         let ap = self.a_p;
         let g2 = 2.0 * self.shear;
         let dl = r.dl;
-        let den1 = 1.0 + ap * dl;
-        let den2 = 1.0 + g2 * dl;
-        let inv = 1.0 / (den1 * den2);
-        let (f1, f2) = (den2 * inv, den1 * inv);
+        let (f1, f2) = match r.first.take() {
+            Some(f) => f,
+            None => {
+                let den1 = ap * dl + 1.0;
+                let den2 = g2 * dl + 1.0;
+                let inv = 1.0 / (den1 * den2);
+                (den2 * inv, den1 * inv)
+            }
+        };
         let phi2 = r.a1 * f1 * f1 + r.a2 * f2 * f2;
         let phi = phi2.sqrt();
         let d = dl * R23 * phi;
@@ -307,6 +324,8 @@ struct Return {
     a1: f64,
     a2: f64,
     dl: f64,
+    /// `(f1, f2)` at the start's Δλ, computed with it.
+    first: Option<(f64, f64)>,
     f1: f64,
     f2: f64,
     d: f64,
@@ -574,9 +593,21 @@ impl J2PlaneStress {
                 .madd(L::splat(2.0 / 3.0), ddphi2_0 * 0.5 * phi0);
             let df0sq = df0 * df0 * phi0;
             let den = (-(f0 * 0.5)).madd(ddf0_phi, df0sq);
-            let dl0 = -f0 * df0 * phi0 / L::select(den.gt(df0sq * 0.5), den, df0sq);
+            // Δλ0 = num / den0 (num clamped at 0), and the first evaluation's
+            // f1 = 1 / (1 + a_p Δλ0) = den0 / b1, f2 = den0 / b2 with
+            // b1 = den0 + a_p num, b2 = den0 + 2G num: all three from one
+            // division by den0 b1 b2.
+            let num = -f0 * df0 * phi0;
+            let num = L::select(num.gt(z4), num, z4);
+            let den0 = L::select(den.gt(df0sq * 0.5), den, df0sq);
+            let b1 = num.madd(L::splat(ap), den0);
+            let b2 = num.madd(L::splat(g2), den0);
+            let b12 = b1 * b2;
+            let inv0 = one / (den0 * b12);
+            let den0sq = den0 * den0;
+            let mut first = Some((den0sq * b2 * inv0, den0sq * b1 * inv0));
             let mut r = Return4 {
-                dl: L::select(dl0.gt(z4), dl0, z4),
+                dl: num * b12 * inv0,
                 f1: one,
                 f2: one,
                 d: z4,
@@ -596,10 +627,15 @@ impl J2PlaneStress {
             let mut active = pl;
             for _ in 0..60 {
                 let dl = r.dl;
-                let den1 = dl.madd(L::splat(ap), one);
-                let den2 = dl.madd(L::splat(g2), one);
-                let inv = one / (den1 * den2);
-                let (f1, f2) = (den2 * inv, den1 * inv);
+                let (f1, f2) = match first.take() {
+                    Some(f) => f,
+                    None => {
+                        let den1 = dl.madd(L::splat(ap), one);
+                        let den2 = dl.madd(L::splat(g2), one);
+                        let inv = one / (den1 * den2);
+                        (den2 * inv, den1 * inv)
+                    }
+                };
                 let phi2 = (a2 * f2).madd(f2, a1 * f1 * f1);
                 let phi = phi2.sqrt();
                 let d = dl * R23 * phi;
