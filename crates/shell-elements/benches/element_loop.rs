@@ -7,6 +7,14 @@
 //! every point, forces, hourglass, energies, serial scatter) on a flat blank
 //! of 1 mm steel squares driven by a biaxial stretch-and-bend velocity field;
 //! the set is pre-strained so that every point is in plastic flow.
+//!
+//! On a shared machine (this one is a virtual machine whose host runs other
+//! work) the wall time of a cycle varies by up to 1.6× with the host's load.
+//! `bt_5pt_plastic_2500_fastest_cycle` therefore reports, for each sample,
+//! its fastest cycle: the minimum is the robust estimator of a benchmark's
+//! cost in a noisy environment, interference only ever adding time (Chen &
+//! Revels 2016, "Robust benchmarking in noisy environments",
+//! arXiv:1608.04295). `bt_5pt_plastic_2500` is the plain mean, load included.
 //! Run: `cargo bench -p shell-elements --bench element_loop`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
@@ -14,6 +22,7 @@ use fem_core::{Effect, Forces, NodalState, StepContext, Vec3, rectangle};
 use shell_elements::{
     BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, Section, ShellFormulation, ShellSet,
 };
+use std::time::{Duration, Instant};
 
 struct Blank<F: ShellFormulation> {
     set: ShellSet<F, J2PlaneStress>,
@@ -99,6 +108,18 @@ fn single_thread(c: &mut Criterion) {
     );
     g.throughput(Throughput::Elements(2500));
     g.bench_function("bt_5pt_plastic_2500", |b| b.iter(|| bt.cycle()));
+    // Each sample's fastest cycle, as the sample's time per iteration.
+    g.bench_function("bt_5pt_plastic_2500_fastest_cycle", |b| {
+        b.iter_custom(|iters| {
+            let mut fastest = Duration::MAX;
+            for _ in 0..iters {
+                let t = Instant::now();
+                bt.cycle();
+                fastest = fastest.min(t.elapsed());
+            }
+            fastest * iters as u32
+        })
+    });
     let mut fi = blank(FullyIntegrated::default(), 50, usize::MAX);
     eprintln!(
         "FI plastic fraction of points: {:.3}",
@@ -130,7 +151,7 @@ fn threads(c: &mut Criterion) {
 
 criterion_group! {
     name = benches;
-    config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3)).warm_up_time(std::time::Duration::from_secs(1));
+    config = Criterion::default().sample_size(20).measurement_time(Duration::from_secs(3)).warm_up_time(Duration::from_secs(1));
     targets = single_thread, threads
 }
 criterion_main!(benches);
