@@ -148,11 +148,17 @@ impl J2PlaneStress {
         let b12 = b1 * b2;
         let inv0 = 1.0 / (den0 * b12);
         let den0sq = den0 * den0;
+        // φ² = a1 f1² + a2 f2² = S w² with S = a1 b2² + a2 b1², w = den0 /
+        // (b1 b2) = den0² inv0: the square root of S runs beside the
+        // division.
+        let big_s = a2 * b1 * b1 + a1 * b2 * b2;
+        let w = den0sq * inv0;
+        let root_s = big_s.sqrt();
         Return {
             a1,
             a2,
             dl: num * b12 * inv0,
-            first: Some((den0sq * b2 * inv0, den0sq * b1 * inv0)),
+            first: Some((w * b2, w * b1, big_s * w * w, root_s * w)),
             f1: 1.0,
             f2: 1.0,
             d: 0.0,
@@ -181,17 +187,17 @@ impl J2PlaneStress {
         let ap = self.a_p;
         let g2 = 2.0 * self.shear;
         let dl = r.dl;
-        let (f1, f2) = match r.first.take() {
+        let (f1, f2, phi2, phi) = match r.first.take() {
             Some(f) => f,
             None => {
                 let den1 = ap * dl + 1.0;
                 let den2 = g2 * dl + 1.0;
                 let inv = 1.0 / (den1 * den2);
-                (den2 * inv, den1 * inv)
+                let (f1, f2) = (den2 * inv, den1 * inv);
+                let phi2 = r.a2 * f2 * f2 + r.a1 * f1 * f1;
+                (f1, f2, phi2, phi2.sqrt())
             }
         };
-        let phi2 = r.a1 * f1 * f1 + r.a2 * f2 * f2;
-        let phi = phi2.sqrt();
         let d = dl * R23 * phi;
         let sy = flow(d);
         (r.f1, r.f2, r.d, r.sy) = (f1, f2, d, sy);
@@ -324,8 +330,8 @@ struct Return {
     a1: f64,
     a2: f64,
     dl: f64,
-    /// `(f1, f2)` at the start's Δλ, computed with it.
-    first: Option<(f64, f64)>,
+    /// `(f1, f2, φ², φ)` at the start's Δλ, computed with it.
+    first: Option<(f64, f64, f64, f64)>,
     f1: f64,
     f2: f64,
     d: f64,
@@ -605,7 +611,13 @@ impl J2PlaneStress {
             let b12 = b1 * b2;
             let inv0 = one / (den0 * b12);
             let den0sq = den0 * den0;
-            let mut first = Some((den0sq * b2 * inv0, den0sq * b1 * inv0));
+            // φ² = a1 f1² + a2 f2² = S w² with S = a1 b2² + a2 b1², w = den0 /
+            // (b1 b2) = den0² inv0: the square root of S runs beside the
+            // division.
+            let big_s = (a2 * b1).madd(b1, a1 * b2 * b2);
+            let w = den0sq * inv0;
+            let root_s = big_s.sqrt();
+            let mut first = Some((w * b2, w * b1, big_s * w * w, root_s * w));
             let mut r = Return4 {
                 dl: num * b12 * inv0,
                 f1: one,
@@ -627,17 +639,17 @@ impl J2PlaneStress {
             let mut active = pl;
             for _ in 0..60 {
                 let dl = r.dl;
-                let (f1, f2) = match first.take() {
+                let (f1, f2, phi2, phi) = match first.take() {
                     Some(f) => f,
                     None => {
                         let den1 = dl.madd(L::splat(ap), one);
                         let den2 = dl.madd(L::splat(g2), one);
                         let inv = one / (den1 * den2);
-                        (den2 * inv, den1 * inv)
+                        let (f1, f2) = (den2 * inv, den1 * inv);
+                        let phi2 = (a2 * f2).madd(f2, a1 * f1 * f1);
+                        (f1, f2, phi2, phi2.sqrt())
                     }
                 };
-                let phi2 = (a2 * f2).madd(f2, a1 * f1 * f1);
-                let phi = phi2.sqrt();
                 let d = dl * R23 * phi;
                 let sy = sc.flow(d, active);
                 r.f1 = L::select(active, f1, r.f1);
@@ -927,6 +939,46 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The start's one division (by `den0 b1 b2`, of order `G⁶ σ¹⁵`) stays
+    /// within `f64` for stresses in pascals as well as in MPa: the same
+    /// strain path in MPa and in Pa (E = 2.06e11, K = 5.6532e8) gives the
+    /// same ε_p to 1e-12 and stresses scaled by 1e6 to 1e-12.
+    #[test]
+    fn return_is_unit_scale_invariant_from_mpa_to_pascals() {
+        let mpa = steel();
+        let pa = J2PlaneStress::new(
+            206_000.0e6,
+            0.3,
+            7850.0,
+            Hardening::swift(565.32e6, 0.007117, 0.2589).unwrap(),
+        )
+        .unwrap();
+        let (mut s1, mut h1) = ([0.0; 3], mpa.initial_history());
+        let (mut s2, mut h2) = ([0.0; 3], pa.initial_history());
+        for i in 0..200 {
+            let a = i as f64 * 0.05;
+            let de = [
+                2e-4 * a.cos(),
+                -1e-4 + 5e-5 * a.sin(),
+                1e-4 * (2.0 * a).sin(),
+            ];
+            mpa.update(&mut s1, &mut h1, de);
+            pa.update(&mut s2, &mut h2, de);
+            assert!(
+                (h1.eps_p - h2.eps_p).abs() <= 1e-12 * h1.eps_p.max(1e-3),
+                "step {i}"
+            );
+            for c in 0..3 {
+                let scale = von_mises(&s1);
+                assert!(
+                    (s1[c] * 1e6 - s2[c]).abs() <= 1e-12 * scale * 1e6,
+                    "step {i}"
+                );
+            }
+        }
+        assert!(h1.eps_p > 0.01, "the path is plastic: ε_p = {}", h1.eps_p);
     }
 
     /// Consistent with finite differences: the return is a function of the
