@@ -145,15 +145,13 @@ impl ShellFormulation for BelytschkoTsay {
             hourglass,
             drilling,
         } = st;
-        let rt = match self.rates(x, v, w, dt) {
-            Ok(rt) => rt,
-            Err(a) => {
-                return ElementResult {
-                    length: a,
-                    ..Default::default()
-                };
-            }
-        };
+        let rt = self.rates(x, v, w, dt);
+        if !rt.valid {
+            return ElementResult {
+                length: rt.fr.area,
+                ..Default::default()
+            };
+        }
         let hourglass = hourglass
             .first_chunk_mut::<5>()
             .expect("a shell set gives BT its 5 hourglass forces");
@@ -341,16 +339,16 @@ impl BelytschkoTsay {
         st: ElementBlock<'_, M::History>,
         out: &mut ElementResult<F4>,
     ) {
-        let rt = match self.rates(x, v, w, dt) {
-            Ok(rt) => rt,
-            Err(a) => {
-                *out = ElementResult {
-                    length: F4(a.to_array()),
-                    ..Default::default()
-                };
-                return;
-            }
-        };
+        // Built in place (a `Result` around it cost a copy of the whole
+        // struct per block).
+        let rt = self.rates(x, v, w, dt);
+        if !L::any(rt.valid) {
+            *out = ElementResult {
+                length: F4(rt.fr.area.to_array()),
+                ..Default::default()
+            };
+            return;
+        }
         let ElementBlock {
             thickness,
             stress,
@@ -466,8 +464,9 @@ impl BelytschkoTsay {
 
     /// First half of the element kernel over [`Real`] (one element, `f64`,
     /// or four in lanes, `F4`): frame, local velocities and the rates;
-    /// `None` when every lane degenerated (area ≤ 0 or NaN). The caller
-    /// updates the section's points with `rates.membrane`, `rates.bending`
+    /// `valid` is false in the lanes that degenerated (area ≤ 0 or NaN),
+    /// whose rates are meaningless but computed without a branch; the caller
+    /// returns if no lane is valid. The caller updates the section's points with `rates.membrane`, `rates.bending`
     /// and hands the result to [`Self::forces`].
     #[inline(always)]
     fn rates<T: Real>(
@@ -476,14 +475,10 @@ impl BelytschkoTsay {
         v: &[[T; 3]; 4],
         w: &[[T; 3]; 4],
         dt: f64,
-    ) -> Result<Rates<T>, T> {
+    ) -> Rates<T> {
         let fr = Frame::new(x);
-        let a = fr.area;
         let zero = T::splat(0.0);
-        let valid = a.gt(zero);
-        if !T::any(valid) {
-            return Err(a);
-        }
+        let valid = fr.area.gt(zero);
         let (vl, wl) = local_velocities(&fr, v, w);
         let (xl, yl) = (&fr.x, &fr.y);
         let (b1, b2) = fr.mean_b();
@@ -539,7 +534,7 @@ impl BelytschkoTsay {
             gyz += sb.yz[2][i].madd(wl[i][1], sb.yz[1][i].madd(wl[i][0], sb.yz[0][i] * vl[i][2]));
         }
 
-        Ok(Rates {
+        Rates {
             fr,
             valid,
             vl,
@@ -554,7 +549,7 @@ impl BelytschkoTsay {
             gyz,
             membrane: [dxx * dt, dyy * dt, gxy * dt],
             bending: [kxx * dt, kyy * dt, kxy * dt],
-        })
+        }
     }
 
     /// Second half of the element kernel: transverse shear, hourglass and
