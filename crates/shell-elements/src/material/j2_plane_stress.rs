@@ -142,7 +142,15 @@ impl J2PlaneStress {
         // division by den0 b1 b2.
         let num = -f0 * df0 * phi0;
         let num = if num > 0.0 { num } else { 0.0 };
-        let den0 = if den > 0.5 * df0sq { den } else { df0sq };
+        // A lane with no stress at all (df0 = 0: not plastic, but computed in
+        // the lane kernel) takes den0 = 1 and so Δλ0 = 0 rather than 0/0.
+        let den0 = if den > 0.5 * df0sq {
+            den
+        } else if df0sq > 0.0 {
+            df0sq
+        } else {
+            1.0
+        };
         let b1 = num * ap + den0;
         let b2 = num * g2 + den0;
         let b12 = b1 * b2;
@@ -173,9 +181,10 @@ impl J2PlaneStress {
     /// `|f| ≤ RETURN_TOL σ_y,0²` the return is done (and `f1`, `f2`, `d`, `sy`
     /// belong to that Δλ); else a Newton step, which ends the return when
     /// `|f| ≤ RETURN_CLOSE σ_y,0²`, its new state taken to first order in
-    /// the step δ (see [`RETURN_CLOSE`]). `flow(d)` is σ_y at `ε_p + d`, `slope(d, σ_y)` its derivative as a
-    /// fraction `(num, den)`, and `flow_step(σ_y, u, d′)` σ_y at
-    /// `ε_p + d′`, `d′ = d + u den`, from σ_y at `ε_p + d`.
+    /// the step δ (see [`RETURN_CLOSE`]). `flow(d)` is σ_y at `ε_p + d`,
+    /// `slope(d, σ_y)` its derivative as a fraction `(hn, hd)`, and
+    /// `flow_step(σ_y, u, d′)` σ_y at `ε_p + d′`, `d′ = d + u hd`, from σ_y
+    /// at `ε_p + d`.
     #[inline(always)]
     fn return_iterate(
         &self,
@@ -287,7 +296,7 @@ impl J2PlaneStress {
     /// Swift flow stress after a last Newton step, from `sy` at `ε_p + d`:
     /// at `ε_p + d + u (ε0 + ε_p + d)` it is `sy (1 + u)^n`, by the binomial
     /// series to u⁴ (error < |C(n, 5)| |u|⁵ < 4e-17 for |u| < [`STEP_SERIES`];
-    /// a last step is typically |u| ~ 1e-8), else `far()`.
+    /// a last step's |u| is at most ~1e-6 in the tests), else `far()`.
     #[inline(always)]
     fn swift_flow_step(&self, sy: f64, u: f64, far: impl Fn() -> f64) -> f64 {
         let c = &self.swift_binomial;
@@ -524,7 +533,8 @@ struct Return4<L> {
 
 impl J2PlaneStress {
     /// [`Material::update_points_x4`] with Swift hardening: the lane form of
-    /// `trial`, `return_start`, `return_iterate` (with `swift_flow`) and
+    /// `trial`, `return_start`, `return_iterate` (with `swift_flow` and
+    /// `swift_flow_step`, here `SwiftLanes::flow` and `::step`) and
     /// `return_finish`, each expression evaluated in the same order. The
     /// plastic points return one after the other, each in registers (their
     /// independent division / square-root chains overlap in the processor's
@@ -605,7 +615,13 @@ impl J2PlaneStress {
             // division by den0 b1 b2.
             let num = -f0 * df0 * phi0;
             let num = L::select(num.gt(z4), num, z4);
-            let den0 = L::select(den.gt(df0sq * 0.5), den, df0sq);
+            // A lane with no stress (not plastic, df0 = 0) takes den0 = 1 and
+            // so Δλ0 = 0, not 0/0 (a select beside `den`, off the chain).
+            let den0 = L::select(
+                den.gt(df0sq * 0.5),
+                den,
+                L::select(df0sq.gt(z4), df0sq, one),
+            );
             let b1 = num.madd(L::splat(ap), den0);
             let b2 = num.madd(L::splat(g2), den0);
             let b12 = b1 * b2;
@@ -821,6 +837,7 @@ impl J2History {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Real;
 
     fn steel() -> J2PlaneStress {
         J2PlaneStress::new(
@@ -916,7 +933,10 @@ mod tests {
     /// at `ε_p + d` (binomial series to u⁴ below `STEP_SERIES`, the curve
     /// beyond), equals `K (ε0 + ε_p + d + u (ε0 + ε_p + d))^n` (`powf`) to
     /// 2e-15 relative (series error < 4e-17 plus rounding), on both sides of
-    /// `STEP_SERIES` and for hardening exponents across [0, 1).
+    /// `STEP_SERIES` (beyond it through `swift_flow`, as in the return) and
+    /// for hardening exponents across [0, 1); and the lane forms
+    /// (`SwiftLanes::step`, `::flow`, fused) agree with these to 1e-15 up to
+    /// the ends of their series, |u| < `STEP_SERIES`, |x| < 0.02, and beyond.
     #[test]
     fn flow_after_last_step_is_the_swift_law() {
         for n in [0.05, 0.2589, 0.5, 0.95] {
@@ -931,11 +951,36 @@ mod tests {
             for base in [0.0, 0.01, 0.3] {
                 let e = eps0 + base;
                 let sy = k * e.powf(n);
-                for u in [0.0, 1e-9, -1e-7, 1e-5, -3e-4, 9.9e-4, 1.01e-3, 0.05] {
+                for u in [
+                    0.0, 1e-9, -1e-7, 1e-5, -3e-4, 9.9e-4, 1.01e-3, -0.0199, 0.0199, 0.05,
+                ] {
                     let law = k * (e + u * e).powf(n);
-                    let step = m.swift_flow_step(sy, u, || law);
+                    // Beyond the series: the curve from the same point,
+                    // as the return passes it.
+                    let step =
+                        m.swift_flow_step(sy, u, || m.swift_flow(k, n, sy, e, 1.0 / e, u * e));
                     let err = (step / law - 1.0).abs();
                     assert!(err <= 2e-15, "n {n} ε_p {base} u {u}: {err:e}");
+                    // The lanes: `step` from σ_y, and `flow` at the same
+                    // plastic strain from the start (x = u here).
+                    let sc = SwiftLanes {
+                        c: &m.swift_binomial,
+                        k,
+                        n,
+                        sy0: F4::splat(sy),
+                        e: F4::splat(e),
+                        inv_e: F4::splat(1.0 / e),
+                    };
+                    let live = F4::splat(1.0).gt(F4::splat(0.0));
+                    let lane_step = sc.step(F4::splat(sy), F4::splat(u), F4::splat(u * e), live);
+                    let lane_flow = sc.flow(F4::splat(u * e), live);
+                    for (what, got) in [("step", lane_step.0[2]), ("flow", lane_flow.0[1])] {
+                        let err = (got / law - 1.0).abs();
+                        assert!(
+                            err <= 2e-15,
+                            "lanes' {what}: n {n} ε_p {base} u {u}: {err:e}"
+                        );
+                    }
                 }
             }
         }
@@ -943,8 +988,10 @@ mod tests {
 
     /// The start's one division (by `den0 b1 b2`, of order `G⁶ σ¹⁵`) stays
     /// within `f64` for stresses in pascals as well as in MPa: the same
-    /// strain path in MPa and in Pa (E = 2.06e11, K = 5.6532e8) gives the
-    /// same ε_p to 1e-12 and stresses scaled by 1e6 to 1e-12.
+    /// strain paths in MPa (one point at a time) and in Pa (E = 2.06e11,
+    /// K = 5.6532e8; one point at a time and in four lanes, each lane its own
+    /// path) give the same ε_p to 1e-12 and stresses scaled by 1e6 to 1e-12
+    /// of σ_vm.
     #[test]
     fn return_is_unit_scale_invariant_from_mpa_to_pascals() {
         let mpa = steel();
@@ -955,30 +1002,50 @@ mod tests {
             Hardening::swift(565.32e6, 0.007117, 0.2589).unwrap(),
         )
         .unwrap();
-        let (mut s1, mut h1) = ([0.0; 3], mpa.initial_history());
-        let (mut s2, mut h2) = ([0.0; 3], pa.initial_history());
-        for i in 0..200 {
-            let a = i as f64 * 0.05;
-            let de = [
+        let path = |lane: usize, i: usize| {
+            let a = i as f64 * 0.05 + lane as f64;
+            [
                 2e-4 * a.cos(),
                 -1e-4 + 5e-5 * a.sin(),
                 1e-4 * (2.0 * a).sin(),
-            ];
-            mpa.update(&mut s1, &mut h1, de);
-            pa.update(&mut s2, &mut h2, de);
-            assert!(
-                (h1.eps_p - h2.eps_p).abs() <= 1e-12 * h1.eps_p.max(1e-3),
-                "step {i}"
-            );
-            for c in 0..3 {
-                let scale = von_mises(&s1);
-                assert!(
-                    (s1[c] * 1e6 - s2[c]).abs() <= 1e-12 * scale * 1e6,
-                    "step {i}"
-                );
+            ]
+        };
+        let mut s_mpa = [[0.0; 3]; 4];
+        let mut h_mpa = [mpa.initial_history(); 4];
+        let mut s_pa = [[0.0; 3]; 4];
+        let mut h_pa = [pa.initial_history(); 4];
+        let mut s_x4 = [[F4([0.0; 4]); 3]; 1];
+        let mut h_x4 = [[pa.initial_history(); 1]; 4];
+        for i in 0..200 {
+            let mut de_x4 = [[F4([0.0; 4]); 3]; 1];
+            for l in 0..4 {
+                let de = path(l, i);
+                mpa.update(&mut s_mpa[l], &mut h_mpa[l], de);
+                pa.update(&mut s_pa[l], &mut h_pa[l], de);
+                for c in 0..3 {
+                    de_x4[0][c].0[l] = de[c];
+                }
+            }
+            pa.update_points_x4::<F4, 1>(&mut s_x4, &mut h_x4, &de_x4);
+            for l in 0..4 {
+                let scale = von_mises(&s_mpa[l]) * 1e6;
+                let lane = [s_x4[0][0].0[l], s_x4[0][1].0[l], s_x4[0][2].0[l]];
+                for (what, s, h) in [("one", s_pa[l], h_pa[l]), ("lanes", lane, h_x4[l][0])] {
+                    let ep = h_mpa[l].eps_p;
+                    assert!(
+                        (ep - h.eps_p).abs() <= 1e-12 * ep.max(1e-3),
+                        "{what} {l} step {i}"
+                    );
+                    for c in 0..3 {
+                        let miss = (s_mpa[l][c] * 1e6 - s[c]).abs();
+                        assert!(miss <= 1e-12 * scale, "{what} {l} step {i}: {miss:e}");
+                    }
+                }
             }
         }
-        assert!(h1.eps_p > 0.01, "the path is plastic: ε_p = {}", h1.eps_p);
+        for h in h_mpa {
+            assert!(h.eps_p > 0.01, "the paths are plastic: ε_p = {}", h.eps_p);
+        }
     }
 
     /// Consistent with finite differences: the return is a function of the
