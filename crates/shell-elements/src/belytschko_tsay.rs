@@ -339,8 +339,6 @@ impl BelytschkoTsay {
         st: ElementBlock<'_, M::History>,
         out: &mut ElementResult<F4>,
     ) {
-        // Built in place (a `Result` around it cost a copy of the whole
-        // struct per block).
         let rt = self.rates(x, v, w, dt);
         if !L::any(rt.valid) {
             *out = ElementResult {

@@ -24,7 +24,7 @@
 
 use super::{Hardening, Material, PointUpdate, update_points_by_lane, von_mises};
 use crate::error::{ShellError, check};
-use crate::lanes::{F4, Lanes4};
+use crate::lanes::{F4, Lanes4, Real};
 
 /// Isotropic plane-stress J2 plasticity with a [`Hardening`] curve.
 #[derive(Debug, Clone, PartialEq)]
@@ -275,19 +275,14 @@ impl J2PlaneStress {
 
     /// Swift flow stress at `ε_p + d` from the cached `sy0` at `ε_p`, with
     /// `e = ε0 + ε_p`: `σ_y(ε_p) (1 + x)^n`, `x = d / e`, by the binomial
-    /// series to x⁸ (error < |x|⁹ < 6e-16 for |x| < 0.02) by Estrin's
-    /// scheme, else `powf`.
+    /// series to x⁸ (error < |x|⁹ < 6e-16 for |x| < 0.02, `series8`), else
+    /// `powf`.
     #[inline(always)]
     fn swift_flow(&self, k: f64, n: f64, sy0: f64, e: f64, inv_e: f64, d: f64) -> f64 {
         let c = &self.swift_binomial;
         let x = d * inv_e;
         if x.abs() < 0.02 {
-            // Estrin's scheme: pairs in x, then in x², then in x⁴ (a chain
-            // of five operations instead of Horner's nine).
-            let (x2, p01, p23) = (x * x, x * c[1] + c[0], x * c[3] + c[2]);
-            let (x4, p45, p67) = (x2 * x2, x * c[5] + c[4], x * c[7] + c[6]);
-            let (q0, q1) = (x2 * p23 + p01, x2 * p67 + p45);
-            sy0 * (x4 * (x4 * c[8] + q1) + q0)
+            sy0 * series8(c, x)
         } else {
             k * (e + d).powf(n)
         }
@@ -301,11 +296,37 @@ impl J2PlaneStress {
     fn swift_flow_step(&self, sy: f64, u: f64, far: impl Fn() -> f64) -> f64 {
         let c = &self.swift_binomial;
         if u.abs() < STEP_SERIES {
-            sy * (c[0] + u * (c[1] + u * (c[2] + u * (c[3] + u * c[4]))))
+            sy * series4(c, u)
         } else {
             far()
         }
     }
+}
+
+/// `Σ c_k x^k`, k = 0..=8, by Estrin's scheme: pairs in x, then in x²,
+/// then in x⁴ (a chain of five operations instead of Horner's nine). For
+/// `f64` and in lanes alike (`madd` fused in lanes only).
+#[inline(always)]
+fn series8<T: Real>(c: &[f64; 9], x: T) -> T {
+    let x2 = x * x;
+    let x4 = x2 * x2;
+    let p01 = x.madd(T::splat(c[1]), T::splat(c[0]));
+    let p23 = x.madd(T::splat(c[3]), T::splat(c[2]));
+    let p45 = x.madd(T::splat(c[5]), T::splat(c[4]));
+    let p67 = x.madd(T::splat(c[7]), T::splat(c[6]));
+    let q0 = x2.madd(p23, p01);
+    let q1 = x2.madd(p67, p45);
+    x4.madd(x4.madd(T::splat(c[8]), q1), q0)
+}
+
+/// `Σ c_k u^k`, k = 0..=4, by Horner's scheme (`f64` and lanes).
+#[inline(always)]
+fn series4<T: Real>(c: &[f64; 9], u: T) -> T {
+    let mut acc = u.madd(T::splat(c[4]), T::splat(c[3]));
+    for j in (0..3).rev() {
+        acc = u.madd(acc, T::splat(c[j]));
+    }
+    acc
 }
 
 /// Relative size `u` of the last Newton step's plastic strain increment
@@ -743,12 +764,7 @@ impl<L: Lanes4> SwiftLanes<'_, L> {
     /// `d_last` in the lanes of `live` beyond the series.
     #[inline(always)]
     fn step(&self, sy: L, u: L, d_last: L, live: L::Mask) -> L {
-        let c = self.c;
-        let mut acc = u.madd(L::splat(c[4]), L::splat(c[3]));
-        for j in (0..3).rev() {
-            acc = u.madd(acc, L::splat(c[j]));
-        }
-        let y = sy * acc;
+        let y = sy * series4(self.c, u);
         let far = L::mask_and_not(live, L::lt(L::abs(u), L::splat(STEP_SERIES)));
         if !L::any(far) {
             return y;
@@ -756,23 +772,12 @@ impl<L: Lanes4> SwiftLanes<'_, L> {
         L::select(far, self.flow(d_last, far), y)
     }
 
-    /// σ_y at `ε_p + d` by the binomial series (Estrin's scheme, as in
+    /// σ_y at `ε_p + d` by the binomial series (`series8`, as in
     /// `J2PlaneStress::swift_flow`), `powf` in the lanes of `live` beyond it.
     #[inline(always)]
     fn flow(&self, d: L, live: L::Mask) -> L {
-        let c = self.c;
         let x = d * self.inv_e;
-        let x2 = x * x;
-        let x4 = x2 * x2;
-        let p01 = x.madd(L::splat(c[1]), L::splat(c[0]));
-        let p23 = x.madd(L::splat(c[3]), L::splat(c[2]));
-        let p45 = x.madd(L::splat(c[5]), L::splat(c[4]));
-        let p67 = x.madd(L::splat(c[7]), L::splat(c[6]));
-        let q0 = x2.madd(p23, p01);
-        let q1 = x2.madd(p67, p45);
-        let r1 = x4.madd(L::splat(c[8]), q1);
-        let acc = x4.madd(r1, q0);
-        let sy = self.sy0 * acc;
+        let sy = self.sy0 * series8(self.c, x);
         let far = L::mask_and_not(live, L::lt(L::abs(x), L::splat(0.02)));
         if !L::any(far) {
             return sy;
@@ -837,7 +842,6 @@ impl J2History {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Real;
 
     fn steel() -> J2PlaneStress {
         J2PlaneStress::new(
