@@ -127,10 +127,11 @@ fn main() {
     let force_quarter = 4900.0;
     let holder_motion = ToolMotion::Force {
         direction: -Vec3::z(),
-        force: force_quarter,
+        force: fem_core::ForceLaw::Constant(force_quarter),
         amplitude: None,
         mass: 0.01,
-        damping: 500.0,
+        damping: 0.0,
+        relative_damping: 0.0,
     };
     let steps = vec![
         PressStep {

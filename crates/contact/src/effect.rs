@@ -1,9 +1,12 @@
 //! Contact as an engine effect: the tools, the press that moves them, the pairs,
 //! and the blank's nodal thickness and flow stress that the pairs read.
 
-use fem_core::{Effect, EnergyTally, FemError, Forces, NodalState, Press, StableDt, StepContext};
+use fem_core::{
+    Effect, EnergyTally, FemError, Forces, NodalState, Press, StableDt, StepContext, ToolLoad,
+};
 use plugins_api::{PointNeeds, ToolSurface, Vec3};
 
+use crate::tool_log::{ToolSample, ToolStepLog, record};
 use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair};
 
 /// Tools, press and contact pairs over one blank, as a [`fem_core::Effect`].
@@ -33,11 +36,17 @@ pub struct ContactEffect {
     thickness: Vec<f64>,
     flow_stress: Option<(Vec<f64>, Vec<f64>)>,
     reactions: Vec<Vec3>,
+    /// What the blank did to each tool in the last step (force control reads it).
+    loads: Vec<ToolLoad>,
     /// Accumulated energies of pairs, including those of earlier press steps.
     energy: ContactEnergy,
     /// Whether the blank or a pair is large enough for parallel loops (a
     /// small model is not worth the hand-over to the pool every step).
     parallel: bool,
+    /// What each tool did, press step by press step.
+    tool_log: Vec<Vec<ToolStepLog>>,
+    /// Work of each tool through contact in the current explicit step (N·mm).
+    tool_work_step: Vec<f64>,
 }
 
 impl std::fmt::Debug for ContactEffect {
@@ -96,7 +105,10 @@ impl ContactEffect {
                 .any(|p| p.nodes().len() > ContactPair::PARALLEL_MIN_CANDIDATES);
         Ok(Self {
             parallel,
+            tool_log: vec![Vec::new(); tools.len()],
+            tool_work_step: vec![0.0; tools.len()],
             reactions: vec![Vec3::zeros(); tools.len()],
+            loads: vec![ToolLoad::default(); tools.len()],
             tools,
             press,
             pairs,
@@ -151,6 +163,11 @@ impl ContactEffect {
         &self.reactions
     }
 
+    /// What each tool did, press step by press step (index: tool).
+    pub fn tool_log(&self) -> &[Vec<ToolStepLog>] {
+        &self.tool_log
+    }
+
     /// Energies of all pairs together (N·mm).
     pub fn energy(&self) -> ContactEnergy {
         let mut e = self.energy;
@@ -166,7 +183,7 @@ impl ContactEffect {
         forces: &mut Forces,
     ) -> Result<(), FemError> {
         if let Some(press) = &mut self.press {
-            press.advance(ctx.time, ctx.dt, &self.reactions)?;
+            press.advance(ctx.time, ctx.dt, &self.loads)?;
             for (i, tool) in self.tools.iter_mut().enumerate() {
                 tool.set_pose(press.pose(i), press.velocity(i));
             }
@@ -184,9 +201,11 @@ impl ContactEffect {
         };
         self.geometry.update(&view, ctx.dt, self.needs);
         self.reactions.iter_mut().for_each(|r| *r = Vec3::zeros());
+        self.loads.iter_mut().for_each(|l| *l = ToolLoad::default());
         let mut friction = 0.0;
         let mut tool_work = 0.0;
         let mut blank_work = 0.0;
+        self.tool_work_step.iter_mut().for_each(|w| *w = 0.0);
         for (k, pair) in self.pairs.iter_mut().enumerate() {
             let active = self.press.as_ref().is_none_or(|p| p.pair_active(k));
             let before = pair.energy;
@@ -198,17 +217,44 @@ impl ContactEffect {
                         message: e.to_string(),
                     })?;
                 self.reactions[pair.tool()] += pair.reaction.force;
+                let load = &mut self.loads[pair.tool()];
+                load.stiffness += pair.reaction.stiffness;
             } else {
                 pair.release();
             }
             friction += pair.energy.friction - before.friction;
             tool_work += pair.energy.tool_work - before.tool_work;
+            self.tool_work_step[pair.tool()] += pair.energy.tool_work - before.tool_work;
             blank_work += pair.energy.blank_work - before.blank_work;
         }
         self.energy.friction += friction;
         self.energy.tool_work += tool_work;
         self.energy.blank_work += blank_work;
+        for (load, r) in self.loads.iter_mut().zip(&self.reactions) {
+            load.force = *r;
+        }
+        self.log_tools(ctx.dt);
         Ok(())
+    }
+
+    /// Sample what each tool did in this explicit step.
+    fn log_tools(&mut self, dt: f64) {
+        for (i, log) in self.tool_log.iter_mut().enumerate() {
+            let press = self.press.as_ref();
+            let direction = press
+                .and_then(|p| p.direction(i).or_else(|| p.first_direction(i)))
+                .unwrap_or(-Vec3::z());
+            let sample = ToolSample {
+                step: press.map_or(0, |p| p.current_step()),
+                dt,
+                direction,
+                force: -self.reactions[i],
+                applied: press.and_then(|p| p.applied_force(i)),
+                displacement: press.map_or_else(Vec3::zeros, |p| p.displacement(i)),
+                work: self.tool_work_step[i],
+            };
+            record(log, &sample);
+        }
     }
 }
 

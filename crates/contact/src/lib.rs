@@ -26,9 +26,11 @@ mod effect;
 mod error;
 mod pair;
 pub mod penalty;
+mod tool_log;
 
 pub use blank::{BlankGeometry, BlankView};
 pub use effect::ContactEffect;
 pub use error::ContactError;
 pub use pair::{ContactEnergy, ContactPair, PairSpec, PointStatus, Reaction};
 pub use penalty::PenaltySettings;
+pub use tool_log::{Sampled, ToolStepLog};

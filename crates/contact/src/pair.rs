@@ -123,6 +123,9 @@ pub struct Reaction {
     pub force: Vec3,
     /// Resultant moment on the tool about its pose origin (N·mm).
     pub moment: Vec3,
+    /// Sum of the normal penalty stiffnesses of the touching points (N/mm):
+    /// the stiffness of the support the tool rests on.
+    pub stiffness: f64,
 }
 
 /// Cumulative energies of a pair (N·mm = mJ).
@@ -460,6 +463,7 @@ impl ContactPair {
                 f_n = (f_n - c * v_rel.dot(&n_new)).max(0.0);
             }
             stored += 0.5 * self.stiffness[k] * gap * gap;
+            self.reaction.stiffness += self.stiffness[k];
             let n_old = if self.status[k] == PointStatus::Open {
                 n_new
             } else {
@@ -660,6 +664,20 @@ impl ContactPair {
             .filter(|(_, status)| **status != PointStatus::Open)
             .map(move |((&node, &k_n), _)| (node as usize, k_n + k_t * area[node as usize]))
             .filter(|&(_, stiff)| stiff > 0.0)
+    }
+
+    /// Contact area (mm², the nodal areas of the points touching) and the
+    /// area-weighted mean pressure over it (MPa), from the last step.
+    pub fn area_and_mean_pressure(&self, area: &[f64]) -> (f64, f64) {
+        let (mut a, mut pa) = (0.0, 0.0);
+        for (k, &node) in self.nodes.iter().enumerate() {
+            if self.status[k] != PointStatus::Open {
+                let ak = area[node as usize];
+                a += ak;
+                pa += self.pressure[k] * ak;
+            }
+        }
+        (a, if a > 0.0 { pa / a } else { 0.0 })
     }
 
     /// Open every point (the pair is inactive in the current press step).

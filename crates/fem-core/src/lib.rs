@@ -67,7 +67,7 @@ pub use energy::{EnergyLedger, History, HistoryRow};
 pub use error::FemError;
 pub use mesh::{Mesh, MeshQuality, rectangle, wrapped_strip};
 pub use mesh_io::{read_inp, read_msh};
-pub use press::{Press, PressStep, StepChange, StepEnd, ToolMotion};
+pub use press::{ForceLaw, Press, PressStep, StepChange, StepEnd, ToolLoad, ToolMotion};
 pub use settings::SolverSettings;
 pub use solver::{Control, DtLimit, EffectId, RunSummary, SetupReport, Solver, StepReport};
 pub use springs::{Spring, Springs};

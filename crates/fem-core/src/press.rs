@@ -11,6 +11,12 @@
 //! a unit `direction` only; its travel `s` obeys `m s̈ = F A(τ) + R·direction − c ṡ`,
 //! where `R` is the force the blank exerts on the tool through contact (the
 //! previous step's reaction), integrated by central difference like the blank.
+//! `F` is constant or a table of the tool's compression (a gas-spring curve,
+//! [`ForceLaw`]). Over any interval `T` the tool delivers to the blank, in the
+//! mean, `F̄ − c ṡ̄ − m Δṡ / T`: with the dashpot `c = 0` (the default) the
+//! delivered force is the prescribed one up to the change of the tool's
+//! momentum, whatever its steady speed. A dashpot `c > 0` is an explicit
+//! option and biases a steadily moving tool by `c ṡ` (docs/contact.md).
 //!
 //! Double action (square cup: holder force-controlled, punch travels), single
 //! action (S-rail: the die travels onto holder and blank, then on over a fixed
@@ -46,21 +52,113 @@ pub enum ToolMotion {
         /// Scale of the speed in step time; `None`: constant 1.
         amplitude: Option<Amplitude>,
     },
-    /// Force control: `force · A(τ)` (N) pushes the tool along the unit
+    /// Force control: `F · A(τ)` (N) pushes the tool along the unit
     /// `direction`; its travel along `direction` is integrated with the contact
     /// reaction; the other degrees of freedom are held.
     Force {
         /// Unit direction of the applied force and of the free travel.
         direction: Vec3,
-        /// Applied force (N), `≥ 0`.
-        force: f64,
+        /// Applied force `F` (N): constant or a function of the compression.
+        force: ForceLaw,
         /// Scale of the force in step time; `None`: constant 1.
         amplitude: Option<Amplitude>,
         /// Mass of the tool's free degree of freedom (tonne), `> 0`.
         mass: f64,
-        /// Viscous damping of the free travel (N·s/mm), `≥ 0`.
+        /// Absolute viscous dashpot on the free travel (N·s/mm), `≥ 0`. It
+        /// subtracts `damping · ṡ` from the delivered force whenever the tool
+        /// moves: `0` for a gas spring or a cushion that delivers its force.
         damping: f64,
+        /// Damping of the tool bouncing on the blank, as a fraction `ζ ∈ [0, 1]`
+        /// of critical damping of the tool's mass `m` on its contact springs
+        /// `K` ([`ToolLoad::stiffness`]): the force `(2ζ/ω) d(R·direction)/dt`
+        /// with `ω = √(K/m)`, i.e. a damper `2ζ√(K m)` on the rate at which
+        /// the tool presses into the blank. It is a time derivative, so its
+        /// mean over any interval is `(2ζ/ω) ΔR / T`: no bias of a steady
+        /// motion, whatever the tool's speed.
+        relative_damping: f64,
     },
+}
+
+/// The force of a force-controlled tool before its amplitude.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ForceLaw {
+    /// A constant force (N), `≥ 0`.
+    Constant(f64),
+    /// A gas-spring or cushion curve: `(compression, force)` rows (mm, N),
+    /// compression strictly increasing, forces `≥ 0`; linear between rows and
+    /// constant beyond the ends. The compression is the tool's travel against
+    /// its force `direction` since the start of the programme,
+    /// `c = −(x − x₀)·direction`: a holder pushed down whose springs are
+    /// compressed as the flange lifts it, or a cushion pushed down by the die.
+    Compression(Vec<(f64, f64)>),
+}
+
+impl ForceLaw {
+    /// The force (N) at compression `c` (mm).
+    pub fn value(&self, c: f64) -> f64 {
+        match self {
+            ForceLaw::Constant(f) => *f,
+            ForceLaw::Compression(rows) => {
+                let (first, last) = (rows[0], rows[rows.len() - 1]);
+                if c <= first.0 {
+                    return first.1;
+                }
+                if c >= last.0 {
+                    return last.1;
+                }
+                let k = rows.partition_point(|r| r.0 <= c);
+                let (a, b) = (rows[k - 1], rows[k]);
+                a.1 + (b.1 - a.1) * (c - a.0) / (b.0 - a.0)
+            }
+        }
+    }
+
+    /// Check the values: a finite force `≥ 0`; a non-empty table with strictly
+    /// increasing finite compressions and finite forces `≥ 0`. `field` names
+    /// the scene key in the error.
+    pub fn validate(&self, field: &str) -> Result<(), FemError> {
+        let bad = |f: String, value: f64, unit: &'static str, range: &'static str| {
+            FemError::InvalidParameter {
+                field: f,
+                value,
+                unit,
+                range,
+            }
+        };
+        match self {
+            ForceLaw::Constant(f) => {
+                if !(f.is_finite() && *f >= 0.0) {
+                    return Err(bad(format!("{field}.force"), *f, "N", ">= 0 and finite"));
+                }
+            }
+            ForceLaw::Compression(rows) => {
+                if rows.is_empty() {
+                    return Err(FemError::InvalidSetup(format!(
+                        "{field}.force_curve: the table is empty; give [compression mm, force N] rows"
+                    )));
+                }
+                for (k, &(c, f)) in rows.iter().enumerate() {
+                    if !c.is_finite() || (k > 0 && c <= rows[k - 1].0) {
+                        return Err(bad(
+                            format!("{field}.force_curve[{k}][0]"),
+                            c,
+                            "mm",
+                            "finite and strictly increasing",
+                        ));
+                    }
+                    if !(f.is_finite() && f >= 0.0) {
+                        return Err(bad(
+                            format!("{field}.force_curve[{k}][1]"),
+                            f,
+                            "N",
+                            ">= 0 and finite",
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 impl ToolMotion {
@@ -126,6 +224,15 @@ pub struct PressStep {
     pub active_pairs: Option<Vec<usize>>,
 }
 
+/// What the blank did to a tool in the last step, read by force control.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ToolLoad {
+    /// Force the blank exerted on the tool (N).
+    pub force: Vec3,
+    /// Normal contact stiffness of the blank points touching the tool (N/mm).
+    pub stiffness: f64,
+}
+
 /// Where a step change happened, reported by [`Press::advance`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepChange {
@@ -147,6 +254,12 @@ pub struct Press {
     step_start_pose: Vec<RigidPose>,
     /// Mid-step speed of each force-controlled travel (mm/s).
     free_speed: Vec<f64>,
+    /// Force (N) applied to each force-controlled tool in the last advance
+    /// (`F A(τ)`, along its direction); `None` for other tools.
+    applied: Vec<Option<f64>>,
+    /// The last reaction along each force-controlled tool's direction (N),
+    /// for the rate relative damping reads.
+    last_reaction: Vec<Option<f64>>,
     current: usize,
     step_start: f64,
     finished: bool,
@@ -242,10 +355,12 @@ impl Press {
                         force,
                         mass,
                         damping,
+                        relative_damping,
                         ..
                     } => {
-                        if !(force.is_finite() && *force >= 0.0) {
-                            return Err(bad("force", *force, "N", ">= 0 and finite"));
+                        force.validate(&field(&tool_field("motion")))?;
+                        if !(0.0..=1.0).contains(relative_damping) {
+                            return Err(bad("relative_damping", *relative_damping, "-", "[0, 1]"));
                         }
                         if !(mass.is_finite() && *mass > 0.0) {
                             return Err(bad("mass", *mass, "tonne", "> 0 and finite"));
@@ -265,6 +380,8 @@ impl Press {
             velocities: vec![RigidVelocity::default(); n],
             step_start_pose: poses.to_vec(),
             free_speed: vec![0.0; n],
+            applied: vec![None; n],
+            last_reaction: vec![None; n],
             current: 0,
             step_start: 0.0,
             finished: false,
@@ -306,6 +423,34 @@ impl Press {
         self.poses[i].translation - self.initial[i].translation
     }
 
+    /// The force (N) applied to tool `i` along its direction in the last
+    /// advance, `F A(τ)`, if the tool is force-controlled in the current step.
+    pub fn applied_force(&self, i: usize) -> Option<f64> {
+        self.applied[i]
+    }
+
+    /// The unit direction of tool `i`'s motion in the current step, if it moves.
+    pub fn direction(&self, i: usize) -> Option<Vec3> {
+        self.motion(self.current, i)
+            .direction_and_amplitude()
+            .map(|(d, _)| *d)
+    }
+
+    /// The unit direction of the first motion of tool `i` in the programme
+    /// (its press axis), if it ever moves.
+    pub fn first_direction(&self, i: usize) -> Option<Vec3> {
+        (0..self.steps.len())
+            .find_map(|k| self.motion(k, i).direction_and_amplitude().map(|(d, _)| *d))
+    }
+
+    fn motion(&self, step: usize, i: usize) -> &ToolMotion {
+        self.steps[step]
+            .motions
+            .iter()
+            .find(|(t, _)| *t == i)
+            .map_or(&ToolMotion::Hold, |(_, m)| m)
+    }
+
     /// Whether contact pair `pair` is active in the current step.
     pub fn pair_active(&self, pair: usize) -> bool {
         match &self.steps[self.current].active_pairs {
@@ -320,8 +465,8 @@ impl Press {
         self.steps.iter().map(|s| s.end.duration()).sum()
     }
 
-    /// Move every tool to time `t_next` (s), `dt = t_next − t_n`. `reactions[i]`
-    /// is the force (N) the blank exerted on tool `i` in the last step (read by
+    /// Move every tool to time `t_next` (s), `dt = t_next − t_n`. `loads[i]`
+    /// is what the blank did to tool `i` in the last step (read by
     /// force-controlled tools). Returns the step that began, if one did.
     ///
     /// # Errors
@@ -330,7 +475,7 @@ impl Press {
         &mut self,
         t_next: f64,
         dt: f64,
-        reactions: &[Vec3],
+        loads: &[ToolLoad],
     ) -> Result<Option<StepChange>, FemError> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(FemError::InvalidParameter {
@@ -363,7 +508,7 @@ impl Press {
             }
             // Finish the step: place prescribed tools at its end; start the next.
             let t_end = if travel_done { t_next - dt } else { end_time };
-            self.place(t_end - self.step_start, 0.0, reactions, false);
+            self.place(t_end - self.step_start, 0.0, loads, false);
             if self.current + 1 == self.steps.len() {
                 self.finished = true;
                 for v in &mut self.velocities {
@@ -379,13 +524,13 @@ impl Press {
                 time: self.step_start,
             });
         }
-        self.place(t_next - self.step_start, dt, reactions, true);
+        self.place(t_next - self.step_start, dt, loads, true);
         Ok(change)
     }
 
     /// Place the tools at step time `tau`; with `dt > 0` also set their
     /// mid-step velocities and integrate force-controlled travel.
-    fn place(&mut self, tau: f64, dt: f64, reactions: &[Vec3], integrate: bool) {
+    fn place(&mut self, tau: f64, dt: f64, loads: &[ToolLoad], integrate: bool) {
         let step = &self.steps[self.current];
         let duration = step.end.duration();
         for i in 0..self.poses.len() {
@@ -395,6 +540,9 @@ impl Press {
                 .find(|(t, _)| *t == i)
                 .map(|(_, m)| m)
                 .unwrap_or(&ToolMotion::Hold);
+            if !matches!(motion, ToolMotion::Force { .. }) {
+                self.applied[i] = None;
+            }
             let old = self.poses[i].translation;
             let start = self.step_start_pose[i].translation;
             let new = match motion {
@@ -432,11 +580,25 @@ impl Press {
                     amplitude,
                     mass,
                     damping,
+                    relative_damping,
                 } => {
                     if integrate && dt > 0.0 {
                         let a_t = amplitude.as_ref().map_or(1.0, |a| a.value(tau));
-                        let r = reactions.get(i).copied().unwrap_or_else(Vec3::zeros);
-                        let f = force * a_t + r.dot(direction) - damping * self.free_speed[i];
+                        let compression = -(old - self.initial[i].translation).dot(direction);
+                        let applied = force.value(compression) * a_t;
+                        self.applied[i] = Some(applied);
+                        let load = loads.get(i).copied().unwrap_or_default();
+                        let speed = self.free_speed[i];
+                        let reaction = load.force.dot(direction);
+                        let mut f = applied + reaction - damping * speed;
+                        let last = self.last_reaction[i].replace(reaction);
+                        if let Some(last) = last
+                            && *relative_damping > 0.0
+                            && load.stiffness > 0.0
+                        {
+                            let omega = (load.stiffness / mass).sqrt();
+                            f += 2.0 * relative_damping / omega * (reaction - last) / dt;
+                        }
                         self.free_speed[i] += dt * f / mass;
                         old + direction * (self.free_speed[i] * dt)
                     } else {
@@ -486,17 +648,17 @@ mod tests {
         let mut vmax: f64 = 0.0;
         for _ in 0..999 {
             t += dt;
-            p.advance(t, dt, &[Vec3::zeros()]).unwrap();
+            p.advance(t, dt, &[ToolLoad::default()]).unwrap();
             vmax = vmax.max(p.velocity(0).linear.norm());
         }
         assert!(!p.finished());
         t += dt;
-        p.advance(t, dt, &[Vec3::zeros()]).unwrap();
+        p.advance(t, dt, &[ToolLoad::default()]).unwrap();
         assert!((p.displacement(0).z + 40.0).abs() < 1e-9);
         assert!(p.velocity(0).linear.norm() < 1e-3 * vmax);
         // Peak speed of the smooth step: 15/8 · distance / duration.
         assert!((vmax - 15.0 / 8.0 * 40.0 / 0.01).abs() < 1e-3 * vmax);
-        p.advance(t + dt, dt, &[Vec3::zeros()]).unwrap();
+        p.advance(t + dt, dt, &[ToolLoad::default()]).unwrap();
         assert!(p.finished());
     }
 
@@ -512,10 +674,11 @@ mod tests {
                 0,
                 ToolMotion::Force {
                     direction: -Vec3::z(),
-                    force: f,
+                    force: ForceLaw::Constant(f),
                     amplitude: None,
                     mass: m,
                     damping: c,
+                    relative_damping: 0.0,
                 },
             )],
             active_pairs: Some(vec![1]),
@@ -524,7 +687,15 @@ mod tests {
         let dt = 1e-5;
         let mut r = Vec3::zeros();
         for n in 1..5000 {
-            p.advance(n as f64 * dt, dt, &[r]).unwrap();
+            p.advance(
+                n as f64 * dt,
+                dt,
+                &[ToolLoad {
+                    force: r,
+                    ..ToolLoad::default()
+                }],
+            )
+            .unwrap();
             // The spring pushes back up, proportional to the downward travel.
             r = Vec3::z() * (k * -p.displacement(0).z);
         }
@@ -565,7 +736,10 @@ mod tests {
         let dt = 1e-4;
         let mut began = None;
         for n in 1..200 {
-            if let Some(c) = p.advance(n as f64 * dt, dt, &[Vec3::zeros()]).unwrap() {
+            if let Some(c) = p
+                .advance(n as f64 * dt, dt, &[ToolLoad::default()])
+                .unwrap()
+            {
                 began = Some(c);
             }
         }
@@ -583,15 +757,103 @@ mod tests {
             0,
             ToolMotion::Force {
                 direction: Vec3::z(),
-                force: 1.0,
+                force: ForceLaw::Constant(1.0),
                 amplitude: None,
                 mass: 0.0,
                 damping: 0.0,
+                relative_damping: 0.0,
             },
         ));
         let e = Press::new(&names(1), &[RigidPose::default()], bad).unwrap_err();
         assert!(e.to_string().contains("steps[1] (dwell).mass"), "{e}");
         let e = Press::new(&names(1), &[RigidPose::default()], vec![]).unwrap_err();
         assert!(e.to_string().contains("no steps"), "{e}");
+    }
+
+    /// A force-controlled tool of mass `m` pressing down with `F` on a support
+    /// spring `k` whose surface rises at `v`; returns the force delivered to
+    /// the support over the second half of `T`: (mean, min, max).
+    fn rising_support(damping: f64, relative_damping: f64) -> (f64, f64, f64) {
+        let (f, k, m, v) = (4900.0, 2.0e6, 0.01, 20.0);
+        let steps = vec![PressStep {
+            name: "draw".into(),
+            end: StepEnd::Duration(0.05),
+            motions: vec![(
+                0,
+                ToolMotion::Force {
+                    direction: -Vec3::z(),
+                    force: ForceLaw::Constant(f),
+                    amplitude: None,
+                    mass: m,
+                    damping,
+                    relative_damping,
+                },
+            )],
+            active_pairs: None,
+        }];
+        let mut p = Press::new(&names(1), &[RigidPose::default()], steps).unwrap();
+        let dt = 1e-6;
+        let mut load = ToolLoad::default();
+        let (mut sum, mut time, mut lo, mut hi) = (0.0, 0.0, f64::INFINITY, 0.0f64);
+        for n in 1..=50_000 {
+            let t = n as f64 * dt;
+            p.advance(t, dt, &[load]).unwrap();
+            // The support's surface starts at the tool (z = 0) and rises.
+            let pen = (v * t - p.displacement(0).z).max(0.0);
+            let delivered = k * pen;
+            load = ToolLoad {
+                force: Vec3::z() * delivered,
+                stiffness: if pen > 0.0 { k } else { 0.0 },
+            };
+            if n > 25_000 {
+                sum += delivered * dt;
+                time += dt;
+                lo = lo.min(delivered);
+                hi = hi.max(delivered);
+            }
+        }
+        (sum / time, lo, hi)
+    }
+
+    /// Force control delivers its force, in the mean, to a support that
+    /// pushes the tool back at a steady speed (momentum balance: the mean
+    /// delivered force is `F − c ṡ − m Δṡ/T`); the old 500 N·s/mm dashpot
+    /// adds `c v` = 10 kN to the prescribed 4.9 kN. Relative damping quiets
+    /// the bounce without biasing the mean: 0.5 % of `F`. Undamped, the
+    /// bounce excited by the sudden start persists (amplitude ≈ 5 kN at
+    /// ω = √(k/m)), and its momentum `m Δṡ / T` alone moves a window's mean
+    /// by up to ≈ 0.6 %: 1 %.
+    #[test]
+    fn force_control_delivers_its_force_on_a_rising_support() {
+        let f = 4900.0;
+        let (mean, lo, hi) = rising_support(0.0, 0.0);
+        assert!((mean / f - 1.0).abs() < 1e-2, "undamped: mean {mean}");
+        let (mean_rel, lo_rel, hi_rel) = rising_support(0.0, 0.5);
+        assert!(
+            (mean_rel / f - 1.0).abs() < 5e-3,
+            "relative: mean {mean_rel}"
+        );
+        assert!(hi_rel - lo_rel < 0.01 * f, "relative: {lo_rel}..{hi_rel}");
+        assert!(hi - lo > hi_rel - lo_rel, "undamped {lo}..{hi}");
+        let (mean_dashpot, ..) = rising_support(500.0, 0.0);
+        assert!(
+            (mean_dashpot - (f + 500.0 * 20.0)).abs() < 5e-3 * f,
+            "dashpot: mean {mean_dashpot}"
+        );
+    }
+
+    /// A gas-spring curve is linear between its rows and constant beyond.
+    #[test]
+    fn force_curve_interpolates_and_holds_its_ends() {
+        let law = ForceLaw::Compression(vec![(0.0, 1000.0), (10.0, 2000.0), (20.0, 2500.0)]);
+        assert_eq!(law.value(-5.0), 1000.0);
+        assert_eq!(law.value(5.0), 1500.0);
+        assert_eq!(law.value(15.0), 2250.0);
+        assert_eq!(law.value(30.0), 2500.0);
+        let bad = ForceLaw::Compression(vec![(0.0, 1.0), (0.0, 2.0)]);
+        let e = bad.validate("steps[1]").unwrap_err().to_string();
+        assert!(e.contains("force_curve[1][0]"), "{e}");
+        assert!(ForceLaw::Compression(vec![]).validate("s").is_err());
+        assert!(ForceLaw::Constant(-1.0).validate("s").is_err());
     }
 }
