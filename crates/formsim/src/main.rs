@@ -581,6 +581,9 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
                 .map_or(String::new(), |m| format!(", minor at punch edge {m:.4}"))
         );
     }
+    for line in formsim::run::tools_report::delivered_lines(&s.tools) {
+        println!("  {line}");
+    }
     if let Some(c) = &s.capstan {
         println!(
             "  capstan: T_pull/T_hold = {:.4}, e^(mu theta) = {:.4} ({:+.2} %)",
@@ -597,8 +600,11 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
             100.0 * (b.slip_force / b.analytic - 1.0)
         );
     }
+    for w in &s.warnings {
+        println!("  warning: {w}");
+    }
     println!(
-        "  results: {}/summary.json, sections/, energy.csv, punch_force.csv, blank.pvd (ParaView), plots/*.png",
+        "  results: {}/summary.json, sections/, energy.csv, punch_force.csv, tools.csv, blank.pvd (ParaView), plots/*.png",
         out.display()
     );
     Ok(ExitCode::SUCCESS)

@@ -8,7 +8,10 @@
 //! frames) happens only at the scheduled times.
 
 pub mod post;
+pub mod reference;
 pub mod summary;
+pub mod tools_report;
+pub mod warnings;
 pub mod write;
 
 use crate::output::OutputError;
@@ -84,6 +87,8 @@ pub struct RunResult {
     pub summary: summary::Summary,
     /// Histories.
     pub history: Vec<HistoryRow>,
+    /// The tools' history (`tools.csv`), sampled with `history`.
+    pub tool_history: Vec<tools_report::ToolRow>,
     /// Final snapshot.
     pub last: Snapshot,
     /// Snapshots at the report strokes.
@@ -123,13 +128,19 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
     let mut next_sample = 0.0;
     let mut next_frame = 0.0;
     let mut history = Vec::with_capacity(o.history_points + 2);
+    let mut tool_history = Vec::with_capacity(o.history_points + 2);
+    let axes = tools_report::press_axes(&model);
     let mut frames: Vec<(f64, String)> = Vec::new();
     let mut strokes: Vec<f64> = o.report_strokes.clone();
     strokes.sort_by(f64::total_cmp);
     let mut states: Vec<(f64, Snapshot)> = Vec::new();
     let mut ki_max: f64 = 0.0;
+    let mut hg_max: f64 = 0.0;
     let mut force_max: f64 = 0.0;
     let mut pull_sum = (0.0, 0usize);
+    // The strip's holder: force delivered and prescribed, summed while drawing.
+    let strip_holder = strip_holder(loaded, &model);
+    let mut holder_sum = (0.0, 0.0);
     let mut clamp_seen = false;
     let bar = match &options.progress {
         Progress::Hidden => None,
@@ -158,6 +169,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         };
         if forming && e.internal > 0.0 {
             ki_max = ki_max.max(e.kinetic / e.internal);
+            hg_max = hg_max.max(e.hourglass / e.internal);
         }
         if let Some(c) = model.contact() {
             clamp_seen |= c.pairs().iter().any(|p| p.clamped);
@@ -171,6 +183,11 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
                 .map_err(|e| loaded.key_error("output", e.to_string()))?;
             pull_sum.0 += f[*dof].abs();
             pull_sum.1 += 1;
+            if let (Some(i), Some(c)) = (strip_holder, model.contact()) {
+                let row = tools_report::sample(&model, &axes, time, 0.0);
+                holder_sum.0 += row.tools[i].force;
+                holder_sum.1 += c.press().and_then(|p| p.applied_force(i)).unwrap_or(0.0);
+            }
         }
         if time >= next_sample || time >= end {
             history.push(HistoryRow {
@@ -180,6 +197,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
                 energy: e,
                 dt: model.solver.dt_next(),
             });
+            tool_history.push(tools_report::sample(&model, &axes, time, stroke));
             next_sample += sample_every;
         }
         while let Some(&r) = strokes.first() {
@@ -243,7 +261,12 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         states: &states,
         force_max,
         ki_max,
+        hg_max,
         capstan: (pull_sum.1 > 0).then(|| pull_sum.0 / pull_sum.1 as f64),
+        holder: (pull_sum.1 > 0 && strip_holder.is_some()).then(|| {
+            let n = pull_sum.1 as f64;
+            (holder_sum.0 / n, holder_sum.1 / n)
+        }),
         clamp_seen,
         stopped: stop.clone(),
         dt0,
@@ -251,6 +274,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
     let result = RunResult {
         summary,
         history,
+        tool_history,
         last,
         states,
     };
@@ -297,8 +321,21 @@ fn pulled_set(loaded: &LoadedScene) -> Option<(String, usize, f64)> {
                 b.average_from,
             )
         }),
+        SceneKind::StripDraw => o.strip.as_ref().map(|b| {
+            (
+                b.pull_set.clone(),
+                dof_from_name(&b.pull_dof).map_or(0, |d| d.axis()),
+                b.average_from,
+            )
+        }),
         _ => None,
     }
+}
+
+/// The index of a strip-draw scene's holder.
+fn strip_holder(loaded: &LoadedScene, model: &Model) -> Option<usize> {
+    let strip = loaded.scene.output.strip.as_ref()?;
+    model.tool_names.iter().position(|n| *n == strip.holder)
 }
 
 fn progress_bar() -> Option<indicatif::ProgressBar> {

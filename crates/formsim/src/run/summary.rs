@@ -1,6 +1,8 @@
 //! `summary.json`: the figures of one run (issue 5's keys; scene units).
 
 use super::post::{SectionSummary, Snapshot};
+use super::tools_report::{self, PairSummary, ToolSummary};
+use super::warnings::{self, Figures};
 use crate::scene::schema::SceneKind;
 use crate::scene::{LoadedScene, Model};
 use fem_core::SetupReport;
@@ -73,6 +75,22 @@ pub struct BlockSummary {
     pub analytic: f64,
 }
 
+/// Strip drawn between a force-controlled holder and a die: the mean draw
+/// force against `2μF`, and the force the holder delivered against `F`.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct StripSummary {
+    /// Mean draw force while drawing (N).
+    pub draw_force: f64,
+    /// `2 μ F` with `F` the mean prescribed holder force (N).
+    pub analytic: f64,
+    /// Mean force the holder delivered to the strip while drawing (N).
+    pub holder_force: f64,
+    /// Mean force prescribed to the holder while drawing (N).
+    pub holder_prescribed: f64,
+    /// μ of the active contact law.
+    pub mu: f64,
+}
+
 /// `summary.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
@@ -108,6 +126,8 @@ pub struct Summary {
     pub friction_energy_share: f64,
     /// Largest kinetic/internal ratio once forming has started (-).
     pub kinetic_to_internal_max: f64,
+    /// Largest hourglass/internal ratio once forming has started (-).
+    pub hourglass_to_internal_max: f64,
     /// Largest thinning at the end (-).
     pub thinning_max: f64,
     /// Largest punch force over the run, full-model equivalent (N).
@@ -126,8 +146,20 @@ pub struct Summary {
     /// Block-on-plane result.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub block: Option<BlockSummary>,
+    /// Strip-draw result.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub strip: Option<StripSummary>,
+    /// What each tool did (forces on the model, per press step).
+    pub tools: BTreeMap<String, ToolSummary>,
+    /// What each contact pair did.
+    pub pairs: BTreeMap<String, PairSummary>,
     /// Whether a law's clamp (WH's `μ_min`) was active at some step.
     pub friction_clamp_active: bool,
+    /// Bounds the run exceeded (docs/scene-format.md, "Warnings"), one line each.
+    pub warnings: Vec<String>,
+    /// Every setting of the run as resolved (defaults filled in, overrides
+    /// applied): the scene as formsim read it.
+    pub settings: serde_json::Value,
     /// `--set` overrides applied.
     pub overrides: Vec<String>,
     /// `"completed"` or the reason the run stopped.
@@ -152,8 +184,12 @@ pub struct Inputs<'a> {
     pub force_max: f64,
     /// Largest K/I while forming.
     pub ki_max: f64,
-    /// Mean pulled-end reaction for capstan/block (N).
+    /// Largest hourglass/internal while forming.
+    pub hg_max: f64,
+    /// Mean pulled-end reaction for capstan/block/strip (N).
     pub capstan: Option<f64>,
+    /// Strip: the holder's mean delivered and prescribed force (N).
+    pub holder: Option<(f64, f64)>,
     /// Whether a clamp was active.
     pub clamp_seen: bool,
     /// Why the run stopped early.
@@ -184,20 +220,52 @@ impl Summary {
         } else {
             0.0
         };
-        let capstan = match (scene.scene.kind, &scene.output.capstan, i.capstan) {
-            (SceneKind::Capstan, Some(c), Some(pull)) => Some(CapstanSummary {
+        let mut notes = Vec::new();
+        let mu = match (scene.scene.kind, i.capstan) {
+            (SceneKind::Capstan | SceneKind::BlockOnPlane | SceneKind::StripDraw, Some(_)) => {
+                super::reference::coulomb_mu(i.loaded)
+                    .map_err(|why| notes.push(format!("no analytic reference: {why}")))
+                    .ok()
+            }
+            _ => None,
+        };
+        let capstan = match (scene.scene.kind, &scene.output.capstan, i.capstan, mu) {
+            (SceneKind::Capstan, Some(c), Some(pull), Some(mu)) => Some(CapstanSummary {
                 tension_ratio: pull / c.hold_force,
-                analytic: (c.mu * c.angle_deg.to_radians()).exp(),
+                analytic: (mu * c.angle_deg.to_radians()).exp(),
             }),
             _ => None,
         };
-        let block = match (scene.scene.kind, &scene.output.block, i.capstan) {
-            (SceneKind::BlockOnPlane, Some(b), Some(f)) => Some(BlockSummary {
+        let block = match (scene.scene.kind, &scene.output.block, i.capstan, mu) {
+            (SceneKind::BlockOnPlane, Some(b), Some(f), Some(mu)) => Some(BlockSummary {
                 slip_force: f,
-                analytic: b.mu * b.normal_force,
+                analytic: mu * b.normal_force,
             }),
             _ => None,
         };
+        let strip = match (scene.scene.kind, i.capstan, i.holder, mu) {
+            (SceneKind::StripDraw, Some(f), Some((delivered, prescribed)), Some(mu)) => {
+                Some(StripSummary {
+                    draw_force: f,
+                    analytic: 2.0 * mu * prescribed,
+                    holder_force: delivered,
+                    holder_prescribed: prescribed,
+                    mu,
+                })
+            }
+            _ => None,
+        };
+        let tools = tools_report::tools(i.model);
+        let mut warnings = warnings::check(
+            &Figures {
+                added_mass_percent: added_percent,
+                kinetic_to_internal_max: i.ki_max,
+                hourglass_to_internal_max: i.hg_max,
+                balance_error: e.balance_error,
+            },
+            &tools,
+        );
+        warnings.append(&mut notes);
         Summary {
             scene: scene.scene.name.clone(),
             law: i.model.law.clone(),
@@ -228,6 +296,7 @@ impl Summary {
             },
             friction_energy_share: share,
             kinetic_to_internal_max: i.ki_max,
+            hourglass_to_internal_max: i.hg_max,
             thinning_max: i.last.thinning_max,
             punch_force_max: i.force_max,
             stroke: i.last.stroke,
@@ -240,9 +309,22 @@ impl Summary {
                 .collect(),
             capstan,
             block,
+            strip,
+            tools,
+            pairs: tools_report::pairs(i.model),
             friction_clamp_active: i.clamp_seen,
+            warnings,
+            settings: settings(scene),
             overrides: i.loaded.overrides.clone(),
             status: i.stopped.clone().unwrap_or_else(|| "completed".to_string()),
         }
     }
+}
+
+/// The resolved scene as JSON (through TOML, which leaves out unset options).
+fn settings(scene: &crate::scene::Scene) -> serde_json::Value {
+    toml::Value::try_from(scene)
+        .map_err(|e| e.to_string())
+        .and_then(|v| serde_json::to_value(v).map_err(|e| e.to_string()))
+        .unwrap_or_else(|e| serde_json::Value::String(format!("not serialisable: {e}")))
 }

@@ -1,5 +1,5 @@
 //! Writing a run's files: `summary.json`, `sections/*.csv`, `energy.csv`,
-//! `punch_force.csv`, VTK frames and the `.pvd` series, PNG plots.
+//! `punch_force.csv`, `tools.csv`, VTK frames and the `.pvd` series, PNG plots.
 
 use super::RunResult;
 use super::post::{SectionRow, Snapshot};
@@ -147,17 +147,19 @@ fn sections(dir: &Path, snap: &Snapshot, suffix: &str) -> Result<(), OutputError
 pub fn all(out: &Path, result: &RunResult, model: &Model, plots: bool) -> Result<(), OutputError> {
     // summary.json
     let path = out.join("summary.json");
-    let json = serde_json::to_string_pretty(&result.summary).map_err(|e| OutputError::Invalid {
+    let invalid = |e: serde_json::Error| OutputError::Invalid {
         what: format!("{}: {e}", path.display()),
-    })?;
-    if json.contains("null") {
+    };
+    let value = serde_json::to_value(&result.summary).map_err(invalid)?;
+    if let Some(key) = first_null(&value, String::new()) {
         return Err(OutputError::Invalid {
             what: format!(
-                "{}: a figure is not finite (NaN or infinity); the run is not trustworthy",
+                "{}: `{key}` is not finite (NaN or infinity); the run is not trustworthy",
                 path.display()
             ),
         });
     }
+    let json = serde_json::to_string_pretty(&value).map_err(invalid)?;
     write_text(&path, &(json + "\n"))?;
 
     // Sections, at the end and at each report stroke.
@@ -203,11 +205,102 @@ pub fn all(out: &Path, result: &RunResult, model: &Model, plots: bool) -> Result
         let _ = writeln!(s, "{},{},{}", h.time, h.stroke, h.punch_force);
     }
     write_text(&path, &s)?;
+    tools_csv(&out.join("tools.csv"), result, model)?;
 
     if plots {
         plots_png(out, result, model)?;
     }
     Ok(())
+}
+
+/// The dotted key of the first null (a non-finite number serialised) in `v`.
+fn first_null(v: &serde_json::Value, at: String) -> Option<String> {
+    let join = |k: &str| {
+        if at.is_empty() {
+            k.to_string()
+        } else {
+            format!("{at}.{k}")
+        }
+    };
+    match v {
+        serde_json::Value::Null => Some(at),
+        serde_json::Value::Object(m) => m.iter().find_map(|(k, v)| first_null(v, join(k))),
+        serde_json::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(k, v)| first_null(v, join(&k.to_string()))),
+        _ => None,
+    }
+}
+
+/// `tools.csv`: time, stroke, and per tool the force on the blank along its
+/// press axis and in total, the prescribed force (empty unless
+/// force-controlled) and the position along the axis.
+fn tools_csv(path: &Path, result: &RunResult, model: &Model) -> Result<(), OutputError> {
+    let mut s = String::from("time,stroke");
+    for name in &model.tool_names {
+        let _ = write!(
+            s,
+            ",{name}_force,{name}_force_total,{name}_prescribed,{name}_position"
+        );
+    }
+    s.push('\n');
+    for row in &result.tool_history {
+        let _ = write!(s, "{},{}", row.time, row.stroke);
+        for t in &row.tools {
+            finite(path, "a tool force", t.force)?;
+            let prescribed = t.prescribed.map_or(String::new(), |p| p.to_string());
+            let _ = write!(
+                s,
+                ",{},{},{prescribed},{}",
+                t.force, t.force_total, t.position
+            );
+        }
+        s.push('\n');
+    }
+    write_text(path, &s)
+}
+
+/// `plots/tools.png`: each tool's force on the blank along its press axis
+/// (and the prescribed force of a force-controlled tool) against time.
+fn tools_png(plots: &Path, result: &RunResult, model: &Model) -> Result<(), OutputError> {
+    if model.tool_names.is_empty() || result.tool_history.is_empty() {
+        return Ok(());
+    }
+    let h = &result.tool_history;
+    let mut series = Vec::new();
+    for (i, name) in model.tool_names.iter().enumerate() {
+        series.push(Series {
+            label: format!("{name}: delivered"),
+            points: h
+                .iter()
+                .map(|r| (r.time * 1e3, 1e-3 * r.tools[i].force))
+                .collect(),
+        });
+        let prescribed: Vec<(f64, f64)> = h
+            .iter()
+            .filter_map(|r| r.tools[i].prescribed.map(|p| (r.time * 1e3, 1e-3 * p)))
+            .collect();
+        if !prescribed.is_empty() {
+            series.push(Series {
+                label: format!("{name}: prescribed"),
+                points: prescribed,
+            });
+        }
+    }
+    let path = plots.join("tools.png");
+    draw_panels(
+        &path,
+        &[Panel {
+            title: "Force of each tool on the blank, along its press axis (model)".into(),
+            x_label: "time (ms)".into(),
+            y_label: "force (kN)".into(),
+            series,
+        }],
+        1000,
+        500,
+    )
+    .map_err(plot_err(&path))
 }
 
 fn plot_err(path: &Path) -> impl Fn(String) -> OutputError + '_ {
@@ -263,6 +356,7 @@ fn plots_png(out: &Path, result: &RunResult, model: &Model) -> Result<(), Output
         let path = plots.join("strains.png");
         draw_panels(&path, &panels, 1000, 420).map_err(plot_err(&path))?;
     }
+    tools_png(&plots, result, model)?;
     // Energies against time.
     let h = &result.history;
     let series = |label: &str, f: &dyn Fn(&super::HistoryRow) -> f64| Series {

@@ -364,17 +364,18 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
                 },
                 Motion::Force {
                     direction,
-                    force,
                     amplitude,
                     mass,
                     damping,
+                    relative_damping,
                     ..
                 } => ToolMotion::Force {
                     direction: unit(direction),
-                    force: *force,
+                    force: motion.force_law().expect("validated: force or force_curve"),
                     amplitude: amp(amplitude),
                     mass: *mass,
                     damping: *damping,
+                    relative_damping: *relative_damping,
                 },
             };
             motions.push((tool, m));

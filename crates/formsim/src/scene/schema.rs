@@ -2,11 +2,11 @@
 //! serde structures (unknown keys are errors). Ranges are checked afterwards by
 //! [`super::validate::validate`]; building the model is [`super::build()`]'s work.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// A whole scene file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
     /// `[scene]`: name, kind, units.
@@ -37,7 +37,7 @@ pub struct Scene {
 }
 
 /// `[scene]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Meta {
     /// Name used in reports and `summary.json`.
@@ -53,7 +53,7 @@ pub struct Meta {
 }
 
 /// Post-processing preset of a scene.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SceneKind {
     /// No benchmark-specific results.
@@ -65,10 +65,13 @@ pub enum SceneKind {
     Capstan,
     /// Block on a plane: slip force against `μN`.
     BlockOnPlane,
+    /// A strip drawn between a force-controlled holder and a die: draw force
+    /// against `2μF`, and the force the holder delivers against `F`.
+    StripDraw,
 }
 
 /// `[scene.units]`: must be mm, N, MPa, tonne, s (stated so that every scene says it).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Units {
     /// `"mm"`.
@@ -84,7 +87,7 @@ pub struct Units {
 }
 
 /// `[blank]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Blank {
     /// `[blank.mesh]`: generator or file.
@@ -129,7 +132,7 @@ fn default_warping_correction() -> bool {
 }
 
 /// Shell element formulation.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ElementKind {
     /// One-point Belytschko–Tsay with hourglass control.
@@ -150,7 +153,7 @@ impl ElementKind {
 }
 
 /// `[blank.mesh]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum MeshSpec {
     /// A structured rectangle in the plane `z = origin.z`, corner at `origin`;
@@ -191,7 +194,7 @@ pub enum MeshSpec {
 }
 
 /// Elements per side of a rectangle.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
 #[serde(untagged)]
 pub enum Divisions {
     /// The same number along x and y.
@@ -211,7 +214,7 @@ impl Divisions {
 }
 
 /// `[blank.material]`: isotropic elastic–plastic (plane-stress J2).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Material {
     /// Young's modulus (MPa).
@@ -225,7 +228,7 @@ pub struct Material {
 }
 
 /// Hardening curve `σ_y(ε_p)`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum HardeningSpec {
     /// Swift: `σ_y = k (eps0 + ε_p)^n` (MPa).
@@ -254,7 +257,7 @@ pub enum HardeningSpec {
 }
 
 /// `[contact]`: the defaults of every pair, and the pairs.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Contact {
     /// Friction law by name (`ac`, `wvs`, `wh`, `levanov` or a linked plugin).
@@ -313,7 +316,7 @@ fn default_margin() -> f64 {
 }
 
 /// `[[contact.pairs]]`: the blank against one tool.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PairEntry {
     /// Tool name (a `[tools.NAME]`).
@@ -337,7 +340,7 @@ pub struct PairEntry {
 /// `"constant"`, a ramp `{ shape = "smooth-step" | "linear", t0, t1 }`, or a
 /// table `[[t, A], …]` (t in s from the start of the step, or of the run for
 /// boundary conditions and loads).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(untagged)]
 pub enum AmplitudeSpec {
     /// A named shape over the step.
@@ -356,7 +359,7 @@ pub enum AmplitudeSpec {
 }
 
 /// `[[steps]]`: one press step.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Step {
     /// Name for reports.
@@ -376,7 +379,7 @@ pub struct Step {
 }
 
 /// `until = { tool, distance, max_duration }`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TravelEnd {
     /// Tool name.
@@ -388,7 +391,7 @@ pub struct TravelEnd {
 }
 
 /// `[[steps.motions]]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Motion {
     /// Stay put.
@@ -426,25 +429,55 @@ pub enum Motion {
         tool: String,
         /// Direction of the force and of the free travel.
         direction: [f64; 3],
-        /// Force (N) on the model (a quarter model carries a quarter of the press force).
-        force: f64,
+        /// Constant force (N) on the model (a quarter model carries a quarter
+        /// of the press force); give this or `force_curve`.
+        #[serde(default)]
+        force: Option<f64>,
+        /// Gas-spring curve: `[compression mm, force N]` rows, the compression
+        /// being the travel against `direction` since the start (docs/contact.md).
+        #[serde(default)]
+        force_curve: Option<Vec<[f64; 2]>>,
         /// Scale of the force; default `"constant"`.
         #[serde(default)]
         amplitude: Option<AmplitudeSpec>,
         /// Mass of the free DOF (tonne); default 0.01.
         #[serde(default = "default_tool_mass")]
         mass: f64,
-        /// Viscous damping of the free DOF (N·s/mm); default 500.
-        #[serde(default = "default_tool_damping")]
+        /// Absolute dashpot on the free DOF (N·s/mm); default 0 (none). A
+        /// dashpot subtracts `damping × speed` from the delivered force.
+        #[serde(default)]
         damping: f64,
+        /// Damping of the tool's motion relative to the blank under it, as a
+        /// fraction of critical (-, [0, 1]); default 0 (docs/contact.md).
+        #[serde(default)]
+        relative_damping: f64,
     },
 }
 
 fn default_tool_mass() -> f64 {
     0.01
 }
-fn default_tool_damping() -> f64 {
-    500.0
+
+impl Motion {
+    /// The force law of a `force` motion (`None` for other motions, or when
+    /// neither or both of `force` and `force_curve` are given).
+    pub fn force_law(&self) -> Option<fem_core::ForceLaw> {
+        match self {
+            Motion::Force {
+                force: Some(f),
+                force_curve: None,
+                ..
+            } => Some(fem_core::ForceLaw::Constant(*f)),
+            Motion::Force {
+                force: None,
+                force_curve: Some(rows),
+                ..
+            } => Some(fem_core::ForceLaw::Compression(
+                rows.iter().map(|r| (r[0], r[1])).collect(),
+            )),
+            _ => None,
+        }
+    }
 }
 
 impl Motion {
@@ -480,12 +513,22 @@ impl Motion {
                 tool,
                 direction,
                 force,
+                force_curve,
                 amplitude,
-                ..
-            } => format!(
-                "{tool} pushed with {force} N along {direction:?} ({})",
-                amp(amplitude, "constant")
-            ),
+                mass,
+                damping,
+                relative_damping,
+            } => {
+                let what = match (force, force_curve) {
+                    (Some(f), _) => format!("{f} N"),
+                    (None, Some(rows)) => format!("a gas-spring curve of {} rows", rows.len()),
+                    _ => "no force".to_string(),
+                };
+                format!(
+                    "{tool} pushed with {what} along {direction:?} ({}), mass {mass} t, dashpot {damping} N*s/mm, relative damping {relative_damping}",
+                    amp(amplitude, "constant")
+                )
+            }
         }
     }
 
@@ -501,7 +544,7 @@ impl Motion {
 }
 
 /// `[solver]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSection {
     /// Time-step safety factor (-); default 0.9.
@@ -538,7 +581,7 @@ fn default_safety() -> f64 {
 }
 
 /// `[[boundary]]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Boundary {
     /// Symmetry plane with normal `axis` (`"x"`, `"y"`, `"z"`) through a node set.
@@ -572,7 +615,7 @@ pub enum Boundary {
 }
 
 /// `[[loads]]`: a force on every node of a set.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Load {
     /// Node set.
@@ -587,7 +630,7 @@ pub struct Load {
 }
 
 /// `[output]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Output {
     /// VTK frames over the run (0: none); default 20.
@@ -628,6 +671,9 @@ pub struct Output {
     /// Block-on-plane post-processing.
     #[serde(default)]
     pub block: Option<BlockOutput>,
+    /// Strip-draw post-processing.
+    #[serde(default)]
+    pub strip: Option<StripOutput>,
 }
 
 impl Default for Output {
@@ -645,6 +691,7 @@ impl Default for Output {
             punch_edge_distance: None,
             capstan: None,
             block: None,
+            strip: None,
         }
     }
 }
@@ -667,7 +714,7 @@ fn yes() -> bool {
 
 /// `[[output.sections]]`: elements whose initial centroid lies within half an
 /// element of the segment `from → to` (x, y in mm), ordered by distance from `from`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SectionLine {
     /// Name (`OD`, `OX`, …): the CSV is `sections/NAME.csv`.
@@ -680,7 +727,7 @@ pub struct SectionLine {
 
 /// `[[output.draw_in]]`: the node nearest `at` (initial x, y); its draw-in is
 /// its displacement along the unit `inward` direction (mm).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DrawIn {
     /// Name (`DX`, `DY`, `DD`).
@@ -692,7 +739,7 @@ pub struct DrawIn {
 }
 
 /// `[output.capstan]`: tension ratio of the wrapped strip.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CapstanOutput {
     /// Node set pulled (prescribed motion): its reaction is `T_pull`.
@@ -704,14 +751,12 @@ pub struct CapstanOutput {
     pub pull_dof: String,
     /// Wrap angle θ (degrees).
     pub angle_deg: f64,
-    /// Friction coefficient μ of the analytic value.
-    pub mu: f64,
     /// Steady sliding is averaged from this time on (s).
     pub average_from: f64,
 }
 
 /// `[output.block]`: slip force of a block pressed on a plane and pulled.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BlockOutput {
     /// Node set pulled (prescribed motion): its reaction is the friction force.
@@ -720,8 +765,21 @@ pub struct BlockOutput {
     pub pull_dof: String,
     /// Normal force N (N).
     pub normal_force: f64,
-    /// μ of the analytic value `μ N`.
-    pub mu: f64,
     /// Steady sliding is averaged from this time on (s).
+    pub average_from: f64,
+}
+
+/// `[output.strip]`: a strip drawn between a force-controlled holder and a
+/// die; the draw force against `2μF` (friction on both faces).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct StripOutput {
+    /// Node set pulled (prescribed motion): its reaction is the draw force.
+    pub pull_set: String,
+    /// DOF along which it is pulled (`ux`, `uy`).
+    pub pull_dof: String,
+    /// The force-controlled tool pressing the strip.
+    pub holder: String,
+    /// Steady drawing is averaged from this time on (s).
     pub average_from: f64,
 }

@@ -243,14 +243,33 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                 Motion::Force {
                     direction,
                     force,
+                    force_curve,
                     amplitude,
                     mass,
                     damping,
+                    relative_damping,
                     ..
                 } => {
-                    non_negative(&mkey("force"), *force, "N")?;
+                    match (force, force_curve) {
+                        (Some(f), None) => non_negative(&mkey("force"), *f, "N")?,
+                        (None, Some(rows)) => {
+                            check_force_curve(loaded, &mkey("force_curve"), rows)?
+                        }
+                        _ => {
+                            return err(
+                                &mkey("force"),
+                                "give either `force` (N) or `force_curve` ([compression mm, force N] rows), not both or neither".into(),
+                            );
+                        }
+                    }
                     positive(&mkey("mass"), *mass, "tonne")?;
                     non_negative(&mkey("damping"), *damping, "N*s/mm")?;
+                    if !(0.0..=1.0).contains(relative_damping) {
+                        return err(
+                            &mkey("relative_damping"),
+                            format!("{relative_damping}: must be in [0, 1] (fraction of critical)"),
+                        );
+                    }
                     check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
                     Some(direction)
                 }
@@ -408,6 +427,23 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
             "a capstan scene needs [output.capstan]".into(),
         );
     }
+    if s.scene.kind == SceneKind::StripDraw {
+        match &o.strip {
+            None => {
+                return err(
+                    "output.strip",
+                    "a strip-draw scene needs [output.strip]".into(),
+                );
+            }
+            Some(st) if !s.tools.contains_key(&st.holder) => {
+                return err(
+                    "output.strip.holder",
+                    format!("\"{}\": no such tool", st.holder),
+                );
+            }
+            Some(_) => {}
+        }
+    }
     if s.scene.kind == SceneKind::BlockOnPlane && o.block.is_none() {
         return err(
             "output.block",
@@ -527,4 +563,33 @@ pub fn warnings(loaded: &LoadedScene) -> Vec<String> {
         }
         _ => Vec::new(),
     }
+}
+
+/// A gas-spring curve: at least one row, compressions finite and strictly
+/// increasing (mm), forces finite and `>= 0` (N).
+fn check_force_curve(loaded: &LoadedScene, key: &str, rows: &[[f64; 2]]) -> Result<(), SceneError> {
+    if rows.is_empty() {
+        return Err(loaded.key_error(
+            key,
+            "empty: give [compression mm, force N] rows".to_string(),
+        ));
+    }
+    for (k, r) in rows.iter().enumerate() {
+        if !r[0].is_finite() || (k > 0 && r[0] <= rows[k - 1][0]) {
+            return Err(loaded.key_error(
+                key,
+                format!(
+                    "row {k}: compression {} mm must be finite and strictly increasing",
+                    r[0]
+                ),
+            ));
+        }
+        if !(r[1].is_finite() && r[1] >= 0.0) {
+            return Err(loaded.key_error(
+                key,
+                format!("row {k}: force {} N must be finite and >= 0", r[1]),
+            ));
+        }
+    }
+    Ok(())
 }

@@ -1,0 +1,99 @@
+//! The friction coefficient of the analytic references (capstan `e^{μθ}`,
+//! block `μN`, strip `2μF`), read from the scene's active contact law: the
+//! law is built with the scene's parameters and probed; it has a Coulomb
+//! coefficient when `τ_c = μ p` over pressures and frictional work, and no
+//! analytic reference otherwise.
+
+use crate::scene::LoadedScene;
+use plugins_api::{FrictionLaw, Params, ShearInputs, registry};
+
+/// Pressures (MPa) and frictional work densities (N/mm) at which the law is
+/// probed: from near lift-off to well above the benchmarks' pressures.
+const PROBE_PRESSURES: [f64; 4] = [1e-3, 1.0, 30.0, 300.0];
+const PROBE_WORK: [f64; 3] = [0.0, 10.0, 1e3];
+/// How closely `τ_c / p` must agree over the probes to be one coefficient.
+const SAME_MU: f64 = 1e-9;
+
+/// The Coulomb coefficient of the scene's active law, or why there is none.
+///
+/// # Errors
+/// A plugin law or per-pair laws (no single named law), a law that is not
+/// proportional to the pressure, or one that fails to build; each says so.
+pub fn coulomb_mu(loaded: &LoadedScene) -> Result<f64, String> {
+    let c = &loaded.scene.contact;
+    if c.plugin.is_some() {
+        return Err("the contact law is a plugin".into());
+    }
+    if c.pairs
+        .iter()
+        .any(|p| p.law.as_ref().is_some_and(|l| *l != c.law))
+    {
+        return Err("the pairs use different laws".into());
+    }
+    let mut params = Params::new();
+    if let Some(table) = c.params.get(&c.law) {
+        for (name, v) in table {
+            params.set(name, *v);
+        }
+    }
+    let law = registry::build_law(&c.law, &params).map_err(|e| e.to_string())?;
+    mu_of(law.as_ref())
+}
+
+/// `τ_c / p` of `law` if it is the same at every probe.
+fn mu_of(law: &dyn FrictionLaw) -> Result<f64, String> {
+    let mut mu: Option<f64> = None;
+    for &p in &PROBE_PRESSURES {
+        for &omega in &PROBE_WORK {
+            let x = ShearInputs {
+                p,
+                omega,
+                sliding_speed: 0.0,
+                flow_stress: 0.0,
+                temperature: 0.0,
+            };
+            let m = law.critical_shear(&x).tau / p;
+            match mu {
+                None => mu = Some(m),
+                Some(m0) if (m - m0).abs() > SAME_MU * m0.abs().max(1e-12) => {
+                    return Err(format!(
+                        "law `{}` is not Coulomb (τ_c/p = {m0:.6} and {m:.6} at p, ω = {p} MPa, {omega} N/mm)",
+                        law.name()
+                    ));
+                }
+                Some(_) => {}
+            }
+        }
+    }
+    mu.filter(|m| m.is_finite())
+        .ok_or_else(|| format!("law `{}` gives no finite τ_c/p", law.name()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// AC gives its μ; WVS with ν = 1 is Coulomb with μ = α + β
+    /// (friction-math §7); WVS with ν = 0.8 and WH with a1 ≠ 0 are not.
+    #[test]
+    fn coulomb_mu_of_the_builtin_laws() {
+        friction_laws::ensure_linked();
+        let build = |name: &str, kv: &[(&str, f64)]| {
+            let mut p = Params::new();
+            for (k, v) in kv {
+                p.set(k, *v);
+            }
+            registry::build_law(name, &p).unwrap()
+        };
+        let ac = build("ac", &[("mu", 0.144)]);
+        assert!((mu_of(ac.as_ref()).unwrap() - 0.144).abs() < 1e-15);
+        let wvs = build("wvs", &[("alpha", 0.0), ("beta", 0.144), ("nu", 1.0)]);
+        assert!((mu_of(wvs.as_ref()).unwrap() - 0.144).abs() < 1e-12);
+        let wvs = build("wvs", &[("alpha", 0.03), ("beta", 0.144), ("nu", 0.8)]);
+        assert!(mu_of(wvs.as_ref()).is_err());
+        let wh = build("wh", &[("a0", 0.1448), ("a1", -8.757e-5)]);
+        assert!(mu_of(wh.as_ref()).is_err());
+        let wh = build("wh", &[("a0", 0.2), ("a1", 0.0)]);
+        assert!((mu_of(wh.as_ref()).unwrap() - 0.2).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,238 @@
+//! What each tool and contact pair did in a run, for `summary.json`: per tool
+//! and press step the force it exerted on the blank (mean, min, max; along its
+//! direction of motion and in total), the force prescribed to a
+//! force-controlled tool, its travel and work; per pair the frictional
+//! dissipation, and the contact area and mean pressure at the end. Forces are
+//! those on the model (a quarter model carries a quarter of the press force).
+
+use crate::scene::Model;
+use contact::{Sampled, ToolStepLog};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Mean, smallest and largest value of a force over a press step (N).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ForceStats {
+    /// Time mean.
+    pub mean: f64,
+    /// Smallest value.
+    pub min: f64,
+    /// Largest value.
+    pub max: f64,
+}
+
+impl ForceStats {
+    fn of(s: &Sampled, duration: f64) -> Self {
+        let (mean, min, max) = s.mean_min_max(duration);
+        Self { mean, min, max }
+    }
+}
+
+/// What one tool did over one press step.
+#[derive(Debug, Clone, Serialize)]
+pub struct ToolStepSummary {
+    /// Index of the press step (0-based, in programme order).
+    pub index: usize,
+    /// Time spent in the step (s).
+    pub duration_s: f64,
+    /// Unit direction the forces are resolved along (the tool's direction of
+    /// motion, else its first direction in the programme, else −z).
+    pub direction: [f64; 3],
+    /// Force the tool exerted on the blank along `direction` (N).
+    pub force_along: ForceStats,
+    /// Magnitude of the force the tool exerted on the blank (N).
+    pub force_total: ForceStats,
+    /// Force prescribed to a force-controlled tool (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_prescribed: Option<ForceStats>,
+    /// `force_along.mean / force_prescribed.mean − 1` (-), force control only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub delivered_error: Option<f64>,
+    /// Travel along `direction` over the step (mm).
+    pub travel: f64,
+    /// Work the tool did on the blank through contact (mJ = N·mm).
+    pub work: f64,
+}
+
+/// What one tool did over the run.
+#[derive(Debug, Clone, Serialize)]
+pub struct ToolSummary {
+    /// Travel along the tool's press axis at the end, from its initial pose (mm).
+    pub travel: f64,
+    /// Work the tool did on the blank through contact over the run (mJ).
+    pub work: f64,
+    /// Per press step, keyed by the step's name.
+    pub steps: BTreeMap<String, ToolStepSummary>,
+}
+
+/// What one contact pair did.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct PairSummary {
+    /// Frictional dissipation over the run (mJ).
+    pub friction_dissipation: f64,
+    /// Contact area at the end (mm²): nodal areas of the touching points.
+    pub contact_area: f64,
+    /// Area-weighted mean contact pressure at the end (MPa).
+    pub mean_pressure: f64,
+}
+
+/// The tools' block of `summary.json`.
+pub fn tools(model: &Model) -> BTreeMap<String, ToolSummary> {
+    let Some(c) = model.contact() else {
+        return BTreeMap::new();
+    };
+    let step_names: Vec<String> = c.press().map_or_else(Vec::new, |p| {
+        p.steps().iter().map(|s| s.name.clone()).collect()
+    });
+    c.tool_log()
+        .iter()
+        .zip(&model.tool_names)
+        .map(|(log, name)| (name.clone(), tool_summary(log, &step_names)))
+        .collect()
+}
+
+fn tool_summary(log: &[ToolStepLog], step_names: &[String]) -> ToolSummary {
+    let mut steps = BTreeMap::new();
+    for l in log {
+        let mut key = step_names
+            .get(l.step)
+            .cloned()
+            .unwrap_or_else(|| "run".to_string());
+        if steps.contains_key(&key) {
+            key = format!("{key} #{}", l.step + 1);
+        }
+        steps.insert(key, step_summary(l));
+    }
+    ToolSummary {
+        travel: log.last().map_or(0.0, |l| l.travel.1),
+        work: log.iter().map(|l| l.work).sum(),
+        steps,
+    }
+}
+
+fn step_summary(l: &ToolStepLog) -> ToolStepSummary {
+    let along = ForceStats::of(&l.along, l.duration);
+    let prescribed = l.applied.as_ref().map(|a| ForceStats::of(a, l.duration));
+    ToolStepSummary {
+        index: l.step,
+        duration_s: l.duration,
+        direction: [l.direction.x, l.direction.y, l.direction.z],
+        force_along: along,
+        force_total: ForceStats::of(&l.total, l.duration),
+        force_prescribed: prescribed,
+        delivered_error: prescribed
+            .filter(|p| p.mean > 0.0)
+            .map(|p| along.mean / p.mean - 1.0),
+        travel: l.travel.1 - l.travel.0,
+        work: l.work,
+    }
+}
+
+/// The pairs' block of `summary.json`.
+pub fn pairs(model: &Model) -> BTreeMap<String, PairSummary> {
+    let Some(c) = model.contact() else {
+        return BTreeMap::new();
+    };
+    c.pairs()
+        .iter()
+        .map(|p| {
+            let (contact_area, mean_pressure) = p.area_and_mean_pressure(&c.geometry().area);
+            (
+                p.name().to_string(),
+                PairSummary {
+                    friction_dissipation: p.energy.friction,
+                    contact_area,
+                    mean_pressure,
+                },
+            )
+        })
+        .collect()
+}
+
+/// One line per force-controlled tool and press step: the force it delivered
+/// beside the one prescribed (for the console).
+pub fn delivered_lines(tools: &BTreeMap<String, ToolSummary>) -> Vec<String> {
+    let mut lines = Vec::new();
+    for (name, t) in tools {
+        let mut steps: Vec<_> = t.steps.iter().collect();
+        steps.sort_by_key(|(_, s)| s.index);
+        for (step, s) in steps {
+            if let (Some(p), Some(e)) = (s.force_prescribed, s.delivered_error) {
+                lines.push(format!(
+                    "{name} in \"{step}\": delivered {:.1} N (mean; min {:.1}, max {:.1}), prescribed {:.1} N ({:+.2} %)",
+                    s.force_along.mean,
+                    s.force_along.min,
+                    s.force_along.max,
+                    p.mean,
+                    100.0 * e
+                ));
+            }
+        }
+    }
+    lines
+}
+
+/// One tool's state at a history sample: force on the blank along the tool's
+/// press axis and in total (N), the prescribed force (N; NaN when the tool is
+/// not force-controlled, written as an empty cell) and the position along
+/// the axis from the initial pose (mm).
+#[derive(Debug, Clone, Copy)]
+pub struct ToolState {
+    /// Force on the blank along the press axis (N).
+    pub force: f64,
+    /// Magnitude of the force on the blank (N).
+    pub force_total: f64,
+    /// Prescribed force (N), `None` unless force-controlled now.
+    pub prescribed: Option<f64>,
+    /// Position along the press axis from the initial pose (mm).
+    pub position: f64,
+}
+
+/// One row of `tools.csv`.
+#[derive(Debug, Clone)]
+pub struct ToolRow {
+    /// Time (s).
+    pub time: f64,
+    /// Stroke (mm).
+    pub stroke: f64,
+    /// Per tool, in index order.
+    pub tools: Vec<ToolState>,
+}
+
+/// The press axis each tool's history is resolved along: its first direction
+/// of motion, else −z.
+pub fn press_axes(model: &Model) -> Vec<plugins_api::Vec3> {
+    let Some(c) = model.contact() else {
+        return Vec::new();
+    };
+    (0..model.tool_names.len())
+        .map(|i| {
+            c.press()
+                .and_then(|p| p.first_direction(i))
+                .unwrap_or(-plugins_api::Vec3::z())
+        })
+        .collect()
+}
+
+/// The tools' states now.
+pub fn sample(model: &Model, axes: &[plugins_api::Vec3], time: f64, stroke: f64) -> ToolRow {
+    let tools = model.contact().map_or_else(Vec::new, |c| {
+        axes.iter()
+            .enumerate()
+            .map(|(i, d)| {
+                let f = -c.reactions()[i];
+                ToolState {
+                    force: f.dot(d),
+                    force_total: f.norm(),
+                    prescribed: c.press().and_then(|p| p.applied_force(i)),
+                    position: c.press().map_or(0.0, |p| p.displacement(i).dot(d)),
+                }
+            })
+            .collect()
+    });
+    ToolRow {
+        time,
+        stroke,
+        tools,
+    }
+}
