@@ -66,7 +66,7 @@ pub use effect::{Effect, EnergyTally, StableDt};
 pub use energy::{EnergyLedger, History, HistoryRow};
 pub use error::FemError;
 pub use mesh::{Mesh, MeshQuality, rectangle, wrapped_strip};
-pub use mesh_io::{read_inp, read_msh};
+pub use mesh_io::{MeshFile, read_inp, read_inp_numbered, read_msh, read_msh_numbered};
 pub use press::{ForceLaw, Press, PressStep, StepChange, StepEnd, ToolLoad, ToolMotion};
 pub use settings::SolverSettings;
 pub use solver::{Control, DtLimit, EffectId, RunSummary, SetupReport, Solver, StepReport};

@@ -55,15 +55,38 @@ enum InpBlock {
 /// them. Errors name the file and line. The mesh is not validated here: call
 /// [`Mesh::validate`].
 pub fn read_inp(path: impl AsRef<Path>) -> Result<Mesh, FemError> {
+    read_inp_numbered(path).map(|f| f.mesh)
+}
+
+/// [`read_inp`], keeping the file's node and element ids (for messages).
+pub fn read_inp_numbered(path: impl AsRef<Path>) -> Result<MeshFile, FemError> {
     let path = path.as_ref();
     let text = read_text(path)?;
     let file = path.display().to_string();
-    parse_inp(&text, &file)
+    parse_inp_numbered(&text, &file)
 }
 
+/// A mesh read from a file, with the file's own numbers of its nodes and
+/// elements (Abaqus ids, Gmsh tags), so that messages can name them.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MeshFile {
+    /// The mesh (0-based indices in file order).
+    pub mesh: Mesh,
+    /// The file's id of each node, by index.
+    pub node_ids: Vec<i64>,
+    /// The file's id of each element, by index.
+    pub element_ids: Vec<i64>,
+}
+
+#[cfg(test)]
 fn parse_inp(text: &str, file: &str) -> Result<Mesh, FemError> {
+    parse_inp_numbered(text, file).map(|f| f.mesh)
+}
+
+fn parse_inp_numbered(text: &str, file: &str) -> Result<MeshFile, FemError> {
     let at = At { file };
     let mut nodes = Vec::new();
+    let mut node_ids = Vec::new();
     let mut node_index: HashMap<i64, u32> = HashMap::new();
     // (file id, node ids, line)
     let mut elems: Vec<(i64, [i64; 4], usize)> = Vec::new();
@@ -162,6 +185,7 @@ fn parse_inp(text: &str, file: &str) -> Result<Mesh, FemError> {
                     return Err(at.err(line_no, format!("node id {id} is defined twice")));
                 }
                 nodes.push(p);
+                node_ids.push(id);
             }
             InpBlock::Element { elset } => {
                 if fields.len() != 5 {
@@ -260,7 +284,11 @@ fn parse_inp(text: &str, file: &str) -> Result<Mesh, FemError> {
         }
     }
     add_missing_all(&mut mesh);
-    Ok(mesh)
+    Ok(MeshFile {
+        mesh,
+        node_ids,
+        element_ids: elems.iter().map(|e| e.0).collect(),
+    })
 }
 
 fn add_missing_all(mesh: &mut Mesh) {
@@ -320,13 +348,23 @@ impl<'a> Lines<'a> {
 /// name the file and line. The mesh is not validated here: call
 /// [`Mesh::validate`].
 pub fn read_msh(path: impl AsRef<Path>) -> Result<Mesh, FemError> {
+    read_msh_numbered(path).map(|f| f.mesh)
+}
+
+/// [`read_msh`], keeping the file's node and element tags (for messages).
+pub fn read_msh_numbered(path: impl AsRef<Path>) -> Result<MeshFile, FemError> {
     let path = path.as_ref();
     let text = read_text(path)?;
     let file = path.display().to_string();
-    parse_msh(&text, &file)
+    parse_msh_numbered(&text, &file)
 }
 
+#[cfg(test)]
 fn parse_msh(text: &str, file: &str) -> Result<Mesh, FemError> {
+    parse_msh_numbered(text, file).map(|f| f.mesh)
+}
+
+fn parse_msh_numbered(text: &str, file: &str) -> Result<MeshFile, FemError> {
     let mut ls = Lines {
         it: text.lines().enumerate().peekable(),
         at: At { file },
@@ -336,9 +374,10 @@ fn parse_msh(text: &str, file: &str) -> Result<Mesh, FemError> {
     // (dim, entity tag) -> physical tags
     let mut ent_phys: HashMap<(i32, i32), Vec<i32>> = HashMap::new();
     let mut nodes = Vec::new();
+    let mut node_ids = Vec::new();
     let mut node_index: HashMap<u64, u32> = HashMap::new();
-    // quads with line numbers (file node tags), entity tag
-    let mut quads_raw: Vec<([u64; 4], usize, i32)> = Vec::new();
+    // quads (file node tags) with line numbers, entity tag and element tag
+    let mut quads_raw: Vec<([u64; 4], usize, i32, u64)> = Vec::new();
     // (dim, entity) -> node tags of lower-dimensional elements
     let mut ent_nodes: HashMap<(i32, i32), Vec<(u64, usize)>> = HashMap::new();
     let mut seen_format = false;
@@ -417,6 +456,7 @@ fn parse_msh(text: &str, file: &str) -> Result<Mesh, FemError> {
                             return Err(ls.at.err(n3, format!("node tag {tag} is defined twice")));
                         }
                         nodes.push(Vec3::new(p[0], p[1], p[2]));
+                        node_ids.push(tag as i64);
                     }
                     let _ = n2;
                 }
@@ -443,7 +483,7 @@ fn parse_msh(text: &str, file: &str) -> Result<Mesh, FemError> {
                                     format!("element {}: a quad needs 4 node tags", e[0]),
                                 ));
                             }
-                            quads_raw.push(([e[1], e[2], e[3], e[4]], n3, ent));
+                            quads_raw.push(([e[1], e[2], e[3], e[4]], n3, ent, e[0]));
                         } else if dim < 2 {
                             let list = ent_nodes.entry((dim, ent)).or_default();
                             list.extend(e[1..].iter().map(|&t| (t, n3)));
@@ -483,7 +523,7 @@ fn parse_msh(text: &str, file: &str) -> Result<Mesh, FemError> {
             .cloned()
             .unwrap_or_else(|| format!("{dim}:{tag}"))
     };
-    for (e, (conn, line, ent)) in quads_raw.iter().enumerate() {
+    for (e, (conn, line, ent, _)) in quads_raw.iter().enumerate() {
         let mut q = [0u32; 4];
         for (qi, &c) in q.iter_mut().zip(conn) {
             *qi = resolve(c, *line)?;
@@ -519,7 +559,11 @@ fn parse_msh(text: &str, file: &str) -> Result<Mesh, FemError> {
         set.dedup();
     }
     add_missing_all(&mut mesh);
-    Ok(mesh)
+    Ok(MeshFile {
+        mesh,
+        node_ids,
+        element_ids: quads_raw.iter().map(|q| q.3 as i64).collect(),
+    })
 }
 
 #[cfg(test)]
@@ -560,6 +604,17 @@ strip
         assert_eq!(m.node_sets["all"].len(), 6);
         assert_eq!(m.nodes[4], Vec3::new(1.0, 1.0, 0.0));
         m.validate().unwrap();
+    }
+
+    #[test]
+    fn numbered_readers_keep_the_file_ids() {
+        let f = parse_inp_numbered(INP, "strip.inp").unwrap();
+        assert_eq!(f.node_ids, [10, 11, 12, 20, 21, 22]);
+        assert_eq!(f.element_ids, [1, 2]);
+        assert_eq!(f.mesh, parse_inp(INP, "strip.inp").unwrap());
+        let f = parse_msh_numbered(MSH, "plate.msh").unwrap();
+        assert_eq!(f.node_ids, [1, 4, 2, 3, 5, 6]);
+        assert_eq!(f.element_ids, [2, 3]);
     }
 
     #[test]

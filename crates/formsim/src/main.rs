@@ -467,11 +467,18 @@ fn plot_point(
 }
 
 fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
+    use formsim::scene::estimate;
     let loaded = formsim::scene::load(path, set).map_err(|e| e.to_string())?;
-    let model = formsim::scene::build(&loaded).map_err(|e| e.to_string())?;
+    let mut model = formsim::scene::build(&loaded).map_err(|e| e.to_string())?;
+    let setup = model
+        .initialize()
+        .map_err(|e| loaded.key_error("solver", e.to_string()).to_string())?;
     let s = &loaded.scene;
+    let est = estimate::estimate(s, estimate::MeshSize::of_mesh(&model.mesh));
     println!("{}: ok", path.display());
-    for w in formsim::scene::validate::warnings(&loaded) {
+    let mut warnings = formsim::scene::validate::warnings(&loaded);
+    warnings.extend(estimate::added_mass_warnings(s, &setup));
+    for w in warnings {
         println!("  warning     {w}");
     }
     println!(
@@ -515,6 +522,9 @@ fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
             .mass_scaling_dt
             .map_or("off".to_string(), |t| format!("dt = {t:e} s"))
     );
+    for line in estimate::report_lines(s, &est, &setup) {
+        println!("  {line}");
+    }
     Ok(ExitCode::SUCCESS)
 }
 
@@ -524,7 +534,12 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("results").join(&loaded.scene.scene.name));
-    for w in formsim::scene::validate::warnings(&loaded) {
+    let mass =
+        formsim::scene::estimate::mass_scaling_warnings(&loaded).map_err(|e| e.to_string())?;
+    for w in formsim::scene::validate::warnings(&loaded)
+        .into_iter()
+        .chain(mass)
+    {
         eprintln!("warning: {w}");
     }
     let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());

@@ -221,3 +221,255 @@ fn coarse_mesh_over_small_radius_warns() {
     .unwrap();
     assert_eq!(scene::validate::warnings(&fi).len(), 1);
 }
+
+// ----- guards (issue 14) ------------------------------------------------------
+
+/// `formsim scene check SCENE --set …`: exit code, stdout, stderr, wall time.
+fn check_cli(scene: &Path, sets: &[&str]) -> (Option<i32>, String, String, f64) {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_formsim"));
+    cmd.args(["scene", "check"]).arg(scene);
+    for s in sets {
+        cmd.args(["--set", s]);
+    }
+    let started = std::time::Instant::now();
+    let out = cmd.output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        started.elapsed().as_secs_f64(),
+    )
+}
+
+/// A refused scene: exit 1 and one line on stderr containing every `needle`.
+fn assert_refused(scene: &Path, sets: &[&str], needles: &[&str]) -> f64 {
+    let (code, _, err, secs) = check_cli(scene, sets);
+    assert_eq!(code, Some(1), "{sets:?}: {err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    for n in needles {
+        assert!(err.contains(n), "`{n}` not in: {err}");
+    }
+    secs
+}
+
+#[test]
+fn shipped_scenes_check_with_estimates_and_no_warnings() {
+    for name in ["square-cup", "square-cup-al", "capstan", "block-on-plane"] {
+        let (code, out, err, _) = check_cli(&root().join(format!("scenes/{name}.toml")), &[]);
+        assert_eq!(code, Some(0), "{name}: {err}");
+        assert!(!out.contains("warning"), "{name}: {out}");
+        assert!(out.contains("estimate    memory"), "{out}");
+        assert!(out.contains("increments of"), "{out}");
+    }
+    let (_, out, _, _) = check_cli(&cup(), &[]);
+    assert!(
+        out.contains("mass scaling (dt = 5e-7 s) adds 295.6 %"),
+        "{out}"
+    );
+    assert!(
+        out.contains("30201 increments of 5.000e-7 s (mass scaling)"),
+        "{out}"
+    );
+}
+
+/// A mass-scaling step of 1 s on the 4 ms block ran one increment and
+/// reported success; 1e-5 s on the cup is a tenth of its first step.
+#[test]
+fn mass_scaling_step_longer_than_a_hundredth_of_a_step_is_refused() {
+    let block = root().join("scenes/block-on-plane.toml");
+    assert_refused(
+        &block,
+        &["solver.mass_scaling_dt=1.0"],
+        &[
+            "solver.mass_scaling_dt: 1 s",
+            "solver.end_time (0.004 s), at most 4e-5 s",
+        ],
+    );
+    assert_refused(
+        &cup(),
+        &["solver.mass_scaling_dt=1e-5"],
+        &[
+            "solver.mass_scaling_dt: 1e-5 s",
+            "press step \"punch contact\" (1e-4 s)",
+        ],
+    );
+    // A hundredth of the first step is accepted.
+    let (code, _, err, _) = check_cli(&cup(), &["solver.mass_scaling_dt=1e-6"]);
+    assert_eq!(code, Some(0), "{err}");
+}
+
+/// 1e-6 s on the cup adds about 1,480 % at set-up: `scene check` and the run
+/// warn (the run before it starts), naming the key and the percentage; the
+/// library gives the same line for summary.json.
+#[test]
+fn large_added_mass_warns_at_check_and_before_the_run() {
+    let (code, out, _, _) = check_cli(&cup(), &["solver.mass_scaling_dt=1e-6"]);
+    assert_eq!(code, Some(0));
+    let warning = out
+        .lines()
+        .find(|l| l.contains("warning"))
+        .unwrap_or_else(|| panic!("no warning: {out}"));
+    assert!(
+        warning.contains("solver.mass_scaling_dt: 1e-6 s adds 1482 %"),
+        "{warning}"
+    );
+    let loaded = scene::load(&cup(), &["solver.mass_scaling_dt=1e-6".into()]).unwrap();
+    let lib = scene::estimate::mass_scaling_warnings(&loaded).unwrap();
+    assert_eq!(lib.len(), 1);
+    assert!(warning.ends_with(&lib[0]), "{warning} / {lib:?}");
+    let base = scene::load(&cup(), &[]).unwrap();
+    assert!(
+        scene::estimate::mass_scaling_warnings(&base)
+            .unwrap()
+            .is_empty()
+    );
+
+    let out_dir = std::env::temp_dir().join(format!("formsim-guards-run-{}", std::process::id()));
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_formsim"))
+        .args(["run", "--quiet", "--out"])
+        .arg(&out_dir)
+        .arg(cup())
+        .args(["--set", "solver.mass_scaling_dt=1e-6"])
+        .args(["--set", "solver.end_time=1e-4"])
+        .args(["--set", "output.plots=false"])
+        .args(["--set", "output.frames=0"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{err}");
+    assert!(
+        err.contains("warning: solver.mass_scaling_dt: 1e-6 s adds 1482 %"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&out_dir).ok();
+}
+
+/// 4096 × 4096 shells took 82 s and 16 GB to check; 1e9 history rows
+/// aborted on a 168 GB allocation. Both are refused from the scene alone,
+/// at once, naming the key.
+#[test]
+fn runs_larger_than_the_machine_are_refused_fast() {
+    let secs = assert_refused(
+        &cup(),
+        &["blank.mesh.divisions=4096"],
+        &[
+            "blank.mesh.divisions: [4096, 4096]: a run needs about",
+            "16785409 nodes, 16777216 elements",
+        ],
+    );
+    assert!(secs < 1.0, "{secs} s");
+    let secs = assert_refused(
+        &cup(),
+        &["output.history_points=1000000000"],
+        &["output.history_points: 1000000000", "of history rows"],
+    );
+    assert!(secs < 1.0, "{secs} s");
+    assert_refused(
+        &cup(),
+        &["blank.mesh.divisions=400", "output.frames=1000000000"],
+        &["output.frames: 1000000000", "of disk"],
+    );
+    assert_refused(
+        &root().join("scenes/capstan.toml"),
+        &["blank.mesh.element_size=1e-6"],
+        &["blank.mesh.element_size: 0.000001 mm"],
+    );
+}
+
+/// A scene over a mesh file in a fresh directory: (scene path, mesh path).
+fn file_scene(name: &str, mesh: &str) -> (PathBuf, PathBuf) {
+    let dir = std::env::temp_dir().join(format!("formsim-guards-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        "[scene]\nname = \"mesh-file\"\n\
+         units = { length = \"mm\", force = \"N\", stress = \"MPa\", mass = \"tonne\", time = \"s\" }\n\
+         [blank]\nmesh = { kind = \"file\", path = \"mesh.inp\" }\nthickness = 1.0\n\
+         [blank.material]\nyoungs_modulus = 206000.0\npoissons_ratio = 0.3\n\
+         density = 7.85e-9\nhardening = { kind = \"elastic\" }\n\
+         [solver]\nend_time = 1.0e-3\n",
+    )
+    .unwrap();
+    let path = dir.join("mesh.inp");
+    std::fs::write(&path, mesh).unwrap();
+    (scene, path)
+}
+
+/// Two shells, 17 and 18, over nodes 3, 4, 5, 9 and 4, 6, 7, 5.
+const STRIP: &str = "*NODE\n3, 0, 0, 0\n4, 1, 0, 0\n5, 1, 1, 0\n9, 0, 1, 0\n\
+                     6, 2, 0, 0\n7, 2, 1, 0\n*ELEMENT, TYPE=S4R\n17, 3, 4, 5, 9\n18, 4, 6, 7, 5\n";
+
+#[test]
+fn mesh_files_without_shells_or_with_bad_elements_are_refused_at_check() {
+    let (scene, mesh) = file_scene("mesh", STRIP);
+    let (code, out, err, _) = check_cli(&scene, &[]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("6 nodes, 2 belytschko-tsay shells"), "{out}");
+
+    // Empty: passed the check, then failed the run on the time step.
+    std::fs::write(&mesh, "** nothing\n").unwrap();
+    assert_refused(
+        &scene,
+        &[],
+        &["blank.mesh.path: mesh.inp: no shell elements"],
+    );
+    // Zero area: was blamed on `solver`.
+    std::fs::write(
+        &mesh,
+        STRIP
+            .replace("5, 1, 1, 0", "5, 0.5, 0, 0")
+            .replace("9, 0, 1, 0", "9, 0.2, 0, 0"),
+    )
+    .unwrap();
+    assert_refused(
+        &scene,
+        &[],
+        &[
+            "blank.mesh.path: mesh.inp: element 17 has zero area",
+            "nodes 3, 4, 5, 9",
+        ],
+    );
+    std::fs::write(&mesh, STRIP.replace("17, 3, 4, 5, 9", "17, 3, 4, 4, 9")).unwrap();
+    assert_refused(
+        &scene,
+        &[],
+        &[
+            "blank.mesh.path: mesh.inp: element 17 has zero area: node 4 appears twice (nodes 3, 4, 4, 9)",
+        ],
+    );
+    // NaN coordinates and missing nodes: the reader names file and line.
+    std::fs::write(&mesh, STRIP.replace("6, 2, 0, 0", "6, nan, 0, 0")).unwrap();
+    assert_refused(
+        &scene,
+        &[],
+        &[
+            "blank.mesh.path: ",
+            "mesh.inp:6: node 6: coordinate `nan` is not finite",
+        ],
+    );
+    std::fs::write(&mesh, STRIP.replace("18, 4, 6, 7, 5", "18, 4, 6, 8, 5")).unwrap();
+    assert_refused(
+        &scene,
+        &[],
+        &[
+            "blank.mesh.path: ",
+            "mesh.inp:10: element 18: node id 8 is not defined",
+        ],
+    );
+    std::fs::remove_dir_all(scene.parent().unwrap()).unwrap();
+}
+
+/// A generated mesh gets the same element check (a rectangle whose
+/// elements' area underflows to zero).
+#[test]
+fn generated_meshes_with_zero_area_are_refused() {
+    assert_refused(
+        &cup(),
+        &["blank.mesh.size=[1e-200, 1e-200]"],
+        &[
+            "blank.mesh: rectangle: element 0 has zero area",
+            "nodes 0, 1, 52, 51",
+        ],
+    );
+}

@@ -4,7 +4,7 @@
 
 use super::LoadedScene;
 use super::SceneError;
-use super::schema::{AmplitudeSpec, Boundary, ElementKind, HardeningSpec, MeshSpec, Motion, Scene};
+use super::schema::{AmplitudeSpec, Boundary, ElementKind, HardeningSpec, Motion, Scene};
 use super::validate::{axis_index, dof_from_name};
 use crate::components::{LawSource, point_integrator};
 use contact::{BlankGeometry, ContactEffect, ContactPair, PairSpec, PenaltySettings};
@@ -234,7 +234,7 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     let base = loaded.base_dir();
 
     // Mesh.
-    let mesh = build_mesh(loaded).map_err(|e| loaded.key_error("blank.mesh", e.to_string()))?;
+    let mesh = super::blank_mesh::build_mesh(loaded)?;
     let settings = SolverSettings {
         safety_factor: s.solver.safety_factor,
         mass_scaling_dt: s.solver.mass_scaling_dt,
@@ -675,57 +675,4 @@ fn step_amplitude(a: &AmplitudeSpec, duration: f64) -> Amplitude {
         }
         AmplitudeSpec::Table(rows) => Amplitude::Table(rows.iter().map(|r| (r[0], r[1])).collect()),
     }
-}
-
-/// The blank mesh of the scene.
-fn build_mesh(loaded: &LoadedScene) -> Result<Mesh, String> {
-    let mut mesh = match &loaded.scene.blank.mesh {
-        MeshSpec::Rectangle {
-            size,
-            divisions,
-            origin,
-        } => {
-            let (nx, ny) = divisions.pair();
-            let mut m = fem_core::rectangle(size[0], size[1], nx as usize, ny as usize)
-                .map_err(|e| e.to_string())?;
-            for p in &mut m.nodes {
-                *p += Vec3::new(origin[0], origin[1], origin[2]);
-            }
-            m
-        }
-        MeshSpec::File { path, translate } => {
-            let full = loaded.base_dir().join(path);
-            let ext = full
-                .extension()
-                .and_then(|e| e.to_str())
-                .unwrap_or("")
-                .to_ascii_lowercase();
-            let mut m = match ext.as_str() {
-                "inp" => fem_core::read_inp(&full),
-                "msh" => fem_core::read_msh(&full),
-                _ => return Err(format!("\"{path}\": expected a .inp or .msh file")),
-            }
-            .map_err(|e| e.to_string())?;
-            for p in &mut m.nodes {
-                *p += Vec3::new(translate[0], translate[1], translate[2]);
-            }
-            m
-        }
-        MeshSpec::WrappedStrip {
-            radius,
-            width,
-            tail,
-            angle_deg,
-            element_size,
-        } => fem_core::wrapped_strip(
-            *radius + 0.5 * loaded.scene.blank.thickness,
-            *width,
-            *tail,
-            angle_deg.to_radians(),
-            *element_size,
-        )
-        .map_err(|e| e.to_string())?,
-    };
-    mesh.add_all_sets();
-    Ok(mesh)
 }

@@ -7,8 +7,10 @@
 //! and its line) → [`validate`] (ranges, names, units) → [`build()`] (the
 //! solver with its effects).
 
+pub mod blank_mesh;
 pub mod build;
 pub mod error;
+pub mod estimate;
 pub mod locate;
 pub mod overrides;
 pub mod schema;

@@ -5,6 +5,7 @@
 
 use super::LoadedScene;
 use super::SceneError;
+use super::estimate::{self, MeshSize};
 use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, Scene, SceneKind};
 
 /// Check `loaded.scene`.
@@ -450,7 +451,16 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
             "a block-on-plane scene needs [output.block]".into(),
         );
     }
-    Ok(())
+    guards(loaded)
+}
+
+/// What cannot give a meaningful run although every key is in range: a
+/// mass-scaling step too long for the press steps, a run larger than the
+/// machine (a mesh file is counted when read, in [`super::build()`]).
+fn guards(loaded: &LoadedScene) -> Result<(), SceneError> {
+    estimate::check_mass_scaling_step(loaded)?;
+    let size = MeshSize::of_spec(&loaded.scene).unwrap_or(MeshSize::NONE);
+    estimate::check_size(loaded, &estimate::estimate(&loaded.scene, size))
 }
 
 fn check_amplitude(

@@ -1,0 +1,283 @@
+//! The blank's mesh: generated from `[blank.mesh]` or read from its file,
+//! then checked before anything is built on it. A file without shells, an
+//! element of zero area or with a repeated node, a non-finite coordinate or
+//! a distorted element is refused with the file and the element named by
+//! the file's own numbers (a generated mesh names them by 0-based index).
+
+use super::estimate::{self, MeshSize};
+use super::schema::MeshSpec;
+use super::{LoadedScene, SceneError};
+use fem_core::{FemError, Mesh, MeshFile, MeshQuality, Vec3};
+
+/// The blank mesh of the scene, with its `all` sets, checked.
+///
+/// # Errors
+/// Generator parameters (`blank.mesh`), unreadable or inconsistent files
+/// and too large a file mesh (`blank.mesh.path`, with the file and line),
+/// bad elements (naming the element and its nodes).
+pub fn build_mesh(loaded: &LoadedScene) -> Result<Mesh, SceneError> {
+    let mut mesh = match &loaded.scene.blank.mesh {
+        MeshSpec::File { path, translate } => {
+            let file = read_file(loaded, path)?;
+            check(&file.mesh, Some(&file))
+                .map_err(|m| loaded.key_error("blank.mesh.path", format!("{path}: {m}")))?;
+            let est = estimate::estimate(&loaded.scene, MeshSize::of_mesh(&file.mesh));
+            estimate::check_size(loaded, &est)?;
+            let mut m = file.mesh;
+            for p in &mut m.nodes {
+                *p += Vec3::new(translate[0], translate[1], translate[2]);
+            }
+            m
+        }
+        spec => {
+            let m = generate(loaded, spec)
+                .map_err(|e| loaded.key_error("blank.mesh", e.to_string()))?;
+            let what = match spec {
+                MeshSpec::Rectangle { .. } => "rectangle",
+                _ => "wrapped strip",
+            };
+            check(&m, None).map_err(|e| loaded.key_error("blank.mesh", format!("{what}: {e}")))?;
+            m
+        }
+    };
+    mesh.add_all_sets();
+    Ok(mesh)
+}
+
+/// Read the `.inp` or `.msh` file `path` (relative to the scene).
+fn read_file(loaded: &LoadedScene, path: &str) -> Result<MeshFile, SceneError> {
+    let full = loaded.base_dir().join(path);
+    let ext = full
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let read = match ext.as_str() {
+        "inp" => fem_core::read_inp_numbered(&full),
+        "msh" => fem_core::read_msh_numbered(&full),
+        _ => {
+            return Err(loaded.key_error(
+                "blank.mesh.path",
+                format!("\"{path}\": expected a .inp or .msh file"),
+            ));
+        }
+    };
+    read.map_err(|e| loaded.key_error("blank.mesh.path", e.to_string()))
+}
+
+/// The rectangle or wrapped strip of `spec`.
+fn generate(loaded: &LoadedScene, spec: &MeshSpec) -> Result<Mesh, FemError> {
+    match spec {
+        MeshSpec::Rectangle {
+            size,
+            divisions,
+            origin,
+        } => {
+            let (nx, ny) = divisions.pair();
+            let mut m = fem_core::rectangle(size[0], size[1], nx as usize, ny as usize)?;
+            for p in &mut m.nodes {
+                *p += Vec3::new(origin[0], origin[1], origin[2]);
+            }
+            Ok(m)
+        }
+        MeshSpec::WrappedStrip {
+            radius,
+            width,
+            tail,
+            angle_deg,
+            element_size,
+        } => fem_core::wrapped_strip(
+            *radius + 0.5 * loaded.scene.blank.thickness,
+            *width,
+            *tail,
+            angle_deg.to_radians(),
+            *element_size,
+        ),
+        MeshSpec::File { .. } => unreachable!("files are read, not generated"),
+    }
+}
+
+/// How nodes and elements are named in messages: the file's ids, else
+/// 0-based indices.
+struct Names<'a>(Option<&'a MeshFile>);
+
+impl Names<'_> {
+    fn node(&self, n: u32) -> i64 {
+        self.0
+            .and_then(|f| f.node_ids.get(n as usize).copied())
+            .unwrap_or(n as i64)
+    }
+    fn element(&self, e: usize) -> i64 {
+        self.0
+            .and_then(|f| f.element_ids.get(e).copied())
+            .unwrap_or(e as i64)
+    }
+    fn nodes_of(&self, q: &[u32; 4]) -> String {
+        let ids: Vec<String> = q.iter().map(|&n| self.node(n).to_string()).collect();
+        format!("nodes {}", ids.join(", "))
+    }
+}
+
+/// Check `mesh` (named by `file`'s numbers when it was read): shells
+/// present, finite coordinates, elements on existing and distinct nodes,
+/// of non-zero area, then [`Mesh::validate`] (shape, sets, orientation).
+///
+/// # Errors
+/// One line naming the node or the element and its nodes.
+pub fn check(mesh: &Mesh, file: Option<&MeshFile>) -> Result<(), String> {
+    let names = Names(file);
+    if mesh.quads.is_empty() {
+        return Err(format!(
+            "no shell elements ({} nodes; need 4-node shells: *ELEMENT, TYPE=S4R in a .inp, quads on a surface in a .msh)",
+            mesh.nodes.len()
+        ));
+    }
+    if let Some(n) = mesh
+        .nodes
+        .iter()
+        .position(|p| !p.iter().all(|v| v.is_finite()))
+    {
+        let p = mesh.nodes[n];
+        return Err(format!(
+            "node {} has a non-finite coordinate ({}, {}, {}) mm",
+            names.node(n as u32),
+            p.x,
+            p.y,
+            p.z
+        ));
+    }
+    for (e, q) in mesh.quads.iter().enumerate() {
+        check_element(mesh, e, q, &names)?;
+    }
+    mesh.validate().map_err(|err| describe(&err, mesh, &names))
+}
+
+/// Element `e` on nodes `q`: nodes exist, none repeated, area above
+/// [`MeshQuality::min_relative_area`] × (longest side)².
+fn check_element(mesh: &Mesh, e: usize, q: &[u32; 4], names: &Names) -> Result<(), String> {
+    let id = names.element(e);
+    if let Some(&n) = q.iter().find(|&&n| n as usize >= mesh.nodes.len()) {
+        return Err(format!(
+            "element {id} refers to node index {n}, past the {} nodes",
+            mesh.nodes.len()
+        ));
+    }
+    if let Some(k) = (1..4).find(|&k| q[..k].contains(&q[k])) {
+        return Err(format!(
+            "element {id} has zero area: node {} appears twice ({})",
+            names.node(q[k]),
+            names.nodes_of(q)
+        ));
+    }
+    let p = q.map(|n| mesh.nodes[n as usize]);
+    let area = 0.5 * (p[2] - p[0]).cross(&(p[3] - p[1])).norm();
+    let longest = (0..4)
+        .map(|k| (p[(k + 1) % 4] - p[k]).norm())
+        .fold(0.0, f64::max);
+    let min = MeshQuality::default().min_relative_area * longest * longest;
+    if area.is_nan() || area <= min || longest == 0.0 {
+        return Err(format!(
+            "element {id} has zero area ({area:e} mm²; {})",
+            names.nodes_of(q)
+        ));
+    }
+    Ok(())
+}
+
+/// A [`Mesh::validate`] error with the file's numbers.
+fn describe(err: &FemError, mesh: &Mesh, names: &Names) -> String {
+    match err {
+        FemError::BadElement {
+            element,
+            reason,
+            measure,
+            value,
+        } => {
+            let q = &mesh.quads[*element];
+            let reason = q
+                .iter()
+                .find_map(|&n| {
+                    let head = reason.strip_suffix(&format!("at node {n}"))?;
+                    Some(format!("{head}at node {}", names.node(n)))
+                })
+                .unwrap_or_else(|| reason.clone());
+            format!(
+                "element {}: {reason} ({measure} = {value}; {})",
+                names.element(*element),
+                names.nodes_of(q)
+            )
+        }
+        other => other.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> Mesh {
+        fem_core::rectangle(2.0, 1.0, 2, 1).unwrap()
+    }
+
+    fn numbered(mesh: Mesh) -> MeshFile {
+        MeshFile {
+            node_ids: (0..mesh.nodes.len() as i64).map(|i| 100 + i).collect(),
+            element_ids: vec![17, 18],
+            mesh,
+        }
+    }
+
+    #[test]
+    fn a_good_mesh_passes() {
+        check(&square(), None).unwrap();
+    }
+
+    #[test]
+    fn zero_area_names_the_element_and_its_nodes_by_file_numbers() {
+        let mut m = square();
+        // Collapse the second element onto a line: nodes 2 and 5 onto 1 and 4.
+        m.nodes[2] = Vec3::new(1.0, 0.0, 0.0);
+        m.nodes[5] = Vec3::new(1.0, 1.0, 0.0);
+        let f = numbered(m);
+        let e = check(&f.mesh, Some(&f)).unwrap_err();
+        assert!(
+            e.starts_with("element 18 has zero area (") && e.ends_with("nodes 101, 102, 105, 104)"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_repeated_node_is_zero_area() {
+        let mut m = square();
+        m.quads[0][3] = m.quads[0][2];
+        let e = check(&m, None).unwrap_err();
+        assert_eq!(
+            e,
+            "element 0 has zero area: node 4 appears twice (nodes 0, 1, 4, 4)"
+        );
+    }
+
+    #[test]
+    fn empty_and_non_finite_meshes_are_refused() {
+        let e = check(&Mesh::default(), None).unwrap_err();
+        assert!(e.starts_with("no shell elements (0 nodes"), "{e}");
+        let mut m = square();
+        m.nodes[3].y = f64::NAN;
+        let f = numbered(m);
+        let e = check(&f.mesh, Some(&f)).unwrap_err();
+        assert!(e.starts_with("node 103 has a non-finite coordinate"), "{e}");
+    }
+
+    #[test]
+    fn distortion_names_the_file_node() {
+        let mut m = square();
+        // Push node 4 (top middle) far right: the first element turns non-convex.
+        m.nodes[4].x = 2.9;
+        let f = numbered(m);
+        let e = check(&f.mesh, Some(&f)).unwrap_err();
+        assert!(
+            e.starts_with("element 18: inverted or non-convex at node 10"),
+            "{e}"
+        );
+    }
+}
