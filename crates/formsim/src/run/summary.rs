@@ -323,8 +323,7 @@ impl Summary {
 
 /// The resolved scene as JSON (through TOML, which leaves out unset options).
 fn settings(scene: &crate::scene::Scene) -> serde_json::Value {
-    toml::Value::try_from(scene)
-        .map_err(|e| e.to_string())
+    crate::scene::resolved::to_toml(scene)
         .and_then(|v| serde_json::to_value(v).map_err(|e| e.to_string()))
         .unwrap_or_else(|e| serde_json::Value::String(format!("not serialisable: {e}")))
 }

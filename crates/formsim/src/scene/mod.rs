@@ -13,6 +13,7 @@ pub mod error;
 pub mod estimate;
 pub mod locate;
 pub mod overrides;
+pub mod resolved;
 pub mod schema;
 pub mod validate;
 
