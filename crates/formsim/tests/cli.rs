@@ -368,3 +368,43 @@ fn a_panicking_plugin_is_reported_and_exits_nonzero() {
         "the failing line of the history is named: {err}"
     );
 }
+
+/// `formsim COMMAND | head -1`: the reader closes the pipe, the next write
+/// fails with `EPIPE`. formsim stops quietly with status 0, not with a panic
+/// (status 101). The read end is closed before formsim writes anything, so the
+/// very first line already meets the closed pipe (no race with the pipe buffer);
+/// the second case reads one line first, as `head -1` does.
+#[test]
+fn a_closed_stdout_stops_quietly_without_a_panic() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    for read_first_line in [false, true] {
+        for args in [
+            &["laws"][..],
+            &["laws", "--describe", "wvs"],
+            &["laws", "check", "ac"],
+        ] {
+            let mut child = Command::new(env!("CARGO_BIN_EXE_formsim"))
+                .args(args)
+                .stdout(Stdio::piped())
+                .stderr(Stdio::piped())
+                .spawn()
+                .expect("formsim starts");
+            let stdout = child.stdout.take().expect("piped stdout");
+            if read_first_line {
+                let mut line = String::new();
+                BufReader::new(stdout).read_line(&mut line).unwrap();
+                assert!(!line.is_empty(), "{args:?}: no first line");
+            } else {
+                drop(stdout);
+            }
+            let o = child.wait_with_output().expect("formsim ends");
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(
+                o.status.code() == Some(0) && !err.contains("panicked") && err.is_empty(),
+                "{args:?} (first line read: {read_first_line}): {:?}, stderr: {err}",
+                o.status
+            );
+        }
+    }
+}
