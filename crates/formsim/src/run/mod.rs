@@ -193,7 +193,8 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         if time >= next_frame || time >= end {
             let name = format!("blank_{:04}.vtu", frames.len());
             write::frame(&vtk_dir.join(&name), &model, time, stroke)?;
-            frames.push((time, name));
+            // Relative to blank.pvd, which sits beside vtk/.
+            frames.push((time, format!("vtk/{name}")));
             next_frame += frame_every;
         }
         if time >= end * (1.0 - 1e-12) {
