@@ -9,6 +9,7 @@ use clap::{Args, Parser, Subcommand};
 use cli_io::{Failure, Outcome, note, say};
 use formsim::components::{self, LawSource};
 use formsim::plot::{Panel, Series};
+use formsim::run::out_dir;
 use formsim::{history, point_driver};
 use plugins_api::conformance::{self, Options, Subject};
 use plugins_api::{FrictionLaw, KinematicFormulation, ParamSpec, Params, TangentMode, registry};
@@ -64,9 +65,14 @@ enum SceneAction {
 struct RunArgs {
     /// Scene file (TOML; docs/scene-format.md).
     scene: PathBuf,
-    /// Output directory (default: results/<scene name>).
+    /// Output directory (default: results/<scene name>, whose earlier results
+    /// are replaced). An explicit DIR that is not empty needs --force.
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// Replace the results in a non-empty --out DIR (only the files formsim
+    /// writes are removed; other files are kept).
+    #[arg(long)]
+    force: bool,
     /// Override a scene value, e.g. contact.law=wvs, blank.mesh.divisions=25 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
@@ -90,9 +96,13 @@ struct CompareArgs {
     /// (repeatable; crossed with the laws and formulations; the first row is the reference).
     #[arg(long = "case", value_name = "NAME:KEY=VALUE;…")]
     cases: Vec<String>,
-    /// Output directory.
+    /// Output directory; if it is not empty, --force is needed.
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
+    /// Replace the results in a non-empty --out DIR (only the files formsim
+    /// writes are removed; other files are kept).
+    #[arg(long)]
+    force: bool,
     /// Override a scene value for every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
@@ -536,10 +546,15 @@ fn scene_check(path: &Path, set: &[String]) -> Outcome {
 
 fn run(args: &RunArgs) -> Outcome {
     let loaded = formsim::scene::load(&args.scene, &args.set).map_err(|e| e.to_string())?;
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("results").join(&loaded.scene.scene.name));
+    // The default directory is formsim's own: its earlier results are replaced.
+    let (out, replace) = match &args.out {
+        Some(dir) => (dir.clone(), args.force),
+        None => (
+            PathBuf::from("results").join(&loaded.scene.scene.name),
+            true,
+        ),
+    };
+    out_dir::prepare(&out, out_dir::Owner::Run, replace)?;
     for w in formsim::scene::validate::warnings(&loaded) {
         note!("warning: {w}");
     }
@@ -647,7 +662,10 @@ fn compare(args: &CompareArgs) -> Outcome {
     };
     // With bars on the terminal, each run's bar says when it is done.
     let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
-    let entries = formsim::compare::compare(&args.scene, &matrix, &args.out, progress, &|e| {
+    let plan = formsim::compare::plan(&args.scene, &matrix)?;
+    let labels: Vec<String> = plan.labels().map(String::from).collect();
+    out_dir::prepare(&args.out, out_dir::Owner::Compare(&labels), args.force)?;
+    let entries = formsim::compare::execute(plan, &args.out, progress, &|e| {
         if progress {
             return;
         }

@@ -7,6 +7,7 @@
 //! histories on a fixed schedule; everything that allocates (snapshots,
 //! frames) happens only at the scheduled times.
 
+pub mod out_dir;
 pub mod post;
 pub mod summary;
 pub mod write;
@@ -22,7 +23,8 @@ use std::time::Instant;
 /// How to run.
 #[derive(Debug, Clone)]
 pub struct RunOptions {
-    /// Output directory (created).
+    /// Output directory (created). Files of an earlier run there are
+    /// overwritten, not removed: clean it first with [`out_dir::prepare`].
     pub out: PathBuf,
     /// Progress display.
     pub progress: Progress,
