@@ -491,7 +491,9 @@ pub mod __private {
     /// building it failed (texts are checked at compile time, so only on
     /// allocation failure or a panic).
     pub fn entry<T: PluginLaw>(cell: &'static OnceLock<StaticTable>) -> *const FrictionPluginV1 {
-        install_quiet_hook();
+        // Nothing may unwind out of here; installing a hook only panics on a
+        // thread that is already panicking, and then the default hook stays.
+        let _ = catch_unwind(install_quiet_hook);
         let built = guarded(|| {
             if let Some(t) = cell.get() {
                 return Some(t.0 as *const FrictionPluginV1);
