@@ -12,13 +12,18 @@
 //! the largest thinning and the frictional energy share, each also as % of the
 //! reference run (the first row), and wall time and increments relative to
 //! it. `DIR/plots/` overlays the strain curves.
+//!
+//! Before anything runs, [`plan`] loads, validates and builds the scene of
+//! every row (with its overrides, law, formulation and parameters): a bad row
+//! stops the comparison at once, named `case X, law Y, formulation Z: …`,
+//! instead of surfacing after the valid rows have run.
 
 use crate::plot::{Panel, Series, draw_panels};
 use crate::run::{Progress, RunOptions, RunResult, run};
 use crate::scene;
 use rayon::prelude::*;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// A named variant of the scene: its own `KEY=VALUE` overrides.
 #[derive(Debug, Clone, PartialEq)]
@@ -92,19 +97,102 @@ pub struct Entry {
     pub result: Result<RunResult, String>,
 }
 
-/// Run the rows of `matrix` on `scene_path` and write the table and plots to
-/// `out`; with `progress`, one bar per row on the terminal.
+/// One row of a comparison, checked and ready to run.
+#[derive(Debug)]
+struct Row {
+    /// The row's label (also its folder under the output directory).
+    label: String,
+    /// The case's name, if the matrix has cases.
+    case: Option<String>,
+    /// Law name.
+    law: String,
+    /// Formulation name.
+    formulation: String,
+    /// The scene with the row's overrides.
+    loaded: scene::LoadedScene,
+}
+
+/// The rows of a comparison, each loaded, validated and built once, so that a
+/// bad row stops the comparison before anything runs. Made by [`plan`], run by
+/// [`execute`].
+#[derive(Debug)]
+pub struct Plan {
+    rows: Vec<Row>,
+}
+
+impl Plan {
+    /// The rows' labels, in order: the folders that [`execute`] writes under
+    /// its output directory.
+    pub fn labels(&self) -> impl ExactSizeIterator<Item = &str> {
+        self.rows.iter().map(|r| r.label.as_str())
+    }
+}
+
+/// The one-line name of a row in errors: `case X, law Y, formulation Z`
+/// (the parts that are known).
+fn row_name(case: Option<&Case>, law: Option<&str>, formulation: Option<&str>) -> String {
+    let parts: Vec<String> = [
+        case.map(|c| format!("case {}", c.name)),
+        law.map(|l| format!("law {l}")),
+        formulation.map(|f| format!("formulation {f}")),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    parts.join(", ")
+}
+
+/// `name: message`, or the message alone for a matrix of one unnamed row.
+fn row_error(name: &str, message: impl std::fmt::Display) -> String {
+    if name.is_empty() {
+        message.to_string()
+    } else {
+        format!("{name}: {message}")
+    }
+}
+
+/// Load, validate and build the scene of one row: its case's overrides after
+/// `sets`, then its law and formulation.
+fn check_row(
+    scene_path: &Path,
+    sets: &[String],
+    case: Option<&Case>,
+    law: Option<&String>,
+    formulation: Option<&String>,
+) -> Result<scene::LoadedScene, String> {
+    let mut sets = sets.to_vec();
+    if let Some(c) = case {
+        sets.extend(c.sets.iter().cloned());
+    }
+    if let Some(l) = law {
+        sets.push(format!("contact.law={l}"));
+    }
+    if let Some(f) = formulation {
+        sets.push(format!("contact.formulation={f}"));
+    }
+    let asked = row_name(
+        case,
+        law.map(String::as_str),
+        formulation.map(String::as_str),
+    );
+    let loaded = scene::load(scene_path, &sets).map_err(|e| row_error(&asked, e))?;
+    let c = &loaded.scene.contact;
+    let name = row_name(case, Some(&c.law), Some(&c.formulation));
+    // The whole model (mesh, material, tools, each contact pair's law with its
+    // parameters): an unknown law or a bad parameter is found here, not after
+    // the rows before it have run. The model is dropped; the run builds its own.
+    scene::build(&loaded).map_err(|e| row_error(&name, e))?;
+    Ok(loaded)
+}
+
+/// Check every row of `matrix` on `scene_path` (cases × laws × formulations,
+/// each with its overrides) without running any.
 ///
 /// # Errors
-/// The scene does not load with some row's overrides; two cases share a
-/// name; no run succeeds; the output cannot be written.
-pub fn compare(
-    scene_path: &Path,
-    matrix: &Matrix,
-    out: &Path,
-    progress: bool,
-    on_done: &(dyn Fn(&Entry) + Sync),
-) -> Result<Vec<Entry>, String> {
+/// Two cases share a name; two rows share a label; a row's scene does not
+/// load, validate or build (unknown law or formulation, bad parameter, bad
+/// override): the first such row, named `case X, law Y, formulation Z: …`.
+pub fn plan(scene_path: &Path, matrix: &Matrix) -> Result<Plan, String> {
     for (i, c) in matrix.cases.iter().enumerate() {
         if matrix.cases[..i].iter().any(|d| d.name == c.name) {
             return Err(format!("--case: the name `{}` is used twice", c.name));
@@ -126,25 +214,11 @@ pub fn compare(
         matrix.formulations.iter().map(Some).collect()
     };
     let label_combo = matrix.cases.is_empty() || laws.len() * forms.len() > 1;
-    // Check the scene once per row, before running anything.
-    let mut jobs = Vec::new();
+    let mut rows: Vec<Row> = Vec::new();
     for case in &cases {
         for law in &laws {
             for f in &forms {
-                let mut sets = matrix.sets.clone();
-                if let Some(c) = case {
-                    sets.extend(c.sets.iter().cloned());
-                }
-                if let Some(l) = law {
-                    sets.push(format!("contact.law={l}"));
-                }
-                if let Some(f) = f {
-                    sets.push(format!("contact.formulation={f}"));
-                }
-                let loaded = scene::load(scene_path, &sets).map_err(|e| match case {
-                    Some(c) => format!("case {}: {e}", c.name),
-                    None => e.to_string(),
-                })?;
+                let loaded = check_row(scene_path, &matrix.sets, *case, *law, *f)?;
                 let law = loaded.scene.contact.law.clone();
                 let formulation = loaded.scene.contact.formulation.clone();
                 let combo = format!("{law}-{formulation}");
@@ -153,31 +227,55 @@ pub fn compare(
                     Some(c) => c.name.clone(),
                     None => combo,
                 };
-                let entry = (label, case.map(|c| c.name.clone()), law, formulation);
-                jobs.push((entry, loaded));
+                if rows.iter().any(|r| r.label == label) {
+                    return Err(format!(
+                        "the row `{label}` appears twice (a law or formulation is listed twice)"
+                    ));
+                }
+                rows.push(Row {
+                    label,
+                    case: case.map(|c| c.name.clone()),
+                    law,
+                    formulation,
+                    loaded,
+                });
             }
         }
     }
+    Ok(Plan { rows })
+}
+
+/// Run the rows of `plan` and write the table and plots to `out`; with
+/// `progress`, one bar per row on the terminal.
+///
+/// # Errors
+/// No run succeeds; the output cannot be written.
+pub fn execute(
+    plan: Plan,
+    out: &Path,
+    progress: bool,
+    on_done: &(dyn Fn(&Entry) + Sync),
+) -> Result<Vec<Entry>, String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let bars = progress_bars(progress, jobs.iter().map(|(row, _)| row.0.as_str()));
-    let entries: Vec<Entry> = jobs
+    let bars = progress_bars(progress, plan.labels());
+    let entries: Vec<Entry> = plan
+        .rows
         .into_par_iter()
         .zip(bars)
-        .map(|(((label, case, law, formulation), loaded), bar)| {
-            let dir: PathBuf = out.join(&label);
+        .map(|(row, bar)| {
             let result = run(
-                &loaded,
+                &row.loaded,
                 &RunOptions {
-                    out: dir,
+                    out: out.join(&row.label),
                     progress: bar.map_or(Progress::Hidden, Progress::Bar),
                 },
             )
             .map_err(|e| e.to_string());
             let entry = Entry {
-                label,
-                case,
-                law,
-                formulation,
+                label: row.label,
+                case: row.case,
+                law: row.law,
+                formulation: row.formulation,
                 result,
             };
             on_done(&entry);
@@ -190,6 +288,21 @@ pub fn compare(
     write_table(out, &entries)?;
     write_plots(out, &entries)?;
     Ok(entries)
+}
+
+/// [`plan`] then [`execute`]: check every row of `matrix` on `scene_path`,
+/// then run them and write the table and plots to `out`.
+///
+/// # Errors
+/// As [`plan`] (nothing has run then) and [`execute`].
+pub fn compare(
+    scene_path: &Path,
+    matrix: &Matrix,
+    out: &Path,
+    progress: bool,
+    on_done: &(dyn Fn(&Entry) + Sync),
+) -> Result<Vec<Entry>, String> {
+    execute(plan(scene_path, matrix)?, out, progress, on_done)
 }
 
 /// One bar per row, labelled, in a `MultiProgress` (or none at all).

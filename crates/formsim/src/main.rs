@@ -3,9 +3,13 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod cli_io;
+
 use clap::{Args, Parser, Subcommand};
+use cli_io::{Failure, Outcome, note, say};
 use formsim::components::{self, LawSource};
 use formsim::plot::{Panel, Series};
+use formsim::run::out_dir;
 use formsim::{history, point_driver};
 use plugins_api::conformance::{self, Options, Subject};
 use plugins_api::{FrictionLaw, KinematicFormulation, ParamSpec, Params, TangentMode, registry};
@@ -54,6 +58,9 @@ enum SceneAction {
         /// Override a scene value, e.g. contact.law=wvs (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+        /// Also print every setting as resolved (defaults filled in, overrides applied).
+        #[arg(long)]
+        resolved: bool,
     },
 }
 
@@ -61,9 +68,14 @@ enum SceneAction {
 struct RunArgs {
     /// Scene file (TOML; docs/scene-format.md).
     scene: PathBuf,
-    /// Output directory (default: results/<scene name>).
+    /// Output directory (default: results/<scene name>, whose earlier results
+    /// are replaced). An explicit DIR that is not empty needs --force.
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// Replace the results in a non-empty --out DIR (only the files formsim
+    /// writes are removed; other files are kept).
+    #[arg(long)]
+    force: bool,
     /// Override a scene value, e.g. contact.law=wvs, blank.mesh.divisions=25 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
@@ -87,9 +99,13 @@ struct CompareArgs {
     /// (repeatable; crossed with the laws and formulations; the first row is the reference).
     #[arg(long = "case", value_name = "NAME:KEY=VALUE;…")]
     cases: Vec<String>,
-    /// Output directory.
+    /// Output directory; if it is not empty, --force is needed.
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
+    /// Replace the results in a non-empty --out DIR (only the files formsim
+    /// writes are removed; other files are kept).
+    #[arg(long)]
+    force: bool,
     /// Override a scene value for every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
@@ -206,25 +222,31 @@ fn main() -> ExitCode {
         Command::FrictionPoint(args) => friction_point(&args),
         Command::Tools { action } => tools(&action),
         Command::Scene {
-            action: SceneAction::Check { scene, set },
-        } => scene_check(&scene, &set),
+            action:
+                SceneAction::Check {
+                    scene,
+                    set,
+                    resolved,
+                },
+        } => scene_check(&scene, &set, resolved),
         Command::Run(args) => run(&args),
         Command::Compare(args) => compare(&args),
     };
     match result {
         Ok(code) => code,
-        Err(message) => {
-            eprintln!("error: {message}");
+        Err(Failure::ClosedStdout) => ExitCode::SUCCESS,
+        Err(Failure::Message(message)) => {
+            note!("error: {message}");
             ExitCode::FAILURE
         }
     }
 }
 
-fn tools(action: &ToolsAction) -> Result<ExitCode, String> {
+fn tools(action: &ToolsAction) -> Outcome {
     match action {
         ToolsAction::Export { spec, out } => {
             for f in formsim::tools_cli::export(spec, out)? {
-                println!("wrote {f}");
+                say!("wrote {f}");
             }
         }
         ToolsAction::Project {
@@ -234,7 +256,7 @@ fn tools(action: &ToolsAction) -> Result<ExitCode, String> {
             out,
         } => {
             let n = formsim::tools_cli::project(spec, tool, points, out)?;
-            println!("projected {n} points on `{tool}`; wrote {}", out.display());
+            say!("projected {n} points on `{tool}`; wrote {}", out.display());
         }
     }
     Ok(ExitCode::SUCCESS)
@@ -245,9 +267,9 @@ fn format_default(spec: &ParamSpec) -> String {
         .map_or_else(|| "required".to_string(), |d| format!("{d}"))
 }
 
-fn print_schema(specs: &[ParamSpec]) {
+fn print_schema(specs: &[ParamSpec]) -> Result<(), Failure> {
     for s in specs {
-        println!(
+        say!(
             "    {:<8} {:<14} {:<10} {:<22} {}",
             s.name,
             format!("[{}]", s.unit),
@@ -256,9 +278,10 @@ fn print_schema(specs: &[ParamSpec]) {
             s.doc
         );
     }
+    Ok(())
 }
 
-fn laws(args: &LawsArgs) -> Result<ExitCode, String> {
+fn laws(args: &LawsArgs) -> Outcome {
     if let Some(LawsAction::Check { name, params }) = &args.action {
         let entry = registry::law(name).map_err(|e| e.to_string())?;
         let build = |p: &Params| registry::build_law(name, p);
@@ -268,16 +291,19 @@ fn laws(args: &LawsArgs) -> Result<ExitCode, String> {
     let forms = registry::formulations();
     if let Some(name) = &args.describe {
         if let Some(l) = laws.iter().find(|l| l.description.name == name) {
-            println!("law {}: {}", l.description.name, l.description.summary);
-            println!(
+            say!("law {}: {}", l.description.name, l.description.summary);
+            say!(
                 "    {:<8} {:<14} {:<10} {:<22} doc",
-                "param", "unit", "default", "range"
+                "param",
+                "unit",
+                "default",
+                "range"
             );
-            print_schema(l.description.params);
+            print_schema(l.description.params)?;
             return Ok(ExitCode::SUCCESS);
         }
         if let Some(f) = forms.iter().find(|f| f.name == name) {
-            println!(
+            say!(
                 "formulation {}: {}\n    reads: {}",
                 f.name,
                 f.summary,
@@ -293,22 +319,23 @@ fn laws(args: &LawsArgs) -> Result<ExitCode, String> {
         return Err(format!(
             "unknown law or formulation `{name}`; known: {}",
             known.join(", ")
-        ));
+        )
+        .into());
     }
-    println!("Friction laws (units: mm, N, MPa, s; `formsim laws --describe NAME` for one):");
+    say!("Friction laws (units: mm, N, MPa, s; `formsim laws --describe NAME` for one):");
     for l in &laws {
-        println!("\n  {} — {}", l.description.name, l.description.summary);
+        say!("\n  {} — {}", l.description.name, l.description.summary);
         if let Ok(law) = (l.build)(&defaults_or_benchmark(
             l.description.name,
             l.description.params,
         )) {
-            println!("    reads: {}", law.needs());
+            say!("    reads: {}", law.needs());
         }
-        print_schema(l.description.params);
+        print_schema(l.description.params)?;
     }
-    println!("\nKinematic formulations (any law pairs with any formulation):");
+    say!("\nKinematic formulations (any law pairs with any formulation):");
     for f in &forms {
-        println!(
+        say!(
             "  {:<20} {}  [reads: {}]",
             f.name,
             f.summary,
@@ -329,11 +356,11 @@ fn run_suite(
     specs: &[ParamSpec],
     build: &conformance::BuildLaw<'_>,
     given: &Params,
-) -> Result<ExitCode, String> {
+) -> Outcome {
     let (base, chosen) = components::suite_params(name, specs, given);
     base.resolve(name, specs).map_err(|e| e.to_string())?;
     if !chosen.is_empty() {
-        println!(
+        say!(
             "note: required parameters not given were set inside their range: {} (use --param to choose)",
             chosen.join(", ")
         );
@@ -350,7 +377,7 @@ fn run_suite(
         .map(|f| f as &dyn KinematicFormulation)
         .collect();
     let report = conformance::check_law(&subject, &refs, &Options::default());
-    println!("{report}");
+    say!("{report}");
     Ok(if report.passed() {
         ExitCode::SUCCESS
     } else {
@@ -358,28 +385,28 @@ fn run_suite(
     })
 }
 
-fn plugin_check(path: &Path, given: &Params) -> Result<ExitCode, String> {
+fn plugin_check(path: &Path, given: &Params) -> Outcome {
     let library = plugins_api::loader::PluginLibrary::open(path).map_err(|e| e.to_string())?;
-    println!(
+    say!(
         "plugin {} ({}): {}",
         library.name(),
         path.display(),
         library.summary()
     );
-    println!("    reads: {}", library.needs());
-    print_schema(library.params());
+    say!("    reads: {}", library.needs());
+    print_schema(library.params())?;
     let build = |p: &Params| library.build(p);
     let label = format!("plugin {}", library.name());
     let specs = library.params();
     run_suite(&label, specs, &build, given)
 }
 
-fn friction_point(args: &FrictionPointArgs) -> Result<ExitCode, String> {
+fn friction_point(args: &FrictionPointArgs) -> Outcome {
     let params = to_params(&args.params);
     let source = match (&args.law, &args.plugin) {
         (Some(name), _) => LawSource::Named(name.clone()),
         (None, Some(path)) => LawSource::Plugin(path.clone()),
-        (None, None) => return Err("give --law NAME or --plugin PATH".into()),
+        (None, None) => return Err(Failure::Message("give --law NAME or --plugin PATH".into())),
     };
     let integrator =
         components::point_integrator(&source, &params, &args.formulation, TangentMode::None)
@@ -394,24 +421,29 @@ fn friction_point(args: &FrictionPointArgs) -> Result<ExitCode, String> {
         }
     })?;
     point_driver::write_csv(&args.out, &records)?;
-    println!(
+    say!(
         "friction-point: law {}, formulation {} (k_t = {} MPa/mm)",
         integrator.law_name(),
         integrator.formulation_name(),
         integrator.stick_stiffness()
     );
-    println!(
+    say!(
         "  {} steps: {} stick, {} slip, {} open; final frictional work ω = {:.6e} N/mm; max |t|/τ_c - 1 in slip = {:.1e}",
-        summary.steps, summary.stick, summary.slip, summary.open, summary.omega, summary.max_excess
+        summary.steps,
+        summary.stick,
+        summary.slip,
+        summary.open,
+        summary.omega,
+        summary.max_excess
     );
     if summary.clamped > 0 {
-        println!(
+        say!(
             "  note: the law's lower clamp (e.g. WH μ_min) was active in {} steps, first at t = {} s",
             summary.clamped,
             summary.first_clamp_t.unwrap_or(f64::NAN)
         );
     }
-    println!("  wrote {}", args.out.display());
+    say!("  wrote {}", args.out.display());
     if let Some(plot) = &args.plot {
         let png = plot
             .clone()
@@ -422,7 +454,7 @@ fn friction_point(args: &FrictionPointArgs) -> Result<ExitCode, String> {
             integrator.law_name(),
             integrator.formulation_name(),
         )?;
-        println!("  wrote {}", png.display());
+        say!("  wrote {}", png.display());
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -466,7 +498,7 @@ fn plot_point(
     formsim::plot::draw_panels(png, &panels, 1000, 340)
 }
 
-fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
+fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
     use formsim::scene::estimate;
     let loaded = formsim::scene::load(path, set).map_err(|e| e.to_string())?;
     let mut model = formsim::scene::build(&loaded).map_err(|e| e.to_string())?;
@@ -475,17 +507,19 @@ fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
         .map_err(|e| loaded.key_error("solver", e.to_string()).to_string())?;
     let s = &loaded.scene;
     let est = estimate::estimate(s, estimate::MeshSize::of_mesh(&model.mesh));
-    println!("{}: ok", path.display());
+    say!("{}: ok", path.display());
     let mut warnings = formsim::scene::validate::warnings(&loaded);
     warnings.extend(estimate::added_mass_warnings(s, &setup));
     for w in warnings {
-        println!("  warning     {w}");
+        say!("  warning     {w}");
     }
-    println!(
+    say!(
         "  scene       {} ({:?}): {}",
-        s.scene.name, s.scene.kind, s.scene.description
+        s.scene.name,
+        s.scene.kind,
+        s.scene.description
     );
-    println!(
+    say!(
         "  blank       {} nodes, {} {} shells, t0 = {} mm, {} points through the thickness",
         model.mesh.nodes.len(),
         model.mesh.quads.len(),
@@ -493,8 +527,8 @@ fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
         s.blank.thickness,
         s.blank.integration_points
     );
-    println!("  tools       {}", model.tool_names.join(", "));
-    println!(
+    say!("  tools       {}", model.tool_names.join(", "));
+    say!(
         "  friction    {} + {} ({} pairs)",
         model.law,
         model.formulation,
@@ -507,14 +541,14 @@ fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
             _ => String::new(),
         };
         let motions: Vec<String> = st.motions.iter().map(|m| m.describe()).collect();
-        println!(
+        say!(
             "  step {}      {} ({end}): {}",
             i + 1,
             st.name,
             motions.join("; ")
         );
     }
-    println!(
+    say!(
         "  solver      end {:.4e} s, safety {}, mass scaling {}",
         model.end_time,
         s.solver.safety_factor,
@@ -523,24 +557,39 @@ fn scene_check(path: &Path, set: &[String]) -> Result<ExitCode, String> {
             .map_or("off".to_string(), |t| format!("dt = {t:e} s"))
     );
     for line in estimate::report_lines(s, &est, &setup) {
-        println!("  {line}");
+        say!("  {line}");
+    }
+    if resolved {
+        say!("  settings    (every key as resolved; also summary.json's `settings`)");
+        for line in formsim::scene::resolved::dotted_lines(s)? {
+            say!("    {line}");
+        }
+    } else {
+        say!(
+            "  settings    every key as resolved: add --resolved (also summary.json's `settings`)"
+        );
     }
     Ok(ExitCode::SUCCESS)
 }
 
-fn run(args: &RunArgs) -> Result<ExitCode, String> {
+fn run(args: &RunArgs) -> Outcome {
     let loaded = formsim::scene::load(&args.scene, &args.set).map_err(|e| e.to_string())?;
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("results").join(&loaded.scene.scene.name));
+    // The default directory is formsim's own: its earlier results are replaced.
+    let (out, replace) = match &args.out {
+        Some(dir) => (dir.clone(), args.force),
+        None => (
+            PathBuf::from("results").join(&loaded.scene.scene.name),
+            true,
+        ),
+    };
     let mass =
         formsim::scene::estimate::mass_scaling_warnings(&loaded).map_err(|e| e.to_string())?;
+    out_dir::prepare(&out, out_dir::Owner::Run, replace)?;
     for w in formsim::scene::validate::warnings(&loaded)
         .into_iter()
         .chain(mass)
     {
-        eprintln!("warning: {w}");
+        note!("warning: {w}");
     }
     let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
     let result = formsim::run::run(
@@ -556,7 +605,7 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
     )
     .map_err(|e| e.to_string())?;
     let s = &result.summary;
-    println!(
+    say!(
         "{}: {} + {}, {} {} shells, {} increments in {:.1} s ({:.3e} element cycles/s, {} threads)",
         s.scene,
         s.law,
@@ -568,7 +617,7 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
         s.element_cycles_per_s,
         s.threads
     );
-    println!(
+    say!(
         "  energy (mJ): internal {:.1}, plastic {:.1}, friction {:.1}, kinetic {:.2}, hourglass {:.2}, external work {:.1}; balance error {:.2e}; max kinetic/internal while forming {:.3}",
         s.energy.internal,
         s.energy.plastic,
@@ -580,7 +629,7 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
         s.kinetic_to_internal_max
     );
     if s.stroke != 0.0 {
-        println!(
+        say!(
             "  stroke {:.2} mm, punch force max {:.1} kN, thinning max {:.1} %",
             s.stroke,
             1e-3 * s.punch_force_max,
@@ -588,7 +637,7 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
         );
     }
     for (name, sec) in &s.sections {
-        println!(
+        say!(
             "  {name}: major max {:.4}, minor min {:.4}{}",
             sec.major_max,
             sec.minor_min,
@@ -597,10 +646,10 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
         );
     }
     for line in formsim::run::tools_report::delivered_lines(&s.tools) {
-        println!("  {line}");
+        say!("  {line}");
     }
     if let Some(c) = &s.capstan {
-        println!(
+        say!(
             "  capstan: T_pull/T_hold = {:.4}, e^(mu theta) = {:.4} ({:+.2} %)",
             c.tension_ratio,
             c.analytic,
@@ -608,7 +657,7 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
         );
     }
     if let Some(b) = &s.block {
-        println!(
+        say!(
             "  block: slip force {:.3} N, mu N = {:.3} N ({:+.2} %)",
             b.slip_force,
             b.analytic,
@@ -616,16 +665,16 @@ fn run(args: &RunArgs) -> Result<ExitCode, String> {
         );
     }
     for w in &s.warnings {
-        println!("  warning: {w}");
+        say!("  warning: {w}");
     }
-    println!(
+    say!(
         "  results: {}/summary.json, sections/, energy.csv, punch_force.csv, tools.csv, blank.pvd (ParaView), plots/*.png",
         out.display()
     );
     Ok(ExitCode::SUCCESS)
 }
 
-fn compare(args: &CompareArgs) -> Result<ExitCode, String> {
+fn compare(args: &CompareArgs) -> Outcome {
     use formsim::compare::{Case, Matrix};
     let cases = args
         .cases
@@ -652,27 +701,32 @@ fn compare(args: &CompareArgs) -> Result<ExitCode, String> {
     };
     // With bars on the terminal, each run's bar says when it is done.
     let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
-    let entries = formsim::compare::compare(&args.scene, &matrix, &args.out, progress, &|e| {
+    let plan = formsim::compare::plan(&args.scene, &matrix)?;
+    let labels: Vec<String> = plan.labels().map(String::from).collect();
+    out_dir::prepare(&args.out, out_dir::Owner::Compare(&labels), args.force)?;
+    let entries = formsim::compare::execute(plan, &args.out, progress, &|e| {
         if progress {
             return;
         }
         match &e.result {
-            Ok(r) => eprintln!(
+            Ok(r) => note!(
                 "done {}: {} increments, {:.1} s",
-                e.label, r.summary.increments, r.summary.wall_time_s
+                e.label,
+                r.summary.increments,
+                r.summary.wall_time_s
             ),
-            Err(m) => eprintln!("failed {}: {m}", e.label),
+            Err(m) => note!("failed {}: {m}", e.label),
         }
     })?;
     if progress {
         for e in &entries {
             if let Err(m) = &e.result {
-                eprintln!("failed {}: {m}", e.label);
+                note!("failed {}: {m}", e.label);
             }
         }
     }
     let failed = entries.iter().filter(|e| e.result.is_err()).count();
-    println!(
+    say!(
         "{} runs ({} failed): {}/compare.md, compare.csv, plots/",
         entries.len(),
         failed,

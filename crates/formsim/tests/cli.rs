@@ -319,29 +319,61 @@ fn laws_check_runs_the_conformance_suite() {
     assert!(text(&o).contains("0 failed"), "{}", text(&o));
 }
 
-/// A plugin law that panics inside `critical_shear` is reported by the host with
-/// the panic message and a non-zero exit; the host does not crash.
+/// The test-panicky plugin, built for this profile (once per test binary).
+fn panicky_plugin() -> &'static Path {
+    static BUILT: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    BUILT.get_or_init(|| {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let release = !cfg!(debug_assertions);
+        let mut cmd = Command::new(cargo);
+        cmd.current_dir(&root)
+            .args(["build", "-q", "-p", "test-panicky"]);
+        if release {
+            cmd.arg("--release");
+        }
+        assert!(cmd.status().unwrap().success());
+        let target =
+            std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
+        target
+            .join(if release { "release" } else { "debug" })
+            .join(format!(
+                "{}test_panicky{}",
+                std::env::consts::DLL_PREFIX,
+                std::env::consts::DLL_SUFFIX
+            ))
+    })
+}
+
+/// What every report of the panicking plugin must say, and must not: the
+/// plugin panicked, with its message; not a NaN the host never computed.
+fn assert_reports_the_panic(o: &Output, message: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{}", text(o));
+    assert!(
+        text(o).contains(&format!("plugin test-panicky panicked: {message}")),
+        "{}",
+        text(o)
+    );
+    assert!(
+        !text(o).contains("returned a non-finite") && !text(o).contains("returned NaN"),
+        "{}",
+        text(o)
+    );
+    assert!(
+        err.lines().count() < 20 && !err.contains("thread '"),
+        "{} lines of stderr: {}",
+        err.lines().count(),
+        err.chars().take(2000).collect::<String>()
+    );
+}
+
+/// A plugin law that panics inside `critical_shear` is reported by the host
+/// once, as `plugin test-panicky panicked: MESSAGE`, with the failing line of
+/// the history; the host does not crash and the plugin prints nothing.
 #[test]
 fn a_panicking_plugin_is_reported_and_exits_nonzero() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let release = !cfg!(debug_assertions);
-    let mut cmd = Command::new(cargo);
-    cmd.current_dir(&root)
-        .args(["build", "-q", "-p", "test-panicky"]);
-    if release {
-        cmd.arg("--release");
-    }
-    assert!(cmd.status().unwrap().success());
-    let target =
-        std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
-    let lib = target
-        .join(if release { "release" } else { "debug" })
-        .join(format!(
-            "{}test_panicky{}",
-            std::env::consts::DLL_PREFIX,
-            std::env::consts::DLL_SUFFIX
-        ));
+    let lib = panicky_plugin();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("o.csv");
     let hist = history();
@@ -356,15 +388,91 @@ fn a_panicking_plugin_is_reported_and_exits_nonzero() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(!o.status.success(), "{}", text(&o));
+    assert_reports_the_panic(&o, "test-panicky: deliberate panic at p = 20.");
     let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
     let last = err.lines().last().unwrap_or_default();
+    assert!(last.starts_with("error: "), "{err}");
     assert!(
-        last.starts_with("error: ") && last.contains("deliberate panic"),
-        "{err}"
+        last.contains("die-shoulder.csv:") && last.contains("in critical_shear at p = 20."),
+        "the failing line of the history and the call are named: {err}"
     );
-    assert!(
-        last.contains("die-shoulder.csv:"),
-        "the failing line of the history is named: {err}"
-    );
+}
+
+/// `formsim plugin check` calls the panicking law thousands of times (every
+/// check, every formulation): standard error stays quiet (it held one panic
+/// message per call before) and the report says `panicked`, not `NaN`.
+#[test]
+fn plugin_check_of_a_panicking_plugin_is_quiet_and_says_panicked() {
+    let o = formsim(&[
+        "plugin",
+        "check",
+        panicky_plugin().to_str().unwrap(),
+        "--param",
+        "panic_above_p=10",
+    ]);
+    assert_reports_the_panic(&o, "test-panicky: deliberate panic at p = ");
+}
+
+/// A forming run whose friction law panics at every contact point (on both
+/// cores) stops with one line on standard error naming the plugin's panic.
+#[test]
+fn a_run_with_a_panicking_plugin_stops_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/block-on-plane.toml");
+    let plugin = format!("contact.plugin={}", panicky_plugin().display());
+    let o = formsim(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        dir.path().join("run").to_str().unwrap(),
+        "--set",
+        &plugin,
+        "--set",
+        "contact.params.plugin.panic_above_p=0.01",
+    ]);
+    assert_reports_the_panic(&o, "test-panicky: deliberate panic at p = ");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
+
+/// `formsim COMMAND | head -1`: the reader closes the pipe, the next write
+/// fails with `EPIPE`. formsim stops quietly with status 0, not with a panic
+/// (status 101). The read end is closed before formsim writes anything, so the
+/// very first line already meets the closed pipe (no race with the pipe buffer);
+/// the second case reads one line first, as `head -1` does.
+#[test]
+fn a_closed_stdout_stops_quietly_without_a_panic() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    for read_first_line in [false, true] {
+        for args in [
+            &["laws"][..],
+            &["laws", "--describe", "wvs"],
+            &["laws", "check", "ac"],
+        ] {
+            let mut child = Command::new(env!("CARGO_BIN_EXE_formsim"))
+                .args(args)
+                .stdout(Stdio::piped())
+                .stderr(Stdio::piped())
+                .spawn()
+                .expect("formsim starts");
+            let stdout = child.stdout.take().expect("piped stdout");
+            if read_first_line {
+                let mut line = String::new();
+                BufReader::new(stdout).read_line(&mut line).unwrap();
+                assert!(!line.is_empty(), "{args:?}: no first line");
+            } else {
+                drop(stdout);
+            }
+            let o = child.wait_with_output().expect("formsim ends");
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(
+                o.status.code() == Some(0) && !err.contains("panicked") && err.is_empty(),
+                "{args:?} (first line read: {read_first_line}): {:?}, stderr: {err}",
+                o.status
+            );
+        }
+    }
 }

@@ -96,3 +96,59 @@ fn compare_rejects_a_bad_case_before_running() {
     let e = compare(&scene(), &twice, dir.path(), false, &|_| {}).unwrap_err();
     assert!(e.contains("used twice"), "{e}");
 }
+
+/// An unknown law among valid ones stops the comparison before any row runs:
+/// the error names the row and the law, and nothing is written (before, the
+/// valid rows ran first and the unknown law was only a failed row at the end).
+#[test]
+fn compare_rejects_an_unknown_law_before_running_any_row() {
+    let dir = tempfile::tempdir().unwrap();
+    let matrix = Matrix {
+        laws: strings(&["ac", "nosuch"]),
+        formulations: strings(&["convective"]),
+        sets: strings(&["blank.mesh.divisions=2"]),
+        ..Default::default()
+    };
+    let started = std::time::Instant::now();
+    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap_err();
+    assert!(
+        e.starts_with("law nosuch, formulation convective: ") && e.contains("unknown law `nosuch`"),
+        "{e}"
+    );
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(started.elapsed().as_secs_f64() < 5.0);
+    let written: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert!(written.is_empty(), "nothing may be written: {written:?}");
+}
+
+/// An override that loads but cannot be built (a parameter out of range for
+/// the law) is found before running, naming the case, law and formulation.
+#[test]
+fn compare_rejects_a_case_that_does_not_build_before_running() {
+    let dir = tempfile::tempdir().unwrap();
+    let matrix = Matrix {
+        cases: vec![
+            Case::parse("ok:blank.mesh.divisions=2").unwrap(),
+            Case::parse("bad-mu:blank.mesh.divisions=2;contact.params.ac.mu=-1").unwrap(),
+        ],
+        ..Default::default()
+    };
+    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap_err();
+    assert!(
+        e.starts_with("case bad-mu, law ac, formulation convective: ") && e.contains("mu"),
+        "{e}"
+    );
+    assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none());
+}
+
+/// The same law twice would make two rows write into one folder.
+#[test]
+fn compare_rejects_a_row_listed_twice() {
+    let dir = tempfile::tempdir().unwrap();
+    let matrix = Matrix {
+        laws: strings(&["ac", "ac"]),
+        ..Default::default()
+    };
+    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap_err();
+    assert!(e.contains("`ac-convective` appears twice"), "{e}");
+}

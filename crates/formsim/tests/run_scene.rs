@@ -220,6 +220,8 @@ fn square_cup_coarse_writes_every_output() {
     let frames: Vec<_> = std::fs::read_dir(out.join("vtk")).unwrap().collect();
     assert_eq!(frames.len(), 4);
     assert_eq!(pvd.matches("<DataSet").count(), 4);
+    // Frame paths are relative to the .pvd, beside `vtk/`.
+    assert!(pvd.contains("file=\"vtk/blank_0003.vtu\""), "{pvd}");
     let vtk = vtkio::Vtk::import(out.join("vtk/blank_0003.vtu")).unwrap();
     let text = format!("{vtk:?}");
     for field in [

@@ -473,3 +473,30 @@ fn generated_meshes_with_zero_area_are_refused() {
         ],
     );
 }
+
+/// Every setting that can move a result is visible at `scene check`: with
+/// `--resolved` every key prints with its resolved value, defaults included
+/// (the holder's dashpot, now 0; the hourglass coefficient) and overrides
+/// applied (issue 14).
+#[test]
+fn scene_check_resolved_prints_every_setting_with_its_default() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_formsim"))
+        .args(["scene", "check", cup().to_str().unwrap(), "--resolved"])
+        .args(["--set", "contact.penalty_scale=0.2"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{text}");
+    for line in [
+        "steps[2].motions[0].damping = 0.0",
+        "steps[2].motions[0].relative_damping = 0.0",
+        "steps[2].motions[0].mass = 0.01",
+        "blank.hourglass = 0.05",
+        "contact.penalty_scale = 0.2",
+    ] {
+        assert!(
+            text.lines().any(|l| l.trim() == line),
+            "{line} missing:\n{text}"
+        );
+    }
+}

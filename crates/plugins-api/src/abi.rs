@@ -32,6 +32,20 @@
 //! A plugin must therefore be built with `panic = "unwind"` (Cargo's default);
 //! under `panic = "abort"` a panicking plugin takes the host down with it.
 //!
+//! A plugin links its own copy of `std`, with its own panic hook, whose default
+//! prints every panic to standard error: a law that panics at every contact
+//! point of every step would flood the terminal. So the first call of the
+//! entry function installs, once, a hook in the plugin's `std` that stays
+//! silent for a panic inside a shim (it records where the panic happened, for
+//! the message) and hands every other panic (a thread the plugin spawned
+//! itself, say) to the hook that was there before. The host's own panics go
+//! through the host's `std` and are not affected. The cost on the hot path is
+//! one thread-local flag set and reset per call.
+//!
+//! The text of a caught panic, in `last_error` and in `create`'s error
+//! buffer, is `panicked: MESSAGE (at FILE:LINE:COLUMN)`; the host reports it
+//! once, as `plugin NAME panicked: MESSAGE …` with the call it came from.
+//!
 //! # Strings
 //!
 //! [`PluginLaw`] texts are ordinary `&'static str` consts. The macro checks at
@@ -320,10 +334,10 @@ macro_rules! export_friction_law {
 #[doc(hidden)]
 pub mod __private {
     use std::any::Any;
-    use std::cell::RefCell;
+    use std::cell::{Cell, RefCell};
     use std::ffi::{CString, c_char, c_void};
     use std::panic::{AssertUnwindSafe, catch_unwind};
-    use std::sync::OnceLock;
+    use std::sync::{Once, OnceLock};
 
     use super::{
         AbiCriticalShear, AbiParamSpec, AbiShearInputs, FrictionPluginV1, PluginLaw, STATUS_ERROR,
@@ -333,6 +347,52 @@ pub mod __private {
 
     thread_local! {
         static LAST_ERROR: RefCell<String> = const { RefCell::new(String::new()) };
+        /// Whether this thread is running plugin code inside a shim, where a
+        /// panic is caught and reported through `last_error`, not printed.
+        static IN_SHIM: Cell<bool> = const { Cell::new(false) };
+        /// Where the last panic caught in a shim happened (`file:line:column`).
+        static PANIC_AT: RefCell<Option<String>> = const { RefCell::new(None) };
+    }
+
+    /// The prefix of a caught panic's text in `last_error`.
+    pub const PANIC_PREFIX: &str = "panicked: ";
+
+    /// Install, once per copy of `std`, the panic hook described in the
+    /// [module docs](super): silent inside a shim, the previous hook elsewhere.
+    fn install_quiet_hook() {
+        static INSTALLED: Once = Once::new();
+        INSTALLED.call_once(|| {
+            let previous = std::panic::take_hook();
+            std::panic::set_hook(Box::new(move |info| {
+                // `try_with`: a hook must not panic, even while the thread's
+                // locals are being torn down.
+                if IN_SHIM.try_with(Cell::get).unwrap_or(false) {
+                    let at = info
+                        .location()
+                        .map(|l| format!("{}:{}:{}", l.file(), l.line(), l.column()));
+                    let _ = PANIC_AT.try_with(|p| p.replace(at));
+                } else {
+                    previous(info);
+                }
+            }));
+        });
+    }
+
+    /// Run plugin code: its value, or the text of its panic
+    /// (`panicked: MESSAGE (at FILE:LINE:COLUMN)`), caught without printing.
+    fn guarded<R>(f: impl FnOnce() -> R) -> Result<R, String> {
+        IN_SHIM.with(|in_shim| {
+            let outer = in_shim.replace(true);
+            let result = catch_unwind(AssertUnwindSafe(f));
+            in_shim.set(outer);
+            result.map_err(|payload| {
+                let message = panic_text(payload);
+                match PANIC_AT.with(|p| p.borrow_mut().take()) {
+                    Some(at) => format!("{PANIC_PREFIX}{message} (at {at})"),
+                    None => format!("{PANIC_PREFIX}{message}"),
+                }
+            })
+        })
     }
 
     /// A leaked, immutable table that may live in a `static`.
@@ -431,7 +491,10 @@ pub mod __private {
     /// building it failed (texts are checked at compile time, so only on
     /// allocation failure or a panic).
     pub fn entry<T: PluginLaw>(cell: &'static OnceLock<StaticTable>) -> *const FrictionPluginV1 {
-        let built = catch_unwind(|| {
+        // Nothing may unwind out of here; installing a hook only panics on a
+        // thread that is already panicking, and then the default hook stays.
+        let _ = catch_unwind(install_quiet_hook);
+        let built = guarded(|| {
             if let Some(t) = cell.get() {
                 return Some(t.0 as *const FrictionPluginV1);
             }
@@ -444,11 +507,8 @@ pub mod __private {
                 set_error("could not build the plugin table (a text contains a NUL byte)".into());
                 std::ptr::null()
             }
-            Err(payload) => {
-                set_error(format!(
-                    "panicked while building the plugin table: {}",
-                    panic_text(payload)
-                ));
+            Err(panicked) => {
+                set_error(format!("{panicked} (while building the plugin table)"));
                 std::ptr::null()
             }
         }
@@ -524,7 +584,7 @@ pub mod __private {
                 ),
             );
         }
-        let built = catch_unwind(|| {
+        let built = guarded(|| {
             let values: &[f64] = if n == 0 {
                 &[]
             } else {
@@ -550,10 +610,7 @@ pub mod __private {
                 STATUS_OK
             }
             Ok(Err(reason)) => fail(STATUS_ERROR, reason),
-            Err(payload) => fail(
-                STATUS_PANIC,
-                format!("panicked in create: {}", panic_text(payload)),
-            ),
+            Err(panicked) => fail(STATUS_PANIC, panicked),
         }
     }
 
@@ -568,29 +625,29 @@ pub mod __private {
         // SAFETY: `handle` was made by `create::<T>` from `Box<T>` and the host
         // destroys it exactly once.
         let law = unsafe { Box::from_raw(handle.cast::<T>()) };
-        if let Err(payload) = catch_unwind(AssertUnwindSafe(move || drop(law))) {
-            set_error(format!("panicked in drop: {}", panic_text(payload)));
+        if let Err(panicked) = guarded(move || drop(law)) {
+            set_error(format!("{panicked} (in drop)"));
         }
     }
 
-    /// `stick_stiffness` shim: NaN on panic.
+    /// `stick_stiffness` shim: NaN on panic, with the panic's text for
+    /// `last_error`; the slot is cleared first, so that a NaN without a text
+    /// is the law's own value, not an older failure.
     ///
     /// # Safety
     /// As [`super::StickStiffnessFn`].
     pub unsafe extern "C" fn stick_stiffness<T: PluginLaw>(handle: *const c_void) -> f64 {
+        set_error(String::new());
         if handle.is_null() {
             set_error("stick_stiffness: null handle".into());
             return f64::NAN;
         }
         // SAFETY: `handle` was made by `create::<T>` and is live (host contract).
         let law = unsafe { &*handle.cast::<T>() };
-        match catch_unwind(AssertUnwindSafe(|| law.stick_stiffness())) {
+        match guarded(|| law.stick_stiffness()) {
             Ok(k) => k,
-            Err(payload) => {
-                set_error(format!(
-                    "panicked in stick_stiffness: {}",
-                    panic_text(payload)
-                ));
+            Err(panicked) => {
+                set_error(panicked);
                 f64::NAN
             }
         }
@@ -613,18 +670,14 @@ pub mod __private {
         // valid `AbiShearInputs` (host contract, non-null checked above).
         let (law, inputs) = unsafe { (&*handle.cast::<T>(), ShearInputs::from(&*x)) };
         // The law is only borrowed immutably: a panic cannot leave it half-updated.
-        match catch_unwind(AssertUnwindSafe(|| law.critical_shear(&inputs))) {
+        match guarded(|| law.critical_shear(&inputs)) {
             Ok(cs) => {
                 // SAFETY: `out` is non-null and writable (host contract).
                 unsafe { out.write(AbiCriticalShear::from(cs)) };
                 STATUS_OK
             }
-            Err(payload) => {
-                set_error(format!(
-                    "panicked in critical_shear at p = {} MPa: {}",
-                    inputs.p,
-                    panic_text(payload)
-                ));
+            Err(panicked) => {
+                set_error(panicked);
                 STATUS_PANIC
             }
         }
@@ -754,7 +807,11 @@ pub(crate) mod tests {
         let x = AbiShearInputs { p: 1000.0, ..x };
         assert_eq!(unsafe { shear(handle, &x, &mut out) }, STATUS_PANIC);
         let text = last_error_text();
-        assert!(text.contains("touchy law refuses p = 1000"), "{text}");
+        assert!(
+            text.starts_with("panicked: touchy law refuses p = 1000 (at ")
+                && text.contains("abi.rs:"),
+            "{text}"
+        );
         // Still usable after the panic.
         assert_eq!(unsafe { (t.stick_stiffness.unwrap())(handle) }, 1e5);
         unsafe { (t.destroy.unwrap())(handle) };

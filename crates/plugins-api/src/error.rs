@@ -85,6 +85,19 @@ pub enum FrictionError {
         /// Comma-separated known names.
         known: String,
     },
+    /// Code inside a dynamic plugin panicked; the plugin caught the panic (it
+    /// never unwinds into the host) and passed its message on.
+    #[error("plugin {name} panicked: {message}; in {call} ({path})")]
+    PluginPanicked {
+        /// The plugin's law name.
+        name: String,
+        /// Path of the shared library.
+        path: String,
+        /// Which call panicked, e.g. `critical_shear at p = 150 MPa`.
+        call: String,
+        /// The panic's message, with where in the plugin's source it happened.
+        message: String,
+    },
     /// A dynamic plugin could not be loaded or misbehaved.
     #[error("plugin {path}: {reason}")]
     Plugin {

@@ -1,6 +1,6 @@
 //! The friction-law trait: a critical shear stress `τ_c(p, ω, ctx)` and its derivatives.
 
-use crate::{ParamSpec, PointNeeds};
+use crate::{FrictionError, ParamSpec, PointNeeds};
 
 /// Everything a law may read at a point when it evaluates `τ_c`.
 ///
@@ -63,6 +63,16 @@ pub trait FrictionLaw: Send + Sync {
     /// `τ_c` and its derivatives. Must be finite and `τ_c ≥ 0` for every
     /// `p ≥ 0`, `ω ≥ 0` and finite declared inputs.
     fn critical_shear(&self, x: &ShearInputs) -> CriticalShear;
+
+    /// Why the last [`Self::critical_shear`] call of this law on the calling
+    /// thread gave no valid answer, when the law knows better than its numbers
+    /// (a plugin that panicked: [`FrictionError::PluginPanicked`]); taken, so a
+    /// second call returns `None`. The return mapping reports it instead of a
+    /// non-finite result. Laws that compute their answer themselves keep the
+    /// default, `None`.
+    fn take_failure(&self) -> Option<FrictionError> {
+        None
+    }
 }
 
 impl<T: FrictionLaw + ?Sized> FrictionLaw for Box<T> {
@@ -81,6 +91,9 @@ impl<T: FrictionLaw + ?Sized> FrictionLaw for Box<T> {
     #[inline]
     fn critical_shear(&self, x: &ShearInputs) -> CriticalShear {
         (**self).critical_shear(x)
+    }
+    fn take_failure(&self) -> Option<FrictionError> {
+        (**self).take_failure()
     }
 }
 

@@ -18,10 +18,13 @@
 //! library once and keep it, rather than re-opening it per step.
 //!
 //! Failures inside a plugin never unwind into the host: a panic or error in
-//! `critical_shear` makes [`DynamicLaw::critical_shear`] return `τ_c = NaN`,
-//! which the return mapping reports as [`FrictionError::NonFiniteResult`]; the
-//! plugin's message is kept and can be read with [`take_last_error`] (on the
-//! failing thread) or [`DynamicLaw::last_error`].
+//! `critical_shear` makes [`DynamicLaw::critical_shear`] return `τ_c = NaN`
+//! and keeps the failure for [`FrictionLaw::take_failure`], so the return
+//! mapping reports what happened (`plugin NAME panicked: MESSAGE; in
+//! critical_shear at p = … MPa (PATH)`, [`FrictionError::PluginPanicked`]),
+//! not a NaN it did not compute. The message can also be read with
+//! [`take_last_error`] (on the failing thread, if the return mapping has not
+//! taken it) or [`DynamicLaw::last_error`].
 
 use std::cell::RefCell;
 use std::ffi::{CStr, c_char, c_void};
@@ -31,9 +34,9 @@ use std::sync::{Arc, Mutex, PoisonError};
 use libloading::Library;
 
 use crate::abi::{
-    AbiCriticalShear, AbiParamSpec, AbiShearInputs, CreateFn, CriticalShearFn, DestroyFn,
-    ENTRY_SYMBOL, ENTRY_SYMBOL_NAME, EntryFn, FrictionPluginV1, LastErrorFn, STATUS_ERROR,
-    STATUS_OK, STATUS_PANIC, StickStiffnessFn,
+    __private::PANIC_PREFIX, AbiCriticalShear, AbiParamSpec, AbiShearInputs, CreateFn,
+    CriticalShearFn, DestroyFn, ENTRY_SYMBOL, ENTRY_SYMBOL_NAME, EntryFn, FrictionPluginV1,
+    LastErrorFn, STATUS_ERROR, STATUS_OK, STATUS_PANIC, StickStiffnessFn,
 };
 use crate::law::LawDescription;
 use crate::params::check_values;
@@ -59,19 +62,26 @@ const MAX_PARAMS: usize = 256;
 /// Size of the host buffers that receive plugin error messages (bytes).
 const ERROR_BUFFER: usize = 1024;
 
+/// The last failure of a [`DynamicLaw`] call on a thread, and the law
+/// (the address of its handle) it belongs to.
+struct Failure {
+    handle: usize,
+    error: FrictionError,
+}
+
 thread_local! {
-    static LAST_PLUGIN_ERROR: RefCell<Option<String>> = const { RefCell::new(None) };
+    static LAST_PLUGIN_FAILURE: RefCell<Option<Failure>> = const { RefCell::new(None) };
 }
 
 /// Take the message of the last plugin failure on this thread (a panic or
 /// error inside a [`DynamicLaw`] call), if any, clearing it.
 ///
-/// Call it after the return mapping reported [`FrictionError::NonFiniteResult`]
-/// for a plugin law to tell the user *why* (`plugin exp-decay: panicked in
-/// critical_shear at p = … MPa: …`).
+/// The return mapping already reports a plugin's failure in its error (it
+/// takes it through [`FrictionLaw::take_failure`]); this is for callers that
+/// evaluate `τ_c` themselves.
 #[must_use]
 pub fn take_last_error() -> Option<String> {
-    LAST_PLUGIN_ERROR.with(|e| e.borrow_mut().take())
+    LAST_PLUGIN_FAILURE.with(|f| f.borrow_mut().take().map(|f| f.error.to_string()))
 }
 
 /// The table's function pointers, checked non-null at load.
@@ -109,6 +119,18 @@ impl Shared {
         FrictionError::Plugin {
             path: self.path.clone(),
             reason,
+        }
+    }
+
+    /// The error for a panic in `call`, whose text (as the plugin's `last_error`
+    /// gives it) is `text`.
+    fn panicked(&self, call: String, text: &str) -> FrictionError {
+        let message = text.strip_prefix(PANIC_PREFIX).unwrap_or(text);
+        FrictionError::PluginPanicked {
+            name: self.info.name.to_string(),
+            path: self.path.clone(),
+            call,
+            message: message.to_string(),
         }
     }
 
@@ -350,7 +372,7 @@ impl PluginLibrary {
                     component: name.to_string(),
                     reason: message,
                 },
-                STATUS_PANIC => shared.error(message),
+                STATUS_PANIC => shared.panicked("create".into(), &message),
                 other => shared.error(format!("create returned unknown status {other}: {message}")),
             });
         }
@@ -368,10 +390,14 @@ impl PluginLibrary {
         if !(k_t.is_finite() && k_t > 0.0) {
             // Returning drops `law`, which destroys the handle.
             return Err(if k_t.is_nan() {
-                shared.error(format!(
-                    "stick_stiffness returned NaN; {}",
-                    shared.plugin_message("the plugin gave no message")
-                ))
+                let text = shared.plugin_message("");
+                if text.starts_with(PANIC_PREFIX) {
+                    shared.panicked("stick_stiffness".into(), &text)
+                } else if text.is_empty() {
+                    shared.error("stick_stiffness returned NaN".into())
+                } else {
+                    shared.error(format!("stick_stiffness returned NaN: {text}"))
+                }
             } else {
                 FrictionError::InvalidParameters {
                     component: name.to_string(),
@@ -563,8 +589,9 @@ unsafe fn read_table(table: *const FrictionPluginV1) -> Result<TableInfo, String
 /// A friction law living in a plugin, called through its C-ABI table.
 ///
 /// Implements [`FrictionLaw`]. A failure inside the plugin yields `τ_c = NaN`
-/// (so the return mapping reports [`FrictionError::NonFiniteResult`]) and keeps
-/// the plugin's message for [`Self::last_error`] and [`take_last_error`].
+/// and keeps the failure (a panic: [`FrictionError::PluginPanicked`]) for
+/// [`FrictionLaw::take_failure`], through which the return mapping reports it,
+/// and for [`Self::last_error`] and [`take_last_error`].
 pub struct DynamicLaw {
     handle: *mut c_void,
     /// `k_T`, read once at creation (immutable).
@@ -599,21 +626,29 @@ impl DynamicLaw {
         &self.shared.path
     }
 
+    /// Keep the failure of a `critical_shear` call (status `status` at
+    /// pressure `p`) for [`FrictionLaw::take_failure`], [`take_last_error`]
+    /// and [`Self::last_error`].
     #[cold]
     #[inline(never)]
     fn record_failure(&self, status: i32, p: f64) {
-        let message = self.shared.plugin_message(&format!(
-            "critical_shear failed with status {status} at p = {p} MPa (no message)"
-        ));
-        let message = format!(
-            "plugin {} ({}): {message}",
-            self.shared.info.name, self.shared.path
-        );
-        LAST_PLUGIN_ERROR.with(|e| *e.borrow_mut() = Some(message.clone()));
+        let shared = &self.shared;
+        let text = shared.plugin_message("no message");
+        let call = format!("critical_shear at p = {p} MPa");
+        let error = if status == STATUS_PANIC {
+            shared.panicked(call, &text)
+        } else {
+            shared.error(format!("{call} failed (status {status}): {text}"))
+        };
         *self
             .last_error
             .lock()
-            .unwrap_or_else(PoisonError::into_inner) = Some(message);
+            .unwrap_or_else(PoisonError::into_inner) = Some(error.to_string());
+        let failure = Failure {
+            handle: self.handle as usize,
+            error,
+        };
+        LAST_PLUGIN_FAILURE.with(|f| *f.borrow_mut() = Some(failure));
     }
 }
 
@@ -671,6 +706,18 @@ impl FrictionLaw for DynamicLaw {
             dtau_dspeed: f64::NAN,
             clamped: false,
         }
+    }
+
+    fn take_failure(&self) -> Option<FrictionError> {
+        LAST_PLUGIN_FAILURE.with(|f| {
+            let mut slot = f.borrow_mut();
+            match slot.as_ref() {
+                Some(failure) if failure.handle == self.handle as usize => {
+                    slot.take().map(|f| f.error)
+                }
+                _ => None,
+            }
+        })
     }
 }
 

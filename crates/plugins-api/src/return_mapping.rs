@@ -301,6 +301,15 @@ fn evaluate<L: FrictionLaw + ?Sized>(
     x: &ShearInputs,
 ) -> Result<crate::CriticalShear, FrictionError> {
     check_shear(law.critical_shear(x), x.p, || law.name().to_string())
+        .map_err(|e| explained(law, e))
+}
+
+/// The law's own account of a failed `τ_c` evaluation (a plugin's panic), if
+/// it has one, else `error`.
+#[cold]
+#[inline(never)]
+pub(crate) fn explained<L: FrictionLaw + ?Sized>(law: &L, error: FrictionError) -> FrictionError {
+    law.take_failure().unwrap_or(error)
 }
 
 /// A law's answer checked against its contract: `τ_c` and its derivatives

@@ -7,6 +7,7 @@
 //! histories on a fixed schedule; everything that allocates (snapshots,
 //! frames) happens only at the scheduled times.
 
+pub mod out_dir;
 pub mod post;
 pub mod reference;
 pub mod summary;
@@ -25,7 +26,8 @@ use std::time::Instant;
 /// How to run.
 #[derive(Debug, Clone)]
 pub struct RunOptions {
-    /// Output directory (created).
+    /// Output directory (created). Files of an earlier run there are
+    /// overwritten, not removed: clean it first with [`out_dir::prepare`].
     pub out: PathBuf,
     /// Progress display.
     pub progress: Progress,
@@ -211,7 +213,8 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         if time >= next_frame || time >= end {
             let name = format!("blank_{:04}.vtu", frames.len());
             write::frame(&vtk_dir.join(&name), &model, time, stroke)?;
-            frames.push((time, name));
+            // Relative to blank.pvd, which sits beside vtk/.
+            frames.push((time, format!("vtk/{name}")));
             next_frame += frame_every;
         }
         if time >= end * (1.0 - 1e-12) {

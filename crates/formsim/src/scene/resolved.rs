@@ -53,8 +53,8 @@ mod tests {
     /// coefficient), overrides win, arrays of tables get indices.
     #[test]
     fn dotted_lines_show_defaults_and_overrides() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../scenes/square-cup.toml");
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/square-cup.toml");
         let loaded = super::super::load(&path, &["blank.hourglass=0.07".to_string()]).unwrap();
         let lines = dotted_lines(&loaded.scene).unwrap();
         let has = |l: &str| lines.iter().any(|x| x == l);

@@ -4,7 +4,7 @@ use std::fmt;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use crate::kinematics::tangent_part;
-use crate::return_mapping::{check_shear, step};
+use crate::return_mapping::{check_shear, explained, step};
 use crate::{
     CriticalShear, FrictionError, FrictionLaw, KinematicFormulation, Mat3, PointNeeds, PointState,
     ShearInputs, StepInput, StepOutput, TangentMode,
@@ -123,7 +123,8 @@ impl<'a> Driver<'a> {
         };
         let cs = guarded(|| self.law.critical_shear(&x)).map_err(Failure::Panic)?;
         let name = || guarded(|| self.law.name().to_string()).unwrap_or_else(|_| "law".to_string());
-        check_shear(cs, input.p, name).map_err(Failure::Error)
+        check_shear(cs, input.p, name)
+            .map_err(|e| Failure::Error(guarded(|| explained(self.law, e.clone())).unwrap_or(e)))
     }
 }
 
