@@ -500,3 +500,37 @@ fn scene_check_resolved_prints_every_setting_with_its_default() {
         );
     }
 }
+
+/// A force motion takes `force` or `force_curve`, never both; a curve's
+/// compressions must increase; a scene with a gas-spring curve builds
+/// (issue 14, gas springs).
+#[test]
+fn force_motion_takes_force_or_a_curve() {
+    let sets = vec!["steps[2].motions[0].force_curve=[[0.0, 4900.0], [2.0, 6000.0]]".to_string()];
+    let e = scene::load(&cup(), &sets).unwrap_err().to_string();
+    assert!(
+        e.contains("steps[2].motions[0].force") && e.contains("not both"),
+        "{e}"
+    );
+
+    let text = std::fs::read_to_string(cup()).unwrap();
+    let draw = "force = 4900.0 },";
+    assert_eq!(text.matches(draw).count(), 1);
+    let dir = tempfile::tempdir().unwrap();
+    let write = |curve: &str| {
+        let path = dir.path().join("cup.toml");
+        std::fs::write(
+            &path,
+            text.replace(draw, &format!("force_curve = {curve} }},")),
+        )
+        .unwrap();
+        path
+    };
+    let good = scene::load(&write("[[0.0, 4900.0], [2.0, 6000.0]]"), &[]).unwrap();
+    scene::build(&good).unwrap();
+    let e = scene::load(&write("[[0.0, 4900.0], [0.0, 6000.0]]"), &[])
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("force_curve") && e.contains("row 1"), "{e}");
+}
