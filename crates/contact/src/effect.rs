@@ -251,6 +251,7 @@ impl ContactEffect {
                 force: -self.reactions[i],
                 applied: press.and_then(|p| p.applied_force(i)),
                 displacement: press.map_or_else(Vec3::zeros, |p| p.displacement(i)),
+                step_start: press.map_or_else(Vec3::zeros, |p| p.step_start_displacement(i)),
                 work: self.tool_work_step[i],
             };
             record(log, &sample);

@@ -73,8 +73,8 @@ pub struct ToolStepLog {
     pub total: Sampled,
     /// Force prescribed to a force-controlled tool, `F A(τ)` (N).
     pub applied: Option<Sampled>,
-    /// Travel along `direction` since the start of the programme at the
-    /// step's first and last samples (mm).
+    /// Travel along `direction` since the start of the programme when the
+    /// step began and at its last sample (mm).
     pub travel: (f64, f64),
     /// Work the tool did on the blank through contact (N·mm).
     pub work: f64,
@@ -91,13 +91,15 @@ pub(crate) struct ToolSample {
     pub applied: Option<f64>,
     /// Displacement from the initial pose (mm).
     pub displacement: Vec3,
+    /// Displacement from the initial pose when the press step began (mm).
+    pub step_start: Vec3,
     /// Work through contact in this explicit step (N·mm).
     pub work: f64,
 }
 
 impl ToolStepLog {
     fn start(s: &ToolSample) -> Self {
-        let travel = s.displacement.dot(&s.direction);
+        let travel = s.step_start.dot(&s.direction);
         Self {
             step: s.step,
             duration: 0.0,
@@ -151,6 +153,7 @@ mod tests {
             force: Vec3::new(3.0, 0.0, -f),
             applied: Some(100.0),
             displacement: Vec3::new(0.0, 0.0, z),
+            step_start: Vec3::new(0.0, 0.0, if step == 0 { 0.5 } else { -1.0 }),
             work: 1.0,
         };
         record(&mut log, &sample(0, 1.0, 10.0, 0.0));
@@ -163,7 +166,7 @@ mod tests {
         assert_eq!((l.along.min, l.along.max), (10.0, 20.0));
         assert_eq!(l.total.max, (9.0f64 + 400.0).sqrt());
         assert_eq!(l.applied.unwrap().mean(l.duration), 100.0);
-        assert_eq!(l.travel, (0.0, 1.0));
+        assert_eq!(l.travel, (-0.5, 1.0));
         assert_eq!(l.work, 2.0);
         assert_eq!(log[1].step, 1);
         assert_eq!(Sampled::default().mean_min_max(0.0), (0.0, 0.0, 0.0));

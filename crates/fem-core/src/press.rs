@@ -94,10 +94,11 @@ pub enum ForceLaw {
 }
 
 impl ForceLaw {
-    /// The force (N) at compression `c` (mm).
+    /// The force (N) at compression `c` (mm); NaN for a NaN compression.
     pub fn value(&self, c: f64) -> f64 {
         match self {
             ForceLaw::Constant(f) => *f,
+            ForceLaw::Compression(_) if c.is_nan() => f64::NAN,
             ForceLaw::Compression(rows) => {
                 let (first, last) = (rows[0], rows[rows.len() - 1]);
                 if c <= first.0 {
@@ -418,6 +419,12 @@ impl Press {
         self.velocities[i]
     }
 
+    /// Displacement of tool `i` from its initial pose when the current step
+    /// began (mm).
+    pub fn step_start_displacement(&self, i: usize) -> Vec3 {
+        self.step_start_pose[i].translation - self.initial[i].translation
+    }
+
     /// Displacement of tool `i` from its initial pose (mm).
     pub fn displacement(&self, i: usize) -> Vec3 {
         self.poses[i].translation - self.initial[i].translation
@@ -541,7 +548,11 @@ impl Press {
                 .map(|(_, m)| m)
                 .unwrap_or(&ToolMotion::Hold);
             if !matches!(motion, ToolMotion::Force { .. }) {
+                // Force control starts afresh (at rest, no reaction rate)
+                // whenever a later step takes it up again.
                 self.applied[i] = None;
+                self.last_reaction[i] = None;
+                self.free_speed[i] = 0.0;
             }
             let old = self.poses[i].translation;
             let start = self.step_start_pose[i].translation;

@@ -43,13 +43,9 @@ impl Case {
     pub fn parse(text: &str) -> Result<Self, String> {
         let (name, rest) = text.split_once(':').unwrap_or((text, ""));
         let name = name.trim();
-        if name.is_empty()
-            || !name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
-        {
+        if !crate::scene::validate::is_plain_name(name) {
             return Err(format!(
-                "--case `{text}`: the name before `:` must be letters, digits, `-`, `_` or `.` \
+                "--case `{text}`: the name before `:` must be letters, digits, `-`, `_` or `.` (not only dots) \
                  (e.g. `bt-25:blank.mesh.divisions=25`)"
             ));
         }

@@ -109,14 +109,12 @@ fn compare_rejects_an_unknown_law_before_running_any_row() {
         sets: strings(&["blank.mesh.divisions=2"]),
         ..Default::default()
     };
-    let started = std::time::Instant::now();
     let e = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap_err();
     assert!(
         e.starts_with("law nosuch, formulation convective: ") && e.contains("unknown law `nosuch`"),
         "{e}"
     );
     assert_eq!(e.lines().count(), 1, "{e}");
-    assert!(started.elapsed().as_secs_f64() < 5.0);
     let written: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert!(written.is_empty(), "nothing may be written: {written:?}");
 }

@@ -346,7 +346,9 @@ fn large_added_mass_warns_at_check_and_before_the_run() {
 
 /// 4096 × 4096 shells took 82 s and 16 GB to check; 1e9 history rows
 /// aborted on a 168 GB allocation. Both are refused from the scene alone,
-/// at once, naming the key.
+/// before anything is built, naming the key (the bound of 10 s on the whole
+/// process is far below what building the mesh took, and far above a
+/// process start on a busy machine).
 #[test]
 fn runs_larger_than_the_machine_are_refused_fast() {
     let secs = assert_refused(
@@ -357,13 +359,13 @@ fn runs_larger_than_the_machine_are_refused_fast() {
             "16785409 nodes, 16777216 elements",
         ],
     );
-    assert!(secs < 1.0, "{secs} s");
+    assert!(secs < 10.0, "{secs} s");
     let secs = assert_refused(
         &cup(),
         &["output.history_points=1000000000"],
         &["output.history_points: 1000000000", "of history rows"],
     );
-    assert!(secs < 1.0, "{secs} s");
+    assert!(secs < 10.0, "{secs} s");
     assert_refused(
         &cup(),
         &["blank.mesh.divisions=400", "output.frames=1000000000"],
@@ -532,5 +534,5 @@ fn force_motion_takes_force_or_a_curve() {
         .map(|_| ())
         .unwrap_err()
         .to_string();
-    assert!(e.contains("force_curve") && e.contains("row 1"), "{e}");
+    assert!(e.contains("force_curve[1][0]"), "{e}");
 }

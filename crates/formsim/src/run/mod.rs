@@ -186,8 +186,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
             pull_sum.0 += f[*dof].abs();
             pull_sum.1 += 1;
             if let (Some(i), Some(c)) = (strip_holder, model.contact()) {
-                let row = tools_report::sample(&model, &axes, time, 0.0);
-                holder_sum.0 += row.tools[i].force;
+                holder_sum.0 -= c.reactions()[i].dot(&axes[i]);
                 holder_sum.1 += c.press().and_then(|p| p.applied_force(i)).unwrap_or(0.0);
             }
         }

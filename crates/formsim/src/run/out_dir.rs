@@ -100,7 +100,8 @@ fn holds_run(dir: &Path) -> bool {
 }
 
 /// The sub-folders of a comparison's `dir` that belong to it: a row's label,
-/// or a run's results inside.
+/// or a folder holding a run's `summary.json` (an earlier comparison's row;
+/// a folder with only plots or CSV files of the user's own is not one).
 fn run_folders(dir: &Path, labels: &[String]) -> Result<Vec<std::path::PathBuf>, String> {
     let mut found = Vec::new();
     for entry in std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))? {
@@ -108,7 +109,7 @@ fn run_folders(dir: &Path, labels: &[String]) -> Result<Vec<std::path::PathBuf>,
         let path = entry.path();
         let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
         let is_row = labels.iter().any(|l| entry.file_name() == l.as_str());
-        if is_dir && (is_row || holds_run(&path)) {
+        if is_dir && (is_row || path.join("summary.json").is_file()) {
             found.push(path);
         }
     }
@@ -247,8 +248,11 @@ mod tests {
             "plots/OD.png",
             "ac-convective/summary.json",
             "ac-convective/vtk/blank_0001.vtu",
+            "old-row/summary.json",
             "old-row/energy.csv",
             "mine/notes.txt",
+            "docs/plots/figure.png",
+            "docs/energy.csv",
         ] {
             touch(d, f);
         }
@@ -257,7 +261,20 @@ mod tests {
         let e = prepare(d, Owner::Compare(&labels), false).unwrap_err();
         assert!(e.contains("holds results"), "{e}");
         prepare(d, Owner::Compare(&labels), true).unwrap();
-        assert_eq!(walk(d), ["mine", "mine/notes.txt"]);
+        // A folder with a run's files but no summary.json is the user's.
+        let mut left = walk(d);
+        left.sort();
+        assert_eq!(
+            left,
+            [
+                "docs",
+                "docs/energy.csv",
+                "docs/plots",
+                "docs/plots/figure.png",
+                "mine",
+                "mine/notes.txt"
+            ]
+        );
     }
 
     /// Every path under `dir`, relative, sorted.

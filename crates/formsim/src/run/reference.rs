@@ -11,6 +11,8 @@ use plugins_api::{FrictionLaw, Params, ShearInputs, registry};
 /// probed: from near lift-off to well above the benchmarks' pressures.
 const PROBE_PRESSURES: [f64; 4] = [1e-3, 1.0, 30.0, 300.0];
 const PROBE_WORK: [f64; 3] = [0.0, 10.0, 1e3];
+/// Flow stresses (MPa) at which it is probed (Levanov's `τ_c` depends on it).
+const PROBE_FLOW_STRESS: [f64; 2] = [100.0, 400.0];
 /// How closely `τ_c / p` must agree over the probes to be one coefficient.
 const SAME_MU: f64 = 1e-9;
 
@@ -40,33 +42,33 @@ pub fn coulomb_mu(loaded: &LoadedScene) -> Result<f64, String> {
     mu_of(law.as_ref())
 }
 
-/// `τ_c / p` of `law` if it is the same at every probe.
+/// `τ_c / p` of `law` if it is the same, finite and positive at every probe.
 fn mu_of(law: &dyn FrictionLaw) -> Result<f64, String> {
     let mut mu: Option<f64> = None;
     for &p in &PROBE_PRESSURES {
         for &omega in &PROBE_WORK {
-            let x = ShearInputs {
-                p,
-                omega,
-                sliding_speed: 0.0,
-                flow_stress: 0.0,
-                temperature: 0.0,
-            };
-            let m = law.critical_shear(&x).tau / p;
-            match mu {
-                None => mu = Some(m),
-                Some(m0) if (m - m0).abs() > SAME_MU * m0.abs().max(1e-12) => {
+            for &flow_stress in &PROBE_FLOW_STRESS {
+                let x = ShearInputs {
+                    p,
+                    omega,
+                    sliding_speed: 0.0,
+                    flow_stress,
+                    temperature: 300.0,
+                };
+                let m = law.critical_shear(&x).tau / p;
+                let m0 = *mu.get_or_insert(m);
+                // Written so that a NaN fails the test.
+                if !(m.is_finite() && m > 0.0 && (m - m0).abs() <= SAME_MU * m0.abs()) {
                     return Err(format!(
-                        "law `{}` is not Coulomb (τ_c/p = {m0:.6} and {m:.6} at p, ω = {p} MPa, {omega} N/mm)",
+                        "law `{}` is not Coulomb (τ_c/p = {m0:.6} and {m:.6} at p = {p} MPa, \
+                         ω = {omega} N/mm, σ_y = {flow_stress} MPa)",
                         law.name()
                     ));
                 }
-                Some(_) => {}
             }
         }
     }
-    mu.filter(|m| m.is_finite())
-        .ok_or_else(|| format!("law `{}` gives no finite τ_c/p", law.name()))
+    mu.ok_or_else(|| format!("law `{}` was not probed", law.name()))
 }
 
 #[cfg(test)]
@@ -74,7 +76,9 @@ mod tests {
     use super::*;
 
     /// AC gives its μ; WVS with ν = 1 is Coulomb with μ = α + β
-    /// (friction-math §7); WVS with ν = 0.8 and WH with a1 ≠ 0 are not.
+    /// (friction-math §7); WVS with ν = 0.8, WH with a1 ≠ 0 and Levanov
+    /// (saturating in p against the flow stress) are not; μ = 0 gives no
+    /// reference.
     #[test]
     fn coulomb_mu_of_the_builtin_laws() {
         friction_laws::ensure_linked();
@@ -95,5 +99,9 @@ mod tests {
         assert!(mu_of(wh.as_ref()).is_err());
         let wh = build("wh", &[("a0", 0.2), ("a1", 0.0)]);
         assert!((mu_of(wh.as_ref()).unwrap() - 0.2).abs() < 1e-15);
+        let levanov = build("levanov", &[("m", 0.2), ("c", 1.25)]);
+        assert!(mu_of(levanov.as_ref()).is_err());
+        let frictionless = build("ac", &[("mu", 0.0)]);
+        assert!(mu_of(frictionless.as_ref()).is_err());
     }
 }

@@ -84,14 +84,19 @@ pub fn tools(model: &Model) -> BTreeMap<String, ToolSummary> {
     let step_names: Vec<String> = c.press().map_or_else(Vec::new, |p| {
         p.steps().iter().map(|s| s.name.clone()).collect()
     });
+    let axes = press_axes(model);
     c.tool_log()
         .iter()
         .zip(&model.tool_names)
-        .map(|(log, name)| (name.clone(), tool_summary(log, &step_names)))
+        .enumerate()
+        .map(|(i, (log, name))| {
+            let travel = c.press().map_or(0.0, |p| p.displacement(i).dot(&axes[i]));
+            (name.clone(), tool_summary(log, &step_names, travel))
+        })
         .collect()
 }
 
-fn tool_summary(log: &[ToolStepLog], step_names: &[String]) -> ToolSummary {
+fn tool_summary(log: &[ToolStepLog], step_names: &[String], travel: f64) -> ToolSummary {
     let mut steps = BTreeMap::new();
     for l in log {
         let mut key = step_names
@@ -104,7 +109,7 @@ fn tool_summary(log: &[ToolStepLog], step_names: &[String]) -> ToolSummary {
         steps.insert(key, step_summary(l));
     }
     ToolSummary {
-        travel: log.last().map_or(0.0, |l| l.travel.1),
+        travel,
         work: log.iter().map(|l| l.work).sum(),
         steps,
     }

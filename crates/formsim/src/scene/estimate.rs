@@ -253,11 +253,20 @@ fn pair_count(scene: &Scene) -> f64 {
     }
 }
 
+/// Memory of one history sample (bytes): the energies' row and the tools'
+/// row (`tools.csv`) with one state per tool.
+pub fn history_row_bytes(tools: usize) -> f64 {
+    use std::mem::size_of;
+    (size_of::<crate::run::HistoryRow>()
+        + size_of::<crate::run::tools_report::ToolRow>()
+        + tools * size_of::<crate::run::tools_report::ToolState>()) as f64
+}
+
 /// Estimate what a run of `scene` on a blank of `mesh` needs.
 ///
 /// Memory: `8 MB + nodes × (1100 + 400 × pairs) + elements × (900 + 40 ×
-/// in-plane points × points through the thickness) + history_points ×
-/// size_of::<HistoryRow>()`, fitted to the peak memory of short runs of the
+/// in-plane points × points through the thickness) + history_points ×`
+/// [`history_row_bytes`], fitted to the peak memory of short runs of the
 /// square cup at 200, 400 and 800 divisions (both elements, 5 and 9 points)
 /// and of the block on a plane at 400 (within 25 %).
 pub fn estimate(scene: &Scene, mesh: MeshSize) -> Estimate {
@@ -269,7 +278,7 @@ pub fn estimate(scene: &Scene, mesh: MeshSize) -> Estimate {
     let model_bytes = BASE_BYTES
         + mesh.nodes * (NODE_BYTES + PAIR_NODE_BYTES * pair_count(scene))
         + mesh.elements * (ELEMENT_BYTES + POINT_BYTES * points);
-    let row = std::mem::size_of::<crate::run::HistoryRow>() as f64;
+    let row = history_row_bytes(scene.tools.len());
     let history_bytes = (scene.output.history_points as f64 + 2.0) * row;
     let end = end_time(scene);
     let (dt, dt_source) = time_step(scene, &mesh);
@@ -539,6 +548,14 @@ fn format_duration(s: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The documented size of a history sample (docs/scene-format.md:
+    /// 208 + 40 × tools bytes) is the size of the rows the run keeps.
+    #[test]
+    fn history_sample_size_is_the_documented_one() {
+        assert_eq!(history_row_bytes(0), 208.0);
+        assert_eq!(history_row_bytes(3), 208.0 + 3.0 * 40.0);
+    }
 
     #[test]
     fn mem_available_reads_kib() {

@@ -30,6 +30,18 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
         }
     };
 
+    // The name is the default output folder `results/NAME`, which a run
+    // replaces: one plain path component only.
+    if !is_plain_name(&s.scene.name) {
+        return err(
+            "scene.name",
+            format!(
+                "\"{}\": must be letters, digits, `-`, `_` or `.` (not only dots): it names the output folder results/NAME",
+                s.scene.name
+            ),
+        );
+    }
+
     // Units: formsim computes in one consistent system and says so in every scene.
     let u = &s.scene.units;
     for (key, given, want) in [
@@ -442,7 +454,44 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                     format!("\"{}\": no such tool", st.holder),
                 );
             }
+            Some(st)
+                if !s
+                    .steps
+                    .iter()
+                    .flat_map(|step| &step.motions)
+                    .any(|m| matches!(m, Motion::Force { .. }) && m.tool() == st.holder) =>
+            {
+                return err(
+                    "output.strip.holder",
+                    format!(
+                        "\"{}\": the holder must be force-controlled in some step (its force is the reference 2 mu F)",
+                        st.holder
+                    ),
+                );
+            }
             Some(_) => {}
+        }
+    }
+    for (key, pull_dof, from) in [
+        o.capstan
+            .as_ref()
+            .map(|c| ("output.capstan", &c.pull_dof, c.average_from)),
+        o.block
+            .as_ref()
+            .map(|b| ("output.block", &b.pull_dof, b.average_from)),
+        o.strip
+            .as_ref()
+            .map(|b| ("output.strip", &b.pull_dof, b.average_from)),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        non_negative(&format!("{key}.average_from"), from, "s")?;
+        if !matches!(pull_dof.as_str(), "ux" | "uy" | "uz") {
+            return err(
+                &format!("{key}.pull_dof"),
+                format!("\"{pull_dof}\": must be ux, uy or uz"),
+            );
         }
     }
     if s.scene.kind == SceneKind::BlockOnPlane && o.block.is_none() {
@@ -575,31 +624,22 @@ pub fn warnings(loaded: &LoadedScene) -> Vec<String> {
     }
 }
 
-/// A gas-spring curve: at least one row, compressions finite and strictly
-/// increasing (mm), forces finite and `>= 0` (N).
+/// A gas-spring curve, checked by [`fem_core::ForceLaw::validate`] (at least
+/// one row, compressions finite and strictly increasing, forces finite and
+/// `>= 0`), its error given under `key`.
 fn check_force_curve(loaded: &LoadedScene, key: &str, rows: &[[f64; 2]]) -> Result<(), SceneError> {
-    if rows.is_empty() {
-        return Err(loaded.key_error(
-            key,
-            "empty: give [compression mm, force N] rows".to_string(),
-        ));
-    }
-    for (k, r) in rows.iter().enumerate() {
-        if !r[0].is_finite() || (k > 0 && r[0] <= rows[k - 1][0]) {
-            return Err(loaded.key_error(
-                key,
-                format!(
-                    "row {k}: compression {} mm must be finite and strictly increasing",
-                    r[0]
-                ),
-            ));
-        }
-        if !(r[1].is_finite() && r[1] >= 0.0) {
-            return Err(loaded.key_error(
-                key,
-                format!("row {k}: force {} N must be finite and >= 0", r[1]),
-            ));
-        }
-    }
-    Ok(())
+    let motion = key.strip_suffix(".force_curve").unwrap_or(key);
+    fem_core::ForceLaw::Compression(rows.iter().map(|r| (r[0], r[1])).collect())
+        .validate(motion)
+        .map_err(|e| loaded.key_error(key, e.to_string()))
+}
+
+/// Whether `name` can stand as one folder name: non-empty, letters, digits,
+/// `-`, `_`, `.` only, and not `.` or `..` (or any run of dots alone).
+pub fn is_plain_name(name: &str) -> bool {
+    !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
+        && !name.chars().all(|c| c == '.')
 }
