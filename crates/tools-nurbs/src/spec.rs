@@ -65,7 +65,14 @@ impl ToolSurface for Tool {
     }
 }
 
+/// A spec error on one line (TOML's own messages span several).
 fn spec_err(message: String) -> NurbsError {
+    let message = message
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ");
     NurbsError::Spec { message }
 }
 
