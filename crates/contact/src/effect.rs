@@ -268,6 +268,7 @@ impl Effect for ContactEffect {
         ctx: &StepContext,
         state: &NodalState,
         forces: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         if ctx.dt <= 0.0 {
             return Ok(());

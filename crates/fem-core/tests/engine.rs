@@ -140,6 +140,7 @@ impl Effect for Wobble {
         c: &StepContext,
         _s: &NodalState,
         _f: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         self.time = c.time;
         Ok(())
@@ -559,6 +560,7 @@ impl Effect for Shrinking {
         c: &StepContext,
         _s: &NodalState,
         _f: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         self.time = c.time;
         Ok(())
@@ -756,6 +758,7 @@ impl Effect for Stiffening {
         c: &StepContext,
         s: &NodalState,
         f: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         self.k = K * (1.0 + c.time / self.tau);
         let u = s.displacement(1).x;
@@ -871,6 +874,7 @@ impl Effect for Poison {
         c: &StepContext,
         _s: &NodalState,
         f: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         if c.time > 1e-3 {
             f.f[2].y = f64::NAN;

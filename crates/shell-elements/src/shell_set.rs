@@ -497,6 +497,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         ctx: &StepContext,
         state: &NodalState,
         forces: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         let ip = E::IN_PLANE_POINTS;
         let nsp = ip * self.section.rule.n;
@@ -743,7 +744,8 @@ mod tests {
             }
             let mut set = set0.clone();
             let mut f = Forces::zeros(4);
-            set.add_forces(&ctx, &st, &mut f).unwrap();
+            set.add_forces(&ctx, &st, &mut f, &mut fem_core::FieldAccess::none())
+                .unwrap();
             for n in 0..4 {
                 for c in 0..3 {
                     k[(6 * n + c, j)] = -f.f[n][c] / dt;
@@ -811,7 +813,8 @@ mod tests {
             dt,
             step: 1,
         };
-        set.add_forces(&ctx, &st, &mut f).unwrap();
+        set.add_forces(&ctx, &st, &mut f, &mut fem_core::FieldAccess::none())
+            .unwrap();
         (f, set)
     }
 
@@ -1040,7 +1043,14 @@ mod tests {
             dt: 1e-6,
             step: 1,
         };
-        let e = set.add_forces(&ctx, &state, &mut forces).unwrap_err();
+        let e = set
+            .add_forces(
+                &ctx,
+                &state,
+                &mut forces,
+                &mut fem_core::FieldAccess::none(),
+            )
+            .unwrap_err();
         assert!(e.to_string().contains("nodal state has 5 nodes"), "{e}");
     }
 }
