@@ -1190,9 +1190,44 @@ impl Solver {
         })
     }
 
+    /// One step towards `t_end`, as [`Solver::run_until`] takes it: over the
+    /// last (at most) 32 steps before `t_end` the steps are shortened evenly
+    /// to land on it exactly. A caller stepping with this until
+    /// `time() >= t_end` takes the very steps `run_until(t_end, …)` takes.
+    ///
+    /// # Errors
+    /// `t_end` not finite or not after the current time; the step's errors.
+    pub fn step_toward(&mut self, t_end: f64) -> Result<StepReport, FemError> {
+        self.initialize()?;
+        if !(t_end.is_finite() && t_end > self.time) {
+            return Err(FemError::InvalidParameter {
+                field: "t_end".into(),
+                value: t_end,
+                unit: "s",
+                range: "finite and after the current time",
+            });
+        }
+        self.land_on(t_end);
+        self.step()
+    }
+
+    /// Land on `t_end`: over the last (at most) 32 steps, use equal steps
+    /// remaining / N, so that Δt changes by at most ~3 % once (a sudden
+    /// change of Δt disturbs the energy balance; see `energy`).
+    fn land_on(&mut self, t_end: f64) {
+        let remaining = t_end - self.time;
+        if self.dt_next * 32.0 >= remaining {
+            let steps = (remaining / self.dt_next * (1.0 - 1e-12)).ceil().max(1.0);
+            self.dt_next = remaining / steps;
+            if steps == 1.0 {
+                self.land_at = Some(t_end);
+            }
+        }
+    }
+
     /// Step until `t_end` (the last steps are shortened evenly to land on it
-    /// exactly; prefer one call with output in the callback over many short
-    /// calls),
+    /// exactly, see [`Solver::step_toward`]; prefer one call with output in
+    /// the callback over many short calls),
     /// calling `callback` after every step; stops early when it returns
     /// [`Control::Stop`]. On error the solver keeps the state computed so far.
     pub fn run_until<F>(&mut self, t_end: f64, callback: &mut F) -> Result<RunSummary, FemError>
@@ -1214,18 +1249,7 @@ impl Solver {
             last: None,
         };
         while self.time < t_end {
-            let remaining = t_end - self.time;
-            // Land on t_end: over the last (at most) 32 steps, use equal steps
-            // remaining / N, so that Δt changes by at most ~3 % once (a sudden
-            // change of Δt disturbs the energy balance; see `energy`).
-            if self.dt_next * 32.0 >= remaining {
-                let steps = (remaining / self.dt_next * (1.0 - 1e-12)).ceil().max(1.0);
-                self.dt_next = remaining / steps;
-                if steps == 1.0 {
-                    self.land_at = Some(t_end);
-                }
-            }
-            let report = self.step()?;
+            let report = self.step_toward(t_end)?;
             summary.steps += 1;
             summary.last = Some(report);
             if callback(self, &report) == Control::Stop {

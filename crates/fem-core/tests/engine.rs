@@ -907,3 +907,31 @@ fn non_finite_force_and_bad_mesh_are_named() {
         .to_string();
     assert!(e.starts_with("element 0: "), "{e}");
 }
+
+/// `step_toward(t_end)` until `t_end` takes the steps of `run_until(t_end)`
+/// (same times and states, bit for bit) and lands on `t_end` exactly; a
+/// `t_end` already reached is refused.
+#[test]
+fn step_toward_takes_the_steps_of_run_until() {
+    let t_end = 0.0123;
+    let (mut a, _) = chain(3, K, M, SolverSettings::default());
+    let (mut b, _) = chain(3, K, M, SolverSettings::default());
+    for s in [&mut a, &mut b] {
+        s.state_mut().x[3].x += 0.5;
+    }
+    let mut times = Vec::new();
+    a.run_until(t_end, &mut |_, r| {
+        times.push(r.time);
+        Control::Continue
+    })
+    .unwrap();
+    let mut times_b = Vec::new();
+    while b.time() < t_end {
+        times_b.push(b.step_toward(t_end).unwrap().time);
+    }
+    assert_eq!(times, times_b);
+    assert_eq!(b.time(), t_end);
+    assert_eq!(a.state(), b.state());
+    let e = b.step_toward(t_end).unwrap_err().to_string();
+    assert!(e.contains("t_end"), "{e}");
+}
