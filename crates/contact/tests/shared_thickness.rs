@@ -151,7 +151,7 @@ impl Effect for Toggle {
         fields: &mut FieldAccess<'_>,
     ) -> Result<(), FemError> {
         if let Some(t) = fields.write(NodalField::THICKNESS) {
-            t.fill(if ctx.step % 2 == 0 { 1.2 } else { 1.0 });
+            t.fill(if ctx.step.is_multiple_of(2) { 1.2 } else { 1.0 });
         }
         Ok(())
     }
@@ -179,7 +179,7 @@ fn the_gap_uses_the_thickness_written_in_the_same_step() {
     solver
         .run_until(2e-4, &mut |s: &Solver, r| {
             let c: &ContactEffect = s.effect(cid).unwrap();
-            let even = r.step % 2 == 0;
+            let even = r.step.is_multiple_of(2);
             assert_eq!(c.thickness(), &[if even { 1.2 } else { 1.0 }; 4]);
             let touching = c.pairs()[0]
                 .status
