@@ -20,8 +20,8 @@ use std::time::{Duration, Instant};
 
 use contact::{BlankGeometry, ContactEffect, ContactPair, PairSpec};
 use fem_core::{
-    Control, Effect, EnergyTally, FemError, Forces, NodalState, Press, PressStep, Solver,
-    SolverSettings, StableDt, StepContext, StepEnd, ToolMotion, Vec3, rectangle,
+    Control, Effect, EnergyTally, FemError, FieldAccess, Forces, NodalField, NodalState, Press,
+    PressStep, Solver, SolverSettings, StableDt, StepContext, StepEnd, ToolMotion, Vec3, rectangle,
 };
 use friction_laws::builtin;
 use plugins_api::{Params, RigidPose, TangentMode, ToolSurface};
@@ -57,14 +57,18 @@ impl Effect for Timed {
         ctx: &StepContext,
         state: &NodalState,
         forces: &mut Forces,
+        fields: &mut FieldAccess<'_>,
     ) -> Result<(), FemError> {
         let t = Instant::now();
-        let r = self.inner.add_forces(ctx, state, forces);
+        let r = self.inner.add_forces(ctx, state, forces, fields);
         self.spent += t.elapsed();
         r
     }
     fn energies(&self) -> EnergyTally {
         self.inner.energies()
+    }
+    fn reads(&self) -> &[NodalField] {
+        self.inner.reads()
     }
 }
 

@@ -1,8 +1,10 @@
 //! Contact as an engine effect: the tools, the press that moves them, the pairs,
-//! and the blank's nodal thickness and flow stress that the pairs read.
+//! and the blank's nodal thickness and flow stress that the pairs read (from
+//! the shared fields the shells write).
 
 use fem_core::{
-    Effect, EnergyTally, FemError, Forces, NodalState, Press, StableDt, StepContext, ToolLoad,
+    Effect, EnergyTally, FemError, FieldAccess, Forces, NodalField, NodalState, Press, StableDt,
+    StepContext, ToolLoad,
 };
 use plugins_api::{PointNeeds, ToolSurface, Vec3};
 
@@ -14,10 +16,19 @@ use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair};
 /// Per step: the press (when there is one) places the tools at `t_{n+1}`; the
 /// blank's nodal geometry is updated for what the active pairs read; each pair
 /// active in the current press step adds its forces; the reactions are summed
-/// per tool (force-controlled tools read them next step). The blank's nodal
-/// thickness and flow stress come from whoever owns the shells, through
-/// [`ContactEffect::thickness_mut`] and [`ContactEffect::flow_stress_mut`];
-/// they default to the initial thickness and no flow stress.
+/// per tool (force-controlled tools read them next step).
+///
+/// The blank's nodal thickness and outer-fibre flow stress are `fem-core`
+/// shared fields: contact reads [`NodalField::THICKNESS`] and, when a pair's
+/// law declares [`PointNeeds::FLOW_STRESS`], [`NodalField::FLOW_STRESS_TOP`]
+/// and [`NodalField::FLOW_STRESS_BOTTOM`] ([`Effect::reads`]). The solver
+/// runs their writer (the blank's shells) first in every step, so the gap
+/// at `t_{n+1}` is measured with the thickness at `t_{n+1}` that the shells
+/// just computed from this step's deformation. Each step contact copies
+/// them into its own nodal arrays ([`ContactEffect::thickness`],
+/// [`ContactEffect::flow_stress`]: what the pairs read); with no effect
+/// writing them (a rigid block on springs, say) it keeps the initial
+/// thickness given to [`ContactEffect::new`] and zero flow stress.
 ///
 /// At the initial force computation (`Δt = 0`) contact adds nothing: a scene
 /// starts with its tools clear of the blank or just touching it.
@@ -33,7 +44,9 @@ pub struct ContactEffect {
     pairs: Vec<ContactPair>,
     geometry: BlankGeometry,
     needs: PointNeeds,
+    /// Nodal thickness the pairs read (mm): initial, then the shared field.
     thickness: Vec<f64>,
+    /// Top and bottom flow stress the pairs read (MPa), when a law needs it.
     flow_stress: Option<(Vec<f64>, Vec<f64>)>,
     reactions: Vec<Vec3>,
     /// What the blank did to each tool in the last step (force control reads it).
@@ -125,17 +138,30 @@ impl ContactEffect {
         self.needs
     }
 
-    /// Nodal thickness (mm) the pairs read; the shell owner keeps it current.
-    pub fn thickness_mut(&mut self) -> &mut [f64] {
-        &mut self.thickness
+    /// Nodal thickness (mm) the pairs read in the last force computation:
+    /// the shared [`NodalField::THICKNESS`] of that step, or the initial
+    /// thickness when no effect writes it.
+    pub fn thickness(&self) -> &[f64] {
+        &self.thickness
     }
 
-    /// Top- and bottom-fibre flow stress per node (MPa), present only when a
-    /// pair's law declares [`PointNeeds::FLOW_STRESS`].
-    pub fn flow_stress_mut(&mut self) -> Option<(&mut [f64], &mut [f64])> {
+    /// Top- and bottom-fibre flow stress per node (MPa) the pairs read in the
+    /// last force computation, present only when a pair's law declares
+    /// [`PointNeeds::FLOW_STRESS`].
+    pub fn flow_stress(&self) -> Option<(&[f64], &[f64])> {
         self.flow_stress
-            .as_mut()
-            .map(|(a, b)| (a.as_mut_slice(), b.as_mut_slice()))
+            .as_ref()
+            .map(|(a, b)| (a.as_slice(), b.as_slice()))
+    }
+
+    /// Copy the shared fields of this step into the arrays the pairs read
+    /// (no allocation); a field nobody writes leaves its array as it was.
+    fn take_fields(&mut self, fields: &FieldAccess<'_>) {
+        copy_field(&mut self.thickness, fields, NodalField::THICKNESS);
+        if let Some((top, bottom)) = &mut self.flow_stress {
+            copy_field(top, fields, NodalField::FLOW_STRESS_TOP);
+            copy_field(bottom, fields, NodalField::FLOW_STRESS_BOTTOM);
+        }
     }
 
     /// The tools.
@@ -259,9 +285,35 @@ impl ContactEffect {
     }
 }
 
+/// Copy `field` into `dst` when another effect writes it.
+fn copy_field(dst: &mut [f64], fields: &FieldAccess<'_>, field: NodalField) {
+    if let Some(src) = fields.read(field) {
+        let n = dst.len().min(src.len());
+        dst[..n].copy_from_slice(&src[..n]);
+    }
+}
+
+/// What contact reads without and with a law that needs the flow stress.
+const READS_THICKNESS: [NodalField; 1] = [NodalField::THICKNESS];
+const READS_ALL: [NodalField; 3] = [
+    NodalField::THICKNESS,
+    NodalField::FLOW_STRESS_TOP,
+    NodalField::FLOW_STRESS_BOTTOM,
+];
+
 impl Effect for ContactEffect {
     fn name(&self) -> &str {
         "contact"
+    }
+
+    /// The nodal thickness, and the outer-fibre flow stress when a pair's
+    /// law declares [`PointNeeds::FLOW_STRESS`].
+    fn reads(&self) -> &[NodalField] {
+        if self.flow_stress.is_some() {
+            &READS_ALL
+        } else {
+            &READS_THICKNESS
+        }
     }
 
     fn add_forces(
@@ -269,7 +321,9 @@ impl Effect for ContactEffect {
         ctx: &StepContext,
         state: &NodalState,
         forces: &mut Forces,
+        fields: &mut FieldAccess<'_>,
     ) -> Result<(), FemError> {
+        self.take_fields(fields);
         if ctx.dt <= 0.0 {
             return Ok(());
         }

@@ -19,7 +19,9 @@
 //!
 //! It must not know about tool geometry (only the `ToolSurface` trait), about
 //! particular friction laws (only the plugins-api traits), about the shell
-//! elements (it reads nodal thickness and flow stress as slices) or about scenes.
+//! elements (it reads the nodal thickness and flow stress as `fem-core` shared
+//! fields, [`fem_core::NodalField`], written by whichever effect owns the
+//! shells) or about scenes.
 
 mod blank;
 mod effect;

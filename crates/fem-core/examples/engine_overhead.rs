@@ -32,6 +32,7 @@ impl Effect for Lumped {
         _c: &StepContext,
         _s: &NodalState,
         f: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         for fi in &mut f.f {
             fi.z += 1e-3;

@@ -1,6 +1,6 @@
 //! The `Effect` trait: anything that adds nodal forces (element families, contact, springs), with its masses, time step and energies.
 
-use crate::{FemError, Forces, NodalState, StepContext};
+use crate::{FemError, FieldAccess, Forces, NodalField, NodalState, StepContext};
 use std::any::Any;
 
 /// The stable time step an effect imposes, and which of its elements limits it.
@@ -54,7 +54,9 @@ impl EnergyTally {
 /// The solver calls, per step and per effect, [`Effect::add_forces`] once and
 /// then [`Effect::stable_dt`] once with the same state; an effect may compute
 /// its stable time step inside `add_forces` and return the cached value.
-/// Effects are called in the order they were added, one after the other.
+/// Effects are called one after the other: in the order they were added,
+/// except that an effect writing a shared field ([`Effect::writes`]) runs
+/// before the effects reading it ([`Effect::reads`]) — see [`crate::fields`].
 /// `Any` lets [`Solver::effect`](crate::Solver::effect) hand an effect back
 /// as its concrete type (to read element results after a run).
 pub trait Effect: Any + Send {
@@ -94,14 +96,30 @@ pub trait Effect: Any + Send {
         0.0
     }
 
+    /// The shared nodal fields this effect writes in [`Effect::add_forces`]
+    /// (asked once, at set-up). One effect at most writes a given field.
+    fn writes(&self) -> &[NodalField] {
+        &[]
+    }
+
+    /// The shared nodal fields this effect reads in [`Effect::add_forces`]
+    /// (asked once, at set-up); their writers run before it in every step.
+    fn reads(&self) -> &[NodalField] {
+        &[]
+    }
+
     /// Add forces/moments for the configuration in `state` (`x` at `t_{n+1}`,
     /// `v`/`w` at `t_{n+1/2}`), as forces acting on the nodes; update internal
-    /// state (stresses) and energies.
+    /// state (stresses) and energies. `fields` holds the shared nodal fields:
+    /// those this effect reads were written in this same call of the solver
+    /// (at `t_{n+1}`) by effects that ran before it; those it writes, it
+    /// writes for the configuration in `state`.
     fn add_forces(
         &mut self,
         ctx: &StepContext,
         state: &NodalState,
         forces: &mut Forces,
+        fields: &mut FieldAccess<'_>,
     ) -> Result<(), FemError>;
 
     /// Cumulative energies this effect accounts for, at the configuration of

@@ -6,8 +6,11 @@
 //! quad-shell [`Mesh`] the blank is built from. It owns the nodal state
 //! ([`NodalState`]), the force accumulators ([`Forces`]), the [`Effect`]
 //! trait through which element families, contact and anything else add
-//! nodal forces, masses, time-step limits and energies, and the [`Solver`]
-//! that drives them.
+//! nodal forces, masses, time-step limits and energies, the nodal fields
+//! that effects share within a step ([`NodalField`], [`SharedFields`]: the
+//! blank's thickness that the shells write and contact reads, say), and the
+//! [`Solver`] that drives them, running every field's writer before its
+//! readers.
 //!
 //! It must not know about shells, materials, tools, contact or friction:
 //! those are effects defined in `shell-elements`, `contact` and friends. The
@@ -52,6 +55,7 @@ pub mod boundary;
 pub mod effect;
 pub mod energy;
 pub mod error;
+pub mod fields;
 pub mod mesh;
 pub mod mesh_io;
 pub mod press;
@@ -65,6 +69,7 @@ pub use boundary::{BoundaryCondition, Dof, Dofs, MotionKind, NodalLoad};
 pub use effect::{Effect, EnergyTally, StableDt};
 pub use energy::{EnergyLedger, History, HistoryRow};
 pub use error::FemError;
+pub use fields::{FieldAccess, NodalField, SharedFields};
 pub use mesh::{Mesh, MeshQuality, rectangle, wrapped_strip};
 pub use mesh_io::{MeshFile, read_inp, read_inp_numbered, read_msh, read_msh_numbered};
 pub use press::{ForceLaw, Press, PressStep, StepChange, StepEnd, ToolLoad, ToolMotion};

@@ -13,16 +13,21 @@
 //!    `(value · A(t_{n+1}) − u_n)/Δt` (so the displacement is met exactly).
 //! 3. Energy ledger at `t_n` (see [`crate::energy`]).
 //! 4. `x_{n+1} = x_n + Δt v_{n+1/2}`; `t_{n+1} = t_n + Δt`.
-//! 5. Forces at `t_{n+1}`: zero, add nodal loads `value · A(t_{n+1})`, then each effect.
+//! 5. Forces at `t_{n+1}`: zero, add nodal loads `value · A(t_{n+1})`, then each
+//!    effect, every writer of a shared nodal field before its readers (see
+//!    [`crate::fields`]): a reader sees the field at `t_{n+1}`, as its writer
+//!    computed it in this same step.
 //! 6. `Δt_{n+3/2} = min(safety × min_effects stable dt, dt_max)`, with mass
 //!    scaling if configured; a collapse stops the run with an error.
 //!
 //! Nodes with zero mass (zero inertia) do not move (do not rotate): they are
 //! counted in [`SetupReport::massless_nodes`].
 
+use crate::fields::{Declared, effect_order};
 use crate::{
     Amplitude, BoundaryCondition, Dof, Dofs, Effect, EnergyLedger, EnergyTally, FemError, Forces,
-    Mesh, MotionKind, NodalLoad, NodalState, SolverSettings, StableDt, StepContext, Vec3,
+    Mesh, MotionKind, NodalField, NodalLoad, NodalState, SharedFields, SolverSettings, StableDt,
+    StepContext, Vec3,
 };
 use std::any::Any;
 use std::collections::BTreeMap;
@@ -266,6 +271,11 @@ pub struct Solver {
     scratch_inertia: Vec<f64>,
     node_sets: BTreeMap<String, Vec<u32>>,
     effects: Vec<Box<dyn Effect>>,
+    /// The order of the effects' `add_forces` (indices into `effects`):
+    /// writers of shared fields before their readers, fixed at set-up.
+    order: Vec<usize>,
+    /// The nodal fields effects share, allocated at set-up.
+    fields: SharedFields,
     point_masses: Vec<(u32, f64, f64)>,
     constraints: Vec<Constraint>,
     /// Reaction (N or N·mm) of each constraint at the ledger time `t_n`.
@@ -341,6 +351,8 @@ impl Solver {
             scratch_inertia: vec![0.0; n],
             node_sets,
             effects: Vec::new(),
+            order: Vec::new(),
+            fields: SharedFields::default(),
             point_masses: Vec::new(),
             constraints: Vec::new(),
             reactions: Vec::new(),
@@ -370,7 +382,10 @@ impl Solver {
 
     // ----- building ---------------------------------------------------------
 
-    /// Add an effect; effects are called in the order they were added.
+    /// Add an effect. Effects are called in the order they were added, but
+    /// for shared fields: at set-up each writer is moved before its readers
+    /// ([`Effect::writes`], [`Effect::reads`]). An effect added after set-up
+    /// runs last and shares no field.
     pub fn add_effect<E: Effect>(&mut self, effect: E) -> EffectId {
         self.add_boxed_effect(Box::new(effect))
     }
@@ -378,6 +393,7 @@ impl Solver {
     /// Add a boxed effect.
     pub fn add_boxed_effect(&mut self, effect: Box<dyn Effect>) -> EffectId {
         self.effects.push(effect);
+        self.order.push(self.effects.len() - 1);
         EffectId(self.effects.len() - 1)
     }
 
@@ -656,6 +672,19 @@ impl Solver {
         Ok((f, m))
     }
 
+    /// The shared nodal field `field` (one value per node) as its writer left
+    /// it in the last force computation; `None` when no effect both writes
+    /// and reads it (then it is not computed).
+    pub fn field(&self, field: NodalField) -> Option<&[f64]> {
+        self.fields.get(field)
+    }
+
+    /// The order in which the effects compute their forces (indices in order
+    /// of addition, see [`Solver::effect_name`]); fixed at set-up.
+    pub fn effect_order(&self) -> &[usize] {
+        &self.order
+    }
+
     /// Set-up report (`None` before initialization).
     pub fn setup_report(&self) -> Option<&SetupReport> {
         self.setup.as_ref()
@@ -684,6 +713,7 @@ impl Solver {
             return Ok(s);
         }
         self.initialized = true;
+        self.share_fields()?;
         self.constraints.sort_by_key(|c| (c.node, c.dof));
         self.reactions = vec![0.0; self.constraints.len()];
         let n = self.state.len();
@@ -799,6 +829,25 @@ impl Solver {
         Ok(report)
     }
 
+    /// Order the effects so that each shared field's writer runs before its
+    /// readers, and allocate the fields (set-up only).
+    fn share_fields(&mut self) -> Result<(), FemError> {
+        let declared: Vec<Declared<'_>> = self
+            .effects
+            .iter()
+            .map(|e| Declared {
+                name: e.name(),
+                writes: e.writes(),
+                reads: e.reads(),
+            })
+            .collect();
+        let order = effect_order(&declared)?;
+        let fields = SharedFields::new(self.state.len(), &declared)?;
+        self.order = order;
+        self.fields = fields;
+        Ok(())
+    }
+
     /// Ask every effect to add mass so that its stable dt is `>= target / safety`; returns the added mass.
     fn scale_mass(&mut self, target: f64) -> f64 {
         let goal = target / self.settings.safety_factor;
@@ -839,8 +888,10 @@ impl Solver {
         }
         let ctx = StepContext { time, dt, step };
         let mut tally = EnergyTally::default();
-        for e in &mut self.effects {
-            e.add_forces(&ctx, &self.state, &mut self.forces)?;
+        for &k in &self.order {
+            let e = &mut self.effects[k];
+            let mut fields = self.fields.access(k);
+            e.add_forces(&ctx, &self.state, &mut self.forces, &mut fields)?;
             tally.add(&e.energies());
         }
         self.tally = tally;
@@ -1139,9 +1190,44 @@ impl Solver {
         })
     }
 
+    /// One step towards `t_end`, as [`Solver::run_until`] takes it: over the
+    /// last (at most) 32 steps before `t_end` the steps are shortened evenly
+    /// to land on it exactly. A caller stepping with this until
+    /// `time() >= t_end` takes the very steps `run_until(t_end, …)` takes.
+    ///
+    /// # Errors
+    /// `t_end` not finite or not after the current time; the step's errors.
+    pub fn step_toward(&mut self, t_end: f64) -> Result<StepReport, FemError> {
+        self.initialize()?;
+        if !(t_end.is_finite() && t_end > self.time) {
+            return Err(FemError::InvalidParameter {
+                field: "t_end".into(),
+                value: t_end,
+                unit: "s",
+                range: "finite and after the current time",
+            });
+        }
+        self.land_on(t_end);
+        self.step()
+    }
+
+    /// Land on `t_end`: over the last (at most) 32 steps, use equal steps
+    /// remaining / N, so that Δt changes by at most ~3 % once (a sudden
+    /// change of Δt disturbs the energy balance; see `energy`).
+    fn land_on(&mut self, t_end: f64) {
+        let remaining = t_end - self.time;
+        if self.dt_next * 32.0 >= remaining {
+            let steps = (remaining / self.dt_next * (1.0 - 1e-12)).ceil().max(1.0);
+            self.dt_next = remaining / steps;
+            if steps == 1.0 {
+                self.land_at = Some(t_end);
+            }
+        }
+    }
+
     /// Step until `t_end` (the last steps are shortened evenly to land on it
-    /// exactly; prefer one call with output in the callback over many short
-    /// calls),
+    /// exactly, see [`Solver::step_toward`]; prefer one call with output in
+    /// the callback over many short calls),
     /// calling `callback` after every step; stops early when it returns
     /// [`Control::Stop`]. On error the solver keeps the state computed so far.
     pub fn run_until<F>(&mut self, t_end: f64, callback: &mut F) -> Result<RunSummary, FemError>
@@ -1163,18 +1249,7 @@ impl Solver {
             last: None,
         };
         while self.time < t_end {
-            let remaining = t_end - self.time;
-            // Land on t_end: over the last (at most) 32 steps, use equal steps
-            // remaining / N, so that Δt changes by at most ~3 % once (a sudden
-            // change of Δt disturbs the energy balance; see `energy`).
-            if self.dt_next * 32.0 >= remaining {
-                let steps = (remaining / self.dt_next * (1.0 - 1e-12)).ceil().max(1.0);
-                self.dt_next = remaining / steps;
-                if steps == 1.0 {
-                    self.land_at = Some(t_end);
-                }
-            }
-            let report = self.step()?;
+            let report = self.step_toward(t_end)?;
             summary.steps += 1;
             summary.last = Some(report);
             if callback(self, &report) == Control::Stop {

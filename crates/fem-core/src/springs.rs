@@ -149,6 +149,7 @@ impl Effect for Springs {
         _ctx: &StepContext,
         state: &NodalState,
         forces: &mut Forces,
+        _fields: &mut crate::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         let mut energy = 0.0;
         for s in &self.springs {

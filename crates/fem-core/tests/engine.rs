@@ -140,6 +140,7 @@ impl Effect for Wobble {
         c: &StepContext,
         _s: &NodalState,
         _f: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         self.time = c.time;
         Ok(())
@@ -559,6 +560,7 @@ impl Effect for Shrinking {
         c: &StepContext,
         _s: &NodalState,
         _f: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         self.time = c.time;
         Ok(())
@@ -756,6 +758,7 @@ impl Effect for Stiffening {
         c: &StepContext,
         s: &NodalState,
         f: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         self.k = K * (1.0 + c.time / self.tau);
         let u = s.displacement(1).x;
@@ -871,6 +874,7 @@ impl Effect for Poison {
         c: &StepContext,
         _s: &NodalState,
         f: &mut Forces,
+        _fields: &mut fem_core::FieldAccess<'_>,
     ) -> Result<(), FemError> {
         if c.time > 1e-3 {
             f.f[2].y = f64::NAN;
@@ -902,4 +906,32 @@ fn non_finite_force_and_bad_mesh_are_named() {
         .unwrap()
         .to_string();
     assert!(e.starts_with("element 0: "), "{e}");
+}
+
+/// `step_toward(t_end)` until `t_end` takes the steps of `run_until(t_end)`
+/// (same times and states, bit for bit) and lands on `t_end` exactly; a
+/// `t_end` already reached is refused.
+#[test]
+fn step_toward_takes_the_steps_of_run_until() {
+    let t_end = 0.0123;
+    let (mut a, _) = chain(3, K, M, SolverSettings::default());
+    let (mut b, _) = chain(3, K, M, SolverSettings::default());
+    for s in [&mut a, &mut b] {
+        s.state_mut().x[3].x += 0.5;
+    }
+    let mut times = Vec::new();
+    a.run_until(t_end, &mut |_, r| {
+        times.push(r.time);
+        Control::Continue
+    })
+    .unwrap();
+    let mut times_b = Vec::new();
+    while b.time() < t_end {
+        times_b.push(b.step_toward(t_end).unwrap().time);
+    }
+    assert_eq!(times, times_b);
+    assert_eq!(b.time(), t_end);
+    assert_eq!(a.state(), b.state());
+    let e = b.step_toward(t_end).unwrap_err().to_string();
+    assert!(e.contains("t_end"), "{e}");
 }

@@ -503,6 +503,7 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
     let loaded = formsim::scene::load(path, set).map_err(|e| e.to_string())?;
     let mut model = formsim::scene::build(&loaded).map_err(|e| e.to_string())?;
     let setup = model
+        .solver
         .initialize()
         .map_err(|e| loaded.key_error("solver", e.to_string()).to_string())?;
     let s = &loaded.scene;

@@ -295,13 +295,12 @@ fn wrap_90_over_punch_radius_at_largest_mass_scaled_step_stays_stable() {
     .collect();
     let loaded = scene::load(&root().join("scenes/square-cup.toml"), &sets).unwrap();
     let mut model = scene::build(&loaded).unwrap();
-    model.initialize().unwrap();
+    model.solver.initialize().unwrap();
     let end = model.end_time;
     let mut worst_balance: f64 = 0.0;
     let mut dt_min = f64::INFINITY;
     while model.solver.time() < end * (1.0 - 1e-12) {
         let r = model.solver.step().unwrap();
-        model.couple_shells_to_contact();
         let e = &r.energy;
         for v in [
             e.internal,
@@ -337,8 +336,9 @@ fn wrap_90_over_punch_radius_at_largest_mass_scaled_step_stays_stable() {
 }
 
 /// Levanov reads the blank's flow stress (friction-math §3): the shells hand
-/// it to contact before the first step, so the law never sees σ_y = 0 when
-/// the holder closes on the blank (a regression: the first step used to fail).
+/// it to contact inside every step, the first included (shared fields), so
+/// the law never sees σ_y = 0 when the holder closes on the blank (a
+/// regression: the first step used to fail).
 #[test]
 fn levanov_cup_reads_the_flow_stress_from_the_first_step() {
     let (_dir, r) = run_scene(
@@ -354,4 +354,79 @@ fn levanov_cup_reads_the_flow_stress_from_the_first_step() {
     assert_eq!(r.summary.law, "levanov");
     assert_eq!(r.summary.status, "completed");
     assert!(r.summary.energy.balance_error_rel < 0.02);
+}
+
+/// The coarse cup of `square_cup_coarse_writes_every_output`, run once by
+/// `formsim run` and once as a library user would: build the model and call
+/// `Solver::run_until` with nothing else. The shells hand contact the
+/// blank's thickness inside the solver's step (shared fields), so both give
+/// the same bits: energies, thinning, punch force, increments. At the end,
+/// the thickness contact read is the shells' current nodal thickness.
+#[test]
+fn formsim_run_and_solver_run_until_give_the_same_cup() {
+    let sets = [
+        "blank.mesh.divisions=10",
+        "steps[2].duration=3e-3",
+        "steps[2].motions[1].distance=4.99",
+    ];
+    let (_dir, r) = run_scene(
+        "square-cup",
+        &[&sets[..], &["output.frames=0", "output.plots=false"]].concat(),
+    );
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let loaded = scene::load(&root().join("scenes/square-cup.toml"), &sets).unwrap();
+    let mut model = scene::build(&loaded).unwrap();
+    let (cid, stroke) = (model.contact.unwrap(), model.stroke.unwrap());
+    let symmetry = loaded.scene.output.symmetry_factor;
+    let mut force_max: f64 = 0.0;
+    model
+        .solver
+        .run_until(model.end_time, &mut |s: &fem_core::Solver, _| {
+            let c: &contact::ContactEffect = s.effect(cid).unwrap();
+            force_max =
+                force_max.max(-c.reactions()[stroke.index].dot(&stroke.direction) * symmetry);
+            fem_core::Control::Continue
+        })
+        .unwrap();
+
+    let e = model.solver.ledger();
+    let s = &r.summary;
+    let pairs = [
+        ("internal", s.energy.internal, e.internal),
+        ("kinetic", s.energy.kinetic, e.kinetic),
+        ("hourglass", s.energy.hourglass, e.hourglass),
+        ("contact", s.energy.contact, e.contact),
+        ("friction", s.energy.friction, e.friction),
+        ("plastic", s.energy.plastic, e.plastic),
+        ("external", s.energy.external_work, e.external),
+        ("balance", s.energy.balance_error_rel, e.balance_error),
+        ("punch force max", s.punch_force_max, force_max),
+    ];
+    for (what, run, direct) in pairs {
+        assert_eq!(run.to_bits(), direct.to_bits(), "{what}: {run} vs {direct}");
+    }
+    let shells = model.shells();
+    let t0 = model.thickness0;
+    let thinning = (0..shells.len())
+        .map(|e| (t0 - shells.thickness(e)) / t0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(s.thinning_max.to_bits(), thinning.to_bits());
+    assert!(thinning > 0.0 && s.punch_force_max > 0.0);
+    assert_eq!(s.increments, model.solver.steps());
+
+    // What contact read in the last step: the shells' nodal mean thickness now.
+    let mut sum = vec![0.0; model.mesh.nodes.len()];
+    let mut valence = vec![0usize; sum.len()];
+    for (e, q) in model.mesh.quads.iter().enumerate() {
+        for &n in q {
+            sum[n as usize] += shells.thickness(e);
+            valence[n as usize] += 1;
+        }
+    }
+    let nodal: Vec<f64> = sum
+        .iter()
+        .zip(&valence)
+        .map(|(s, &v)| s * (1.0 / v as f64))
+        .collect();
+    assert_eq!(model.contact().unwrap().thickness(), &nodal[..]);
 }

@@ -80,7 +80,12 @@ impl<F: ShellFormulation> Blank<F> {
     fn cycle(&mut self) {
         self.forces.clear();
         self.set
-            .add_forces(&self.ctx, &self.state, &mut self.forces)
+            .add_forces(
+                &self.ctx,
+                &self.state,
+                &mut self.forces,
+                &mut fem_core::FieldAccess::none(),
+            )
             .unwrap();
     }
     fn plastic_fraction(&self) -> f64 {

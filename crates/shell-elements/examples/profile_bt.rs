@@ -21,7 +21,12 @@ impl Blank {
     fn cycle(&mut self) {
         self.forces.clear();
         self.set
-            .add_forces(&self.ctx, &self.state, &mut self.forces)
+            .add_forces(
+                &self.ctx,
+                &self.state,
+                &mut self.forces,
+                &mut fem_core::FieldAccess::none(),
+            )
             .expect("element loop");
     }
 }

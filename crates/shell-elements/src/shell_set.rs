@@ -7,8 +7,17 @@
 //! energy increments into its own result slot (in parallel with rayon when
 //! the set is large enough), and one serial pass scatters them onto the
 //! nodes — so the result does not depend on the thread count.
+//!
+//! The set shares the blank's nodal thickness and outer-fibre flow stress
+//! with the effects that read them (contact), as `fem-core` shared fields
+//! ([`NodalField::THICKNESS`], [`NodalField::FLOW_STRESS_TOP`],
+//! [`NodalField::FLOW_STRESS_BOTTOM`]), written at the end of its
+//! `add_forces`; see [`ShellSet`].
 
-use fem_core::{Effect, EnergyTally, FemError, Forces, Mesh, NodalState, StableDt, StepContext};
+use fem_core::{
+    Effect, EnergyTally, FemError, FieldAccess, Forces, Mesh, NodalField, NodalState, StableDt,
+    StepContext,
+};
 use rayon::prelude::*;
 
 use crate::block_nodes::BlockNodes;
@@ -23,7 +32,28 @@ use crate::section::Section;
 /// Default number of elements from which the element loop runs in parallel.
 pub const DEFAULT_PARALLEL_MIN: usize = 512;
 
+/// The shared nodal fields a [`ShellSet`] writes (each only when another effect reads it).
+const WRITES: [NodalField; 3] = [
+    NodalField::THICKNESS,
+    NodalField::FLOW_STRESS_TOP,
+    NodalField::FLOW_STRESS_BOTTOM,
+];
+
 /// Shells of formulation `E` and material `M` over a set of quads.
+///
+/// As a [`fem_core::Effect`] it writes the shared nodal fields
+/// [`NodalField::THICKNESS`] (mm) and, when an effect reads them,
+/// [`NodalField::FLOW_STRESS_TOP`] / [`NodalField::FLOW_STRESS_BOTTOM`]
+/// (MPa): at each node, the mean over the elements around it of the element
+/// thickness and of [`ShellSet::outer_flow_stress`] (sum over the elements in
+/// element order, times the inverse valence). A node of no element gets the
+/// section's initial thickness and zero flow stress.
+///
+/// Time level: they are written at the end of `add_forces`, after the
+/// elements have updated their thickness and plastic state for the
+/// configuration at `t_{n+1}`; the solver runs the shells before their
+/// readers, so contact measures its gaps at `t_{n+1}` with the thickness at
+/// `t_{n+1}` computed in the same step (no one-step lag).
 #[derive(Debug, Clone)]
 pub struct ShellSet<E: ShellFormulation, M: Material> {
     name: String,
@@ -31,6 +61,9 @@ pub struct ShellSet<E: ShellFormulation, M: Material> {
     material: M,
     section: Section,
     conn: Vec<[u32; 4]>,
+    /// Per node (of the node list given to [`ShellSet::new`]): 1 / the number
+    /// of elements around it (0 for a node of no element).
+    inv_valence: Vec<f64>,
     thickness: Vec<f64>,
     stress: Vec<[f64; 3]>,
     history: Vec<M::History>,
@@ -182,6 +215,7 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
         let wave_speed = (material.young() / (material.density() * (1.0 - nu * nu))).sqrt();
         Ok(Self {
             name: name.into(),
+            inv_valence: inverse_valence(nodes.len(), quads),
             thickness: vec![section.thickness; ne],
             stress: vec![[0.0; 3]; ne * ip * np],
             history: vec![material.initial_history(); ne * ip * np],
@@ -401,6 +435,51 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             .collect()
     }
 
+    /// Write the shared nodal fields that another effect reads (no allocation).
+    fn write_fields(&self, fields: &mut FieldAccess<'_>) {
+        let [thickness, top, bottom] = fields.write_each(WRITES);
+        if let Some(out) = thickness {
+            self.nodal_mean(out, self.section.thickness, |e| self.thickness[e]);
+        }
+        if let (Some(top), Some(bottom)) = (top, bottom) {
+            top.fill(0.0);
+            bottom.fill(0.0);
+            for (e, q) in self.conn.iter().enumerate() {
+                let [b, t] = self.outer_flow_stress(e);
+                for &n in q {
+                    bottom[n as usize] += b;
+                    top[n as usize] += t;
+                }
+            }
+            self.scale_by_valence(top, 0.0);
+            self.scale_by_valence(bottom, 0.0);
+        }
+    }
+
+    /// `out[n]` = mean of `value(e)` over the elements `e` around node `n`
+    /// (sum in element order, times the inverse valence); `fallback` at a
+    /// node of no element.
+    fn nodal_mean(&self, out: &mut [f64], fallback: f64, value: impl Fn(usize) -> f64) {
+        out.fill(0.0);
+        for (e, q) in self.conn.iter().enumerate() {
+            let v = value(e);
+            for &n in q {
+                out[n as usize] += v;
+            }
+        }
+        self.scale_by_valence(out, fallback);
+    }
+
+    /// Turn nodal sums over the elements into means; `fallback` at a node of no element.
+    fn scale_by_valence(&self, out: &mut [f64], fallback: f64) {
+        for (i, o) in out.iter_mut().enumerate() {
+            match self.inv_valence.get(i) {
+                Some(&w) if w > 0.0 => *o *= w,
+                _ => *o = fallback,
+            }
+        }
+    }
+
     fn element_dt(&self, e: usize, length: f64) -> f64 {
         length * self.density_scale[e].sqrt() / self.wave_speed
     }
@@ -430,9 +509,26 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
     }
 }
 
+/// Per node: 1 / the number of `quads` around it (0 for a node of none).
+fn inverse_valence(nodes: usize, quads: &[[u32; 4]]) -> Vec<f64> {
+    let mut valence = vec![0u32; nodes];
+    for &n in quads.iter().flatten() {
+        valence[n as usize] += 1;
+    }
+    valence
+        .iter()
+        .map(|&v| if v > 0 { 1.0 / v as f64 } else { 0.0 })
+        .collect()
+}
+
 impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
     fn name(&self) -> &str {
         &self.name
+    }
+
+    /// The nodal thickness and the outer-fibre flow stress (see [`ShellSet`]).
+    fn writes(&self) -> &[NodalField] {
+        &WRITES
     }
 
     /// Translational mass ρ A t0 / 4 per node; rotational inertia
@@ -497,6 +593,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         ctx: &StepContext,
         state: &NodalState,
         forces: &mut Forces,
+        fields: &mut FieldAccess<'_>,
     ) -> Result<(), FemError> {
         let ip = E::IN_PLANE_POINTS;
         let nsp = ip * self.section.rule.n;
@@ -687,6 +784,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         } else {
             Some(best)
         };
+        self.write_fields(fields);
         Ok(())
     }
 
@@ -743,7 +841,8 @@ mod tests {
             }
             let mut set = set0.clone();
             let mut f = Forces::zeros(4);
-            set.add_forces(&ctx, &st, &mut f).unwrap();
+            set.add_forces(&ctx, &st, &mut f, &mut fem_core::FieldAccess::none())
+                .unwrap();
             for n in 0..4 {
                 for c in 0..3 {
                     k[(6 * n + c, j)] = -f.f[n][c] / dt;
@@ -811,7 +910,8 @@ mod tests {
             dt,
             step: 1,
         };
-        set.add_forces(&ctx, &st, &mut f).unwrap();
+        set.add_forces(&ctx, &st, &mut f, &mut fem_core::FieldAccess::none())
+            .unwrap();
         (f, set)
     }
 
@@ -1040,7 +1140,14 @@ mod tests {
             dt: 1e-6,
             step: 1,
         };
-        let e = set.add_forces(&ctx, &state, &mut forces).unwrap_err();
+        let e = set
+            .add_forces(
+                &ctx,
+                &state,
+                &mut forces,
+                &mut fem_core::FieldAccess::none(),
+            )
+            .unwrap_err();
         assert!(e.to_string().contains("nodal state has 5 nodes"), "{e}");
     }
 }

@@ -437,7 +437,13 @@ fn shell_set_accessors_read_lane_major_blocks() {
     };
     for _ in 0..200 {
         forces.clear();
-        set.add_forces(&ctx, &state, &mut forces).unwrap();
+        set.add_forces(
+            &ctx,
+            &state,
+            &mut forces,
+            &mut fem_core::FieldAccess::none(),
+        )
+        .unwrap();
     }
     let last = set.len() - 1;
     assert_eq!(set.len(), 9);

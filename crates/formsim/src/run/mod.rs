@@ -2,9 +2,10 @@
 //! of `DIR` (`summary.json`, `sections/*.csv`, `energy.csv`,
 //! `punch_force.csv`, `vtk/*.vtu` + `blank.pvd`, PNG plots).
 //!
-//! The time-step loop calls [`fem_core::Solver::step`], hands the shells'
-//! thickness (and flow stress when a law reads it) to contact, and samples
-//! histories on a fixed schedule; everything that allocates (snapshots,
+//! The time-step loop calls [`fem_core::Solver::step`] (the shells hand their
+//! thickness, and flow stress when a law reads it, to contact inside the
+//! step, through the solver's shared fields) and samples histories on a
+//! fixed schedule; everything that allocates (snapshots,
 //! frames) happens only at the scheduled times.
 
 pub mod out_dir;
@@ -117,6 +118,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         scene.output.punch_edge_distance,
     );
     let setup = model
+        .solver
         .initialize()
         .map_err(|e| loaded.key_error("solver", e.to_string()))?;
     let end = model.end_time;
@@ -216,14 +218,14 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
             frames.push((time, format!("vtk/{name}")));
             next_frame += frame_every;
         }
-        if time >= end * (1.0 - 1e-12) {
+        if time >= end {
             break;
         }
-        if let Err(err) = model.solver.step() {
+        // The steps `Solver::run_until(end, …)` takes, landing on `end`.
+        if let Err(err) = model.solver.step_toward(end) {
             stop = Some(err.to_string());
             break;
         }
-        model.couple_shells_to_contact();
         if model.solver.steps() % 64 == 0
             && let Some(b) = &bar
         {

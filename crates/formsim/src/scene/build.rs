@@ -12,7 +12,7 @@ use fem_core::{
     Amplitude, BoundaryCondition, Dofs, EffectId, Mesh, MotionKind, NodalLoad, NodalState, Press,
     PressStep, Solver, SolverSettings, StepEnd, ToolMotion, Vec3,
 };
-use plugins_api::{Params, PointNeeds, TangentMode, ToolSurface};
+use plugins_api::{Params, TangentMode, ToolSurface};
 use shell_elements::{
     BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, LogStrain, Section,
     ShellFormulation, ShellSet,
@@ -113,7 +113,6 @@ pub struct Model {
     pub law: String,
     /// See `law`.
     pub formulation: String,
-    coupling: Coupling,
 }
 
 impl std::fmt::Debug for Model {
@@ -126,16 +125,6 @@ impl std::fmt::Debug for Model {
     }
 }
 
-/// Element-to-node averaging buffers for the thickness and the flow stress that contact reads.
-#[derive(Debug, Clone, Default)]
-struct Coupling {
-    inv_valence: Vec<f64>,
-    thickness: Vec<f64>,
-    top: Vec<f64>,
-    bottom: Vec<f64>,
-    flow: bool,
-}
-
 impl Model {
     /// The blank's shells.
     pub fn shells(&self) -> &dyn ShellView {
@@ -145,70 +134,6 @@ impl Model {
     /// The contact effect.
     pub fn contact(&self) -> Option<&ContactEffect> {
         self.contact.and_then(|id| self.solver.effect(id))
-    }
-
-    /// Initialise the solver (masses, mass scaling, initial forces) and hand
-    /// contact the blank's initial thickness and flow stress, so that a law
-    /// reading the flow stress (Levanov) sees it from the first step.
-    ///
-    /// # Errors
-    /// The solver's set-up errors.
-    pub fn initialize(&mut self) -> Result<fem_core::SetupReport, fem_core::FemError> {
-        let report = self.solver.initialize()?;
-        self.couple_shells_to_contact();
-        Ok(report)
-    }
-
-    /// Hand contact the blank's current nodal thickness (and outer-fibre flow
-    /// stress when a law reads it), averaged from the adjacent elements. Call
-    /// after each step; it does not allocate.
-    pub fn couple_shells_to_contact(&mut self) {
-        let Some(cid) = self.contact else { return };
-        let c = &mut self.coupling;
-        c.thickness.iter_mut().for_each(|v| *v = 0.0);
-        if c.flow {
-            c.top.iter_mut().for_each(|v| *v = 0.0);
-            c.bottom.iter_mut().for_each(|v| *v = 0.0);
-        }
-        {
-            let shells = shells_of(&self.solver, self.shells);
-            for (e, q) in self.mesh.quads.iter().enumerate() {
-                let t = shells.thickness(e);
-                let f = if c.flow {
-                    shells.outer_flow_stress(e)
-                } else {
-                    [0.0; 2]
-                };
-                for &n in q {
-                    let n = n as usize;
-                    c.thickness[n] += t;
-                    if c.flow {
-                        c.bottom[n] += f[0];
-                        c.top[n] += f[1];
-                    }
-                }
-            }
-        }
-        let contact: &mut ContactEffect = self.solver.effect_mut(cid).expect("contact effect");
-        for (dst, (sum, w)) in contact
-            .thickness_mut()
-            .iter_mut()
-            .zip(c.thickness.iter().zip(&c.inv_valence))
-        {
-            if *w > 0.0 {
-                *dst = sum * w;
-            }
-        }
-        if c.flow
-            && let Some((top, bottom)) = contact.flow_stress_mut()
-        {
-            for n in 0..top.len() {
-                if c.inv_valence[n] > 0.0 {
-                    top[n] = c.top[n] * c.inv_valence[n];
-                    bottom[n] = c.bottom[n] * c.inv_valence[n];
-                }
-            }
-        }
     }
 }
 
@@ -415,7 +340,6 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     let mut contact = None;
     let mut law_name = s.contact.law.clone();
     let mut formulation_name = s.contact.formulation.clone();
-    let mut flow = false;
     if !tools.is_empty() {
         let geometry = BlankGeometry::new(n_nodes, &mesh.quads)
             .map_err(|e| loaded.key_error("blank.mesh", e.to_string()))?;
@@ -489,7 +413,6 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
             spec.search_margin = s.contact.search_margin;
             let pair = ContactPair::new(&spec, integrator, &geometry, &mesh.nodes)
                 .map_err(|e| loaded.key_error(&key, e.to_string()))?;
-            flow |= pair.needs().contains(PointNeeds::FLOW_STRESS);
             pairs.push(pair);
         }
         let effect = ContactEffect::new(
@@ -591,24 +514,6 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
         }
     };
 
-    // Element-to-node averaging weights.
-    let mut valence = vec![0usize; n_nodes];
-    for q in &mesh.quads {
-        for &n in q {
-            valence[n as usize] += 1;
-        }
-    }
-    let coupling = Coupling {
-        inv_valence: valence
-            .iter()
-            .map(|&v| if v > 0 { 1.0 / v as f64 } else { 0.0 })
-            .collect(),
-        thickness: vec![0.0; n_nodes],
-        top: if flow { vec![0.0; n_nodes] } else { Vec::new() },
-        bottom: if flow { vec![0.0; n_nodes] } else { Vec::new() },
-        flow,
-    };
-
     Ok(Model {
         solver,
         shells,
@@ -620,7 +525,6 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
         stroke,
         law: law_name,
         formulation: formulation_name,
-        coupling,
     })
 }
 

@@ -476,6 +476,7 @@ pub fn mass_scaling_warnings(loaded: &LoadedScene) -> Result<Vec<String>, SceneE
     }
     let mut model = super::build(loaded)?;
     let report = model
+        .solver
         .initialize()
         .map_err(|e| loaded.key_error("solver", e.to_string()))?;
     Ok(added_mass_warnings(&loaded.scene, &report))

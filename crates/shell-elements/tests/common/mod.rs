@@ -27,7 +27,8 @@ pub fn one_step<E: ShellFormulation, M: Material>(
         dt,
         step: 1,
     };
-    set.add_forces(&ctx, &st, &mut f).unwrap();
+    set.add_forces(&ctx, &st, &mut f, &mut fem_core::FieldAccess::none())
+        .unwrap();
     f
 }
 
