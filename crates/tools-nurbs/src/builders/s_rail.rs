@@ -106,19 +106,33 @@ fn x_range(p: &SRailParams) -> [f64; 2] {
 /// `inner` (the die shoulder's outer edge, the holder's inner edge), with
 /// the blank-side normal up or down. Empty when `apron` is 0.
 fn apron_parts(p: &SRailParams, inner: f64, up: bool) -> Vec<Part> {
+    apron_rectangles(p, inner)
+        .into_iter()
+        .map(|(x, y)| rectangle(x, y, 0.0, up))
+        .collect()
+}
+
+/// The apron's two rectangles in plan, `([x0, x1], [y0, y1])` (mm, local
+/// frame), for a tool whose flat face starts at half width `inner` (the die:
+/// `punch_width/2 + clearance + die_shoulder`; the holder: `punch_width/2 +
+/// holder_gap`). Each reaches from midway between the channel's farthest
+/// edge and the flange's nearest outer edge to `apron` beyond the flange's
+/// farthest edge. Empty when `apron` is 0.
+pub fn apron_rectangles(p: &SRailParams, inner: f64) -> Vec<([f64; 2], [f64; 2])> {
     if p.apron <= 0.0 {
         return Vec::new();
     }
     let (y, f) = (lateral_offset(p), p.flange_width);
     let x = x_range(p);
-    // Midway between the channel's farthest edge and the flange's nearest
-    // outer edge, on each side.
-    let upper = [0.5 * (y + inner + f), y + f + p.apron];
-    let lower = [-f - p.apron, 0.5 * (y - f - inner)];
     vec![
-        rectangle(x, upper, 0.0, up),
-        rectangle(x, lower, 0.0, up),
+        (x, [0.5 * (y + inner + f), y + f + p.apron]),
+        (x, [-f - p.apron, 0.5 * (y - f - inner)]),
     ]
+}
+
+/// Half width (mm) at which the die's flat face starts: the die shoulder's outer edge.
+pub fn die_face_inner(p: &SRailParams) -> f64 {
+    0.5 * p.punch_width + p.clearance_factor * p.thickness + p.die_shoulder
 }
 
 /// An apron needs room between the channel and the flange's outer edge.
@@ -342,13 +356,13 @@ pub fn die(name: &str, p: &SRailParams, place: &Placement) -> Result<NurbsTool, 
             b: [-f, 0.0],
         },
     ];
-    check_apron(name, p, wd + rd)?;
+    check_apron(name, p, die_face_inner(p))?;
     let place = Placement {
         facing: Facing::Up,
         ..*place
     };
     let mut parts = swept(&profile, Material::Right, &centre_line(p));
-    parts.extend(apron_parts(p, wd + rd, false));
+    parts.extend(apron_parts(p, die_face_inner(p), false));
     assemble(name, &parts, &place)
 }
 
