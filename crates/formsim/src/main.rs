@@ -618,6 +618,9 @@ fn run(args: &RunArgs) -> Outcome {
         s.element_cycles_per_s,
         s.threads
     );
+    if !s.description.is_empty() {
+        say!("  {}", s.description);
+    }
     say!(
         "  energy (mJ): internal {:.1}, plastic {:.1}, friction {:.1}, kinetic {:.2}, hourglass {:.2}, external work {:.1}; balance error {:.2e}; max kinetic/internal while forming {:.3}",
         s.energy.internal,
@@ -631,17 +634,20 @@ fn run(args: &RunArgs) -> Outcome {
     );
     if s.stroke != 0.0 {
         say!(
-            "  stroke {:.2} mm, punch force max {:.1} kN, thinning max {:.1} %",
+            "  stroke {:.2} mm, punch force max {:.1} kN, thinning max {:.1} %, friction/internal {:.3}, friction share {:.3}",
             s.stroke,
             1e-3 * s.punch_force_max,
-            100.0 * s.thinning_max
+            100.0 * s.thinning_max,
+            s.friction_to_internal,
+            s.friction_energy_share
         );
     }
     for (name, sec) in &s.sections {
         say!(
-            "  {name}: major max {:.4}, minor min {:.4}{}",
+            "  {name}: major max {:.4}, minor min {:.4}, thinning max {:.1} %{}",
             sec.major_max,
             sec.minor_min,
+            100.0 * sec.thinning_max,
             sec.minor_at_punch_edge
                 .map_or(String::new(), |m| format!(", minor at punch edge {m:.4}"))
         );

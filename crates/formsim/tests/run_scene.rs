@@ -156,7 +156,9 @@ fn square_cup_coarse_writes_every_output() {
         "wall_time_s",
         "element_cycles_per_s",
         "energy",
+        "description",
         "friction_energy_share",
+        "friction_to_internal",
         "kinetic_to_internal_max",
         "thinning_max",
         "punch_force_max",
@@ -201,6 +203,25 @@ fn square_cup_coarse_writes_every_output() {
         assert!(st["sections"]["OD"]["major_max"].as_f64().is_some());
         assert!(st["draw_in"]["DX"].as_f64().is_some());
         assert!(st["thinning_max"].as_f64().is_some());
+        assert!(st["sections"]["OD"]["thinning_max"].as_f64().is_some());
+        for key in ["friction_energy_share", "friction_to_internal"] {
+            assert!(st[key].as_f64().unwrap().is_finite(), "states.{s}.{key}");
+        }
+        assert!(st["tools"]["punch"]["steps"]["draw"].is_object());
+    }
+    // Each section's thinning_max is the largest thinning of its CSV rows.
+    for name in ["OD", "OX"] {
+        let csv = std::fs::read_to_string(out.join(format!("sections/{name}.csv"))).unwrap();
+        let largest = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.rsplit(',').next().unwrap().parse::<f64>().unwrap())
+            .fold(f64::NEG_INFINITY, f64::max);
+        let reported = json["sections"][name]["thinning_max"].as_f64().unwrap();
+        assert!(
+            (reported - largest).abs() <= 1e-12 * largest.abs().max(1.0),
+            "{name}"
+        );
     }
 
     // Sections: one element per division, increasing distance, five columns.

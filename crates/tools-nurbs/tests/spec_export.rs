@@ -210,3 +210,43 @@ fn vtu_export_reads_back_with_vtkio() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The S-rail apron prolongs the die face and the holder flat beyond the
+/// swept flange: a point over the blank's corner (93 mm from the centre line
+/// of straight 1, past the 70 mm flange) projects straight onto the plane,
+/// and the channel is unchanged; an apron with no room beside the channel
+/// is refused naming `apron`.
+#[test]
+fn s_rail_apron_covers_the_overhang_and_leaves_the_channel() {
+    let spec = |apron: f64, flange: f64| {
+        format!(
+            "[tools.die]\nkind = \"s-rail-die\"\norigin = [0.0, 0.0, 1.0]\napron = {apron}\nflange_width = {flange}\n\
+             [tools.holder]\nkind = \"s-rail-blankholder\"\nfacing = \"up\"\napron = {apron}\nflange_width = {flange}\n"
+        )
+    };
+    let tools = parse(&spec(10.0, 70.0), Path::new(".")).unwrap();
+    let (die, holder) = (&tools[0], &tools[1]);
+    for (x, y) in [(0.0, 93.0), (290.0, -46.0), (190.0, -40.0), (60.0, 79.0)] {
+        let p = holder.project(&Vec3::new(x, y, 0.5), None).unwrap();
+        assert!(
+            (p.distance - 0.5).abs() < 1e-12 && (p.normal.z - 1.0).abs() < 1e-14,
+            "holder at ({x}, {y}): {p:?}"
+        );
+        let p = die.project(&Vec3::new(x, y, 0.5), None).unwrap();
+        assert!(
+            (p.distance - 0.5).abs() < 1e-12 && (p.normal.z + 1.0).abs() < 1e-14,
+            "die at ({x}, {y}): {p:?}"
+        );
+    }
+    // Over the punch gap of straight 3 (centre line y = 46.44) the holder
+    // still has its inner edge at 17 mm: a point 16 mm from the centre line,
+    // level with the face, lies beyond it (closest point on the edge).
+    let p = holder
+        .project(&Vec3::new(250.0, 46.436 + 16.0, 0.0), None)
+        .unwrap();
+    assert!((p.distance.abs() - 1.0).abs() < 1e-2, "{p:?}");
+    let e = parse(&spec(10.0, 60.0), Path::new("."))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("apron"), "{e}");
+}

@@ -2,6 +2,7 @@
 //! thinning, punch force. Called at report strokes and at the end (it
 //! allocates; it is not part of the time-step loop).
 
+use super::tools_report::{self, ToolSummary};
 use crate::scene::Model;
 use crate::scene::schema::{DrawIn, SectionLine};
 use fem_core::Mesh;
@@ -66,6 +67,8 @@ pub struct SectionSummary {
     pub major_max: f64,
     /// Smallest minor strain (-).
     pub minor_min: f64,
+    /// Largest thinning `(t0 − t)/t0` along the section (-).
+    pub thinning_max: f64,
     /// Minor strain at `output.punch_edge_distance` (linear interpolation), when asked.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub minor_at_punch_edge: Option<f64>,
@@ -82,6 +85,12 @@ pub struct Snapshot {
     pub punch_force: f64,
     /// Largest thinning `(t0 − t)/t0` over the blank (-).
     pub thinning_max: f64,
+    /// Energies at this state (mJ).
+    #[serde(skip)]
+    pub energy: fem_core::EnergyLedger,
+    /// What each tool did up to this state (forces on the model, per press step).
+    #[serde(skip)]
+    pub tools: BTreeMap<String, ToolSummary>,
     /// Section extremes.
     pub sections: BTreeMap<String, SectionSummary>,
     /// Draw-in (mm).
@@ -160,20 +169,7 @@ impl Post {
                     }
                 })
                 .collect();
-            let major_max = rows
-                .iter()
-                .map(|r| r.major)
-                .fold(f64::NEG_INFINITY, f64::max);
-            let minor_min = rows.iter().map(|r| r.minor).fold(f64::INFINITY, f64::min);
-            let minor_at_punch_edge = self.punch_edge.and_then(|d| interpolate(&rows, d));
-            sections.insert(
-                sec.name.clone(),
-                SectionSummary {
-                    major_max,
-                    minor_min,
-                    minor_at_punch_edge,
-                },
-            );
+            sections.insert(sec.name.clone(), extremes(&rows, self.punch_edge));
             curves.insert(sec.name.clone(), rows);
         }
         let draw_in = self
@@ -189,10 +185,24 @@ impl Post {
             stroke,
             punch_force,
             thinning_max,
+            energy: *model.solver.ledger(),
+            tools: tools_report::tools(model),
             sections,
             draw_in,
             curves,
         }
+    }
+}
+
+/// The extremes of one section's rows; `punch_edge`: the initial distance
+/// where the minor strain is read (see [`SectionSummary::minor_at_punch_edge`]).
+pub fn extremes(rows: &[SectionRow], punch_edge: Option<f64>) -> SectionSummary {
+    let max = |f: fn(&SectionRow) -> f64| rows.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
+    SectionSummary {
+        major_max: max(|r| r.major),
+        minor_min: rows.iter().map(|r| r.minor).fold(f64::INFINITY, f64::min),
+        thinning_max: max(|r| r.thinning),
+        minor_at_punch_edge: punch_edge.and_then(|d| interpolate(rows, d)),
     }
 }
 
@@ -219,6 +229,30 @@ fn interpolate(rows: &[SectionRow], d: f64) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A section's extremes: largest major strain and thinning, smallest
+    /// minor strain, each from its own row.
+    #[test]
+    fn extremes_take_each_figure_from_its_own_row() {
+        let row = |distance: f64, major: f64, minor: f64, thinning: f64| SectionRow {
+            distance,
+            major,
+            minor,
+            thickness_strain: -thinning,
+            thinning,
+        };
+        let rows = [
+            row(0.0, 0.10, -0.02, 0.01),
+            row(1.0, 0.30, -0.01, 0.02),
+            row(2.0, 0.20, -0.05, 0.07),
+        ];
+        let s = extremes(&rows, Some(0.5));
+        assert_eq!(s.major_max, 0.30);
+        assert_eq!(s.minor_min, -0.05);
+        assert_eq!(s.thinning_max, 0.07);
+        assert!((s.minor_at_punch_edge.unwrap() + 0.015).abs() < 1e-15);
+        assert!(extremes(&rows, None).minor_at_punch_edge.is_none());
+    }
 
     #[test]
     fn diagonal_and_edge_sections_pick_one_element_per_division() {

@@ -43,6 +43,12 @@ pub struct StateSummary {
     pub punch_force: f64,
     /// Stroke reached (mm).
     pub stroke: f64,
+    /// `friction / (plastic + friction)` at this state (-).
+    pub friction_energy_share: f64,
+    /// `friction / internal` at this state (-).
+    pub friction_to_internal: f64,
+    /// What each tool did up to this state (the current press step so far).
+    pub tools: BTreeMap<String, ToolSummary>,
 }
 
 impl From<&Snapshot> for StateSummary {
@@ -53,7 +59,29 @@ impl From<&Snapshot> for StateSummary {
             thinning_max: s.thinning_max,
             punch_force: s.punch_force,
             stroke: s.stroke,
+            friction_energy_share: friction_energy_share(&s.energy),
+            friction_to_internal: friction_to_internal(&s.energy),
+            tools: s.tools.clone(),
         }
+    }
+}
+
+/// `friction / (plastic + friction)` (-), 0 before either has grown.
+pub fn friction_energy_share(e: &fem_core::EnergyLedger) -> f64 {
+    if e.plastic + e.friction > 0.0 {
+        e.friction / (e.plastic + e.friction)
+    } else {
+        0.0
+    }
+}
+
+/// `friction / internal` (-): the frictional dissipation against the
+/// blank's internal energy (elastic + plastic); 0 while internal is 0.
+pub fn friction_to_internal(e: &fem_core::EnergyLedger) -> f64 {
+    if e.internal > 0.0 {
+        e.friction / e.internal
+    } else {
+        0.0
     }
 }
 
@@ -96,6 +124,8 @@ pub struct StripSummary {
 pub struct Summary {
     /// Scene name.
     pub scene: String,
+    /// Scene description (`[scene] description`).
+    pub description: String,
     /// Friction law (of the first pair).
     pub law: String,
     /// Kinematic formulation (of the first pair).
@@ -124,6 +154,8 @@ pub struct Summary {
     pub energy: EnergySummary,
     /// `friction / (plastic + friction)` (-).
     pub friction_energy_share: f64,
+    /// `friction / internal` (-).
+    pub friction_to_internal: f64,
     /// Largest kinetic/internal ratio once forming has started (-).
     pub kinetic_to_internal_max: f64,
     /// Largest hourglass/internal ratio once forming has started (-).
@@ -215,11 +247,6 @@ impl Summary {
         let elements = i.model.mesh.quads.len();
         let increments = i.model.solver.steps();
         let (_, added_percent) = i.model.solver.added_mass();
-        let share = if e.plastic + e.friction > 0.0 {
-            e.friction / (e.plastic + e.friction)
-        } else {
-            0.0
-        };
         let mut notes = Vec::new();
         let mu = match (scene.scene.kind, i.capstan) {
             (SceneKind::Capstan | SceneKind::BlockOnPlane | SceneKind::StripDraw, Some(_)) => {
@@ -268,6 +295,7 @@ impl Summary {
         warnings.append(&mut notes);
         Summary {
             scene: scene.scene.name.clone(),
+            description: scene.scene.description.clone(),
             law: i.model.law.clone(),
             formulation: i.model.formulation.clone(),
             element: scene.blank.element.name().to_string(),
@@ -294,7 +322,8 @@ impl Summary {
                 external_work: e.external,
                 balance_error_rel: e.balance_error,
             },
-            friction_energy_share: share,
+            friction_energy_share: friction_energy_share(e),
+            friction_to_internal: friction_to_internal(e),
             kinetic_to_internal_max: i.ki_max,
             hourglass_to_internal_max: i.hg_max,
             thinning_max: i.last.thinning_max,

@@ -292,7 +292,10 @@ fn tools_png(plots: &Path, result: &RunResult, model: &Model) -> Result<(), Outp
     draw_panels(
         &path,
         &[Panel {
-            title: "Force of each tool on the blank, along its press axis (model)".into(),
+            title: titled(
+                "Force of each tool on the blank, along its press axis (model)",
+                result,
+            ),
             x_label: "time (ms)".into(),
             y_label: "force (kN)".into(),
             series,
@@ -301,6 +304,24 @@ fn tools_png(plots: &Path, result: &RunResult, model: &Model) -> Result<(), Outp
         500,
     )
     .map_err(plot_err(&path))
+}
+
+/// A plot title followed by the scene's name (`… — s-rail-reconstruction`),
+/// so that every figure says which scene it shows.
+fn titled(title: &str, result: &RunResult) -> String {
+    format!("{title} — {}", result.summary.scene)
+}
+
+/// The force-against-stroke plot's title: the stroke tool's force (the
+/// punch's in a double-action press, the die's in a single-action one).
+fn punch_title(model: &Model) -> String {
+    match model.stroke {
+        Some(s) => format!(
+            "Force of the stroke tool ({}) against its stroke (full-model equivalent)",
+            model.tool_names[s.index]
+        ),
+        None => "Punch force (full-model equivalent)".into(),
+    }
 }
 
 fn plot_err(path: &Path) -> impl Fn(String) -> OutputError + '_ {
@@ -347,7 +368,7 @@ fn plots_png(out: &Path, result: &RunResult, model: &Model) -> Result<(), Output
             }
             add(format!("@{:.1} mm", result.last.stroke), rows);
             panels.push(Panel {
-                title: format!("Strains along {name}"),
+                title: titled(&format!("Strains along {name}"), result),
                 x_label: "initial distance from the section start (mm)".into(),
                 y_label: "logarithmic strain (-)".into(),
                 series,
@@ -367,7 +388,7 @@ fn plots_png(out: &Path, result: &RunResult, model: &Model) -> Result<(), Output
     draw_panels(
         &path,
         &[Panel {
-            title: "Energies".into(),
+            title: titled("Energies", result),
             x_label: "time (ms)".into(),
             y_label: "energy (mJ)".into(),
             series: vec![
@@ -389,7 +410,7 @@ fn plots_png(out: &Path, result: &RunResult, model: &Model) -> Result<(), Output
         draw_panels(
             &path,
             &[Panel {
-                title: "Punch force (full-model equivalent)".into(),
+                title: titled(&punch_title(model), result),
                 x_label: "stroke (mm)".into(),
                 y_label: "force (kN)".into(),
                 series: vec![Series {
@@ -412,9 +433,12 @@ fn plots_png(out: &Path, result: &RunResult, model: &Model) -> Result<(), Output
         .collect();
     crate::output::field_plots::element_map_png(
         &plots.join("thinning.png"),
-        &format!(
-            "Thinning at stroke {:.1} mm (plan view)",
-            result.last.stroke
+        &titled(
+            &format!(
+                "Thinning at stroke {:.1} mm (plan view)",
+                result.last.stroke
+            ),
+            result,
         ),
         "thinning (%)",
         &model.mesh.quads,

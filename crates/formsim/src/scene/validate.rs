@@ -577,7 +577,7 @@ pub fn dof_from_name(name: &str) -> Option<fem_core::Dof> {
 
 /// Advice that does not stop a run: the blank's elements are longer than a
 /// third of the smallest tool radius it bends over (`profile_radius`,
-/// `shoulder_radius`, `radius`), so the bending over it is coarsely resolved
+/// `shoulder_radius`, `radius`, the S-rail's `punch_shoulder` and `die_shoulder`), so the bending over it is coarsely resolved
 /// (the square cup at 25 × 25, 3 mm elements over the 5 mm die shoulder and
 /// the 8 mm punch radius: the largest OX major strain is 77 % (BT) and 82 %
 /// (fully integrated) of the 100 × 100 value, docs/convergence.md).
@@ -598,7 +598,13 @@ pub fn warnings(loaded: &LoadedScene) -> Vec<String> {
         let Some(table) = value.as_table() else {
             continue;
         };
-        for key in ["profile_radius", "shoulder_radius", "radius"] {
+        for key in [
+            "profile_radius",
+            "shoulder_radius",
+            "radius",
+            "punch_shoulder",
+            "die_shoulder",
+        ] {
             if let Some(r) = table
                 .get(key)
                 .and_then(|v| v.as_float().or(v.as_integer().map(|i| i as f64)))

@@ -18,8 +18,17 @@
 //!   `draw_depth + thickness`. Normal out of the die (down, into the cavity).
 //! - **Blankholder** (facing up at local z = 0): two flat strips from
 //!   `±(punch_width/2 + holder_gap)` to `±flange_width`. Normal up.
+//! - **Apron** (`apron > 0`, die and blankholder): the swept flange cannot
+//!   reach beyond the arc radius (the offset sweep would fold), so a wide
+//!   blank overhangs it near the arcs' centres and along the end straights.
+//!   Two flat rectangles at the face's height, one either side of the S,
+//!   prolong the die face and the holder `apron` mm beyond the flange's
+//!   farthest edge along the tools' whole length (like the flat binder of a
+//!   real tool set). Each overlaps the swept flange (same plane, same
+//!   normal) and stays clear of the channel, which needs the S's lateral
+//!   offset plus the channel's half width to stay below `flange_width`.
 
-use super::sweep::{Material, Part, Piece, Spine, sweep};
+use super::sweep::{Material, Part, Piece, Spine, rectangle, sweep};
 use super::{Facing, Placement, assemble, positive, require};
 use crate::error::NurbsError;
 use crate::nurbs_tool::NurbsTool;
@@ -53,6 +62,9 @@ pub struct SRailParams {
     pub flange_width: f64,
     /// Gap between punch wall and blankholder inner edge (mm).
     pub holder_gap: f64,
+    /// Flat prolongation of the die face and holder beyond the flange's
+    /// farthest edge (mm); 0: none (module docs, "Apron").
+    pub apron: f64,
 }
 
 impl Default for SRailParams {
@@ -70,8 +82,78 @@ impl Default for SRailParams {
             clearance_factor: 1.1,
             flange_width: 70.0,
             holder_gap: 2.0,
+            apron: 0.0,
         }
     }
+}
+
+/// Lateral offset (mm) of straight 3's centre line from straight 1's: the
+/// two arcs and straight 2 together.
+pub fn lateral_offset(p: &SRailParams) -> f64 {
+    let th = p.arc_angle_deg.to_radians();
+    2.0 * p.arc_radius * (1.0 - th.cos()) + p.straight_lengths[1] * th.sin()
+}
+
+/// The x range (mm) of the tools: straight 1's prolonged start to straight 3's prolonged end.
+fn x_range(p: &SRailParams) -> [f64; 2] {
+    let th = p.arc_angle_deg.to_radians();
+    let [l1, l2, l3] = p.straight_lengths;
+    let end = l1 + 2.0 * p.arc_radius * th.sin() + l2 * th.cos() + l3 + p.end_extension;
+    [-p.end_extension, end]
+}
+
+/// The two apron rectangles of a tool whose flat face starts at half width
+/// `inner` (the die shoulder's outer edge, the holder's inner edge), with
+/// the blank-side normal up or down. Empty when `apron` is 0.
+fn apron_parts(p: &SRailParams, inner: f64, up: bool) -> Vec<Part> {
+    apron_rectangles(p, inner)
+        .into_iter()
+        .map(|(x, y)| rectangle(x, y, 0.0, up))
+        .collect()
+}
+
+/// The apron's two rectangles in plan, `([x0, x1], [y0, y1])` (mm, local
+/// frame), for a tool whose flat face starts at half width `inner` (the die:
+/// `punch_width/2 + clearance + die_shoulder`; the holder: `punch_width/2 +
+/// holder_gap`). Each reaches from midway between the channel's farthest
+/// edge and the flange's nearest outer edge to `apron` beyond the flange's
+/// farthest edge. Empty when `apron` is 0.
+pub fn apron_rectangles(p: &SRailParams, inner: f64) -> Vec<([f64; 2], [f64; 2])> {
+    if p.apron <= 0.0 {
+        return Vec::new();
+    }
+    let (y, f) = (lateral_offset(p), p.flange_width);
+    let x = x_range(p);
+    vec![
+        (x, [0.5 * (y + inner + f), y + f + p.apron]),
+        (x, [-f - p.apron, 0.5 * (y - f - inner)]),
+    ]
+}
+
+/// Half width (mm) at which the die's flat face starts: the die shoulder's outer edge.
+pub fn die_face_inner(p: &SRailParams) -> f64 {
+    0.5 * p.punch_width + p.clearance_factor * p.thickness + p.die_shoulder
+}
+
+/// An apron needs room between the channel and the flange's outer edge.
+fn check_apron(name: &str, p: &SRailParams, inner: f64) -> Result<(), NurbsError> {
+    require(
+        p.apron.is_finite() && p.apron >= 0.0,
+        name,
+        "apron",
+        p.apron,
+        "must be finite and >= 0".into(),
+    )?;
+    let need = lateral_offset(p) + inner;
+    require(
+        p.apron == 0.0 || need < p.flange_width,
+        name,
+        "apron",
+        p.apron,
+        format!(
+            "needs flange_width above the S's lateral offset plus the channel half width ({need:.2} mm)"
+        ),
+    )
 }
 
 /// The plan-view centre line as spine pieces (offset ρ positive to the left of travel).
@@ -274,15 +356,14 @@ pub fn die(name: &str, p: &SRailParams, place: &Placement) -> Result<NurbsTool, 
             b: [-f, 0.0],
         },
     ];
+    check_apron(name, p, die_face_inner(p))?;
     let place = Placement {
         facing: Facing::Up,
         ..*place
     };
-    assemble(
-        name,
-        &swept(&profile, Material::Right, &centre_line(p)),
-        &place,
-    )
+    let mut parts = swept(&profile, Material::Right, &centre_line(p));
+    parts.extend(apron_parts(p, die_face_inner(p), false));
+    assemble(name, &parts, &place)
 }
 
 /// The blankholder (facing up).
@@ -303,9 +384,8 @@ pub fn blankholder(
             b: [-f, 0.0],
         },
     ];
-    assemble(
-        name,
-        &swept(&profile, Material::Left, &centre_line(p)),
-        place,
-    )
+    check_apron(name, p, g)?;
+    let mut parts = swept(&profile, Material::Left, &centre_line(p));
+    parts.extend(apron_parts(p, g, true));
+    assemble(name, &parts, place)
 }
