@@ -8,8 +8,10 @@ use fem_core::{
 };
 use plugins_api::{PointNeeds, ToolSurface, Vec3};
 
+use std::time::Instant;
+
 use crate::tool_log::{ToolSample, ToolStepLog, record};
-use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair};
+use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair, ContactTiming};
 
 /// Tools, press and contact pairs over one blank, as a [`fem_core::Effect`].
 ///
@@ -60,6 +62,9 @@ pub struct ContactEffect {
     tool_log: Vec<Vec<ToolStepLog>>,
     /// Work of each tool through contact in the current explicit step (N·mm).
     tool_work_step: Vec<f64>,
+    /// Seconds spent moving the tools and updating the nodal geometry (the
+    /// pairs keep their own stages).
+    timing: ContactTiming,
 }
 
 impl std::fmt::Debug for ContactEffect {
@@ -130,6 +135,7 @@ impl ContactEffect {
             thickness,
             flow_stress,
             energy: ContactEnergy::default(),
+            timing: ContactTiming::default(),
         })
     }
 
@@ -201,6 +207,20 @@ impl ContactEffect {
         e
     }
 
+    /// Seconds spent per stage of the contact steps so far: the press and the
+    /// nodal geometry, and every pair's stages summed. What the stages leave
+    /// out of the whole [`Effect::add_forces`] (copying the shared fields,
+    /// summing the energies, logging the tools, handing the step to rayon's
+    /// pool) is small; the solver times the whole call
+    /// ([`fem_core::Solver::timing`]).
+    pub fn timing(&self) -> ContactTiming {
+        let mut t = self.timing;
+        for p in &self.pairs {
+            t.add(&p.timing);
+        }
+        t
+    }
+
     /// One contact step (`ctx.dt > 0`): press, nodal geometry, every pair.
     fn step(
         &mut self,
@@ -208,12 +228,15 @@ impl ContactEffect {
         state: &NodalState,
         forces: &mut Forces,
     ) -> Result<(), FemError> {
+        let t_start = Instant::now();
         if let Some(press) = &mut self.press {
             press.advance(ctx.time, ctx.dt, &self.loads)?;
             for (i, tool) in self.tools.iter_mut().enumerate() {
                 tool.set_pose(press.pose(i), press.velocity(i));
             }
         }
+        let t_press = Instant::now();
+        self.timing.press += (t_press - t_start).as_secs_f64();
         let view = BlankView {
             x0: &state.x0,
             x: &state.x,
@@ -226,6 +249,7 @@ impl ContactEffect {
                 .map(|(a, b)| (a.as_slice(), b.as_slice())),
         };
         self.geometry.update(&view, ctx.dt, self.needs);
+        self.timing.geometry += t_press.elapsed().as_secs_f64();
         self.reactions.iter_mut().for_each(|r| *r = Vec3::zeros());
         self.loads.iter_mut().for_each(|l| *l = ToolLoad::default());
         let mut friction = 0.0;

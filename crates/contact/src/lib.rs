@@ -28,6 +28,7 @@ mod effect;
 mod error;
 mod pair;
 pub mod penalty;
+mod timing;
 mod tool_log;
 
 pub use blank::{BlankGeometry, BlankView};
@@ -35,4 +36,5 @@ pub use effect::ContactEffect;
 pub use error::ContactError;
 pub use pair::{ContactEnergy, ContactPair, PairSpec, PointStatus, Reaction};
 pub use penalty::PenaltySettings;
+pub use timing::ContactTiming;
 pub use tool_log::{Sampled, ToolStepLog};

@@ -8,9 +8,10 @@ use plugins_api::{
     StepKinematics, StepOutput, ToolSurface, Vec3,
 };
 use rayon::prelude::*;
+use std::time::Instant;
 
 use crate::penalty::{PenaltySettings, nodal_stiffness};
-use crate::{BlankGeometry, BlankView, ContactError};
+use crate::{BlankGeometry, BlankView, ContactError, ContactTiming};
 
 /// What a contact pair is built from.
 #[derive(Clone, Debug, PartialEq)]
@@ -194,6 +195,9 @@ pub struct ContactPair {
     /// Projections skipped so far because the node could not reach the tool
     /// ([`PairSpec::skip_far`]); nodes outside the bounding-box margin are not counted.
     pub skipped: u64,
+    /// Seconds spent in the stages of this pair's steps so far (`press` and
+    /// `geometry` stay 0: they belong to [`crate::ContactEffect`]).
+    pub timing: ContactTiming,
     /// Per pair point: the unsigned distance from the tool at its last
     /// projection (mm; `-∞` before the first) and its position then, in the
     /// tool's local frame (mm).
@@ -311,6 +315,7 @@ impl ContactPair {
             clamped: false,
             projections: 0,
             skipped: 0,
+            timing: ContactTiming::default(),
             far_dist: vec![f64::NEG_INFINITY; m],
             far_local: vec![Vec3::zeros(); m],
             cand: Vec::with_capacity(m),
@@ -371,6 +376,7 @@ impl ContactPair {
         dt: f64,
         forces: &mut [Vec3],
     ) -> Result<(), ContactError> {
+        let t_start = Instant::now();
         let bbox = tool.bounding_box();
         let pose = tool.pose();
         let origin = pose.translation;
@@ -424,11 +430,15 @@ impl ContactPair {
             }
             self.cand.push(k as u32);
         }
+        let t_broad = Instant::now();
+        self.timing.broad_phase += (t_broad - t_start).as_secs_f64();
 
         // 1b. Project the candidates (in parallel for many: each answer lands
         //     in its own slot, so the result does not depend on the threads).
         self.project_candidates(tool, blank.x)?;
         self.projections += self.cand.len() as u64;
+        let t_projection = Instant::now();
+        self.timing.projection += (t_projection - t_broad).as_secs_f64();
 
         // 1c. Gap and pressure, in node order; gather the touching points.
         for j in 0..self.cand.len() {
@@ -492,6 +502,8 @@ impl ContactPair {
             self.active.push(k as u32);
             self.inputs.push(input);
         }
+        let t_normal = Instant::now();
+        self.timing.normal += (t_normal - t_projection).as_secs_f64();
 
         // 2. Friction for the gathered points: one batch, or chunks in
         //    parallel for many (the points are independent, each lands in its
@@ -528,6 +540,9 @@ impl ContactPair {
                 source: Box::new(first.1),
             });
         }
+
+        let t_friction = Instant::now();
+        self.timing.friction += (t_friction - t_normal).as_secs_f64();
 
         // 3. Scatter forces, reactions, energies.
         let mut friction = 0.0;
@@ -580,6 +595,7 @@ impl ContactPair {
         self.energy.blank_work += blank_work;
         self.energy.tool_work += tool_work;
         self.energy.stored = stored;
+        self.timing.scatter += t_friction.elapsed().as_secs_f64();
         Ok(())
     }
 

@@ -74,7 +74,9 @@ pub use mesh::{Mesh, MeshQuality, rectangle, wrapped_strip};
 pub use mesh_io::{MeshFile, read_inp, read_inp_numbered, read_msh, read_msh_numbered};
 pub use press::{ForceLaw, Press, PressStep, StepChange, StepEnd, ToolLoad, ToolMotion};
 pub use settings::SolverSettings;
-pub use solver::{Control, DtLimit, EffectId, RunSummary, SetupReport, Solver, StepReport};
+pub use solver::{
+    Control, DtLimit, EffectId, RunSummary, SetupReport, Solver, StepReport, StepTiming,
+};
 pub use springs::{Spring, Springs};
 pub use state::{Forces, NodalState, StepContext};
 

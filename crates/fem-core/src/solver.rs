@@ -31,6 +31,7 @@ use crate::{
 };
 use std::any::Any;
 use std::collections::BTreeMap;
+use std::time::Instant;
 
 /// During a run, mass scaling brings elements whose step fell below the
 /// target up to `target × (1 + MASS_SCALING_HEADROOM)`: a 2 % headroom that
@@ -85,6 +86,46 @@ pub struct StepReport {
     pub added_mass: f64,
     /// Energies at `t_n` (`energy.time`), one step behind `time`.
     pub energy: EnergyLedger,
+}
+
+/// Wall-clock seconds a [`Solver`] spent in its steps, by stage, summed over
+/// every [`Solver::step`] since set-up ([`Solver::initialize`] is not
+/// counted). Read with [`Solver::timing`].
+///
+/// The stages are timed with [`std::time::Instant`] at their boundaries
+/// only (about ten readings of the clock per step, whatever the model's
+/// size), so timing costs well under a microsecond per step.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StepTiming {
+    /// Whole calls of [`Solver::step`] (s).
+    pub total: f64,
+    /// Steps 1–4: velocities, constraints, positions and the energy ledger (s).
+    pub integration: f64,
+    /// Step 5 outside the effects: zeroing the forces, nodal loads, the
+    /// finiteness check of the summed forces (s).
+    pub assembly: f64,
+    /// Step 6: the effects' stable time steps and mass scaling during the run (s).
+    pub time_step: f64,
+    /// Each effect's [`Effect::add_forces`], by effect index (order of
+    /// addition, see [`Solver::effect_name`]) (s).
+    pub effects: Vec<f64>,
+}
+
+impl StepTiming {
+    /// The engine's own seconds: `integration + assembly + time_step`
+    /// (everything of the step but the effects' forces).
+    pub fn engine(&self) -> f64 {
+        self.integration + self.assembly + self.time_step
+    }
+
+    /// Zero every sum (no allocation).
+    fn reset(&mut self) {
+        self.total = 0.0;
+        self.integration = 0.0;
+        self.assembly = 0.0;
+        self.time_step = 0.0;
+        self.effects.iter_mut().for_each(|s| *s = 0.0);
+    }
 }
 
 /// Returned by the run-loop callback.
@@ -303,6 +344,8 @@ pub struct Solver {
     physical_mass: f64,
     added_mass: f64,
     land_at: Option<f64>,
+    /// Seconds spent per stage of the steps.
+    timing: StepTiming,
 }
 
 impl Solver {
@@ -377,6 +420,7 @@ impl Solver {
             physical_mass: 0.0,
             added_mass: 0.0,
             land_at: None,
+            timing: StepTiming::default(),
         })
     }
 
@@ -393,6 +437,7 @@ impl Solver {
     /// Add a boxed effect.
     pub fn add_boxed_effect(&mut self, effect: Box<dyn Effect>) -> EffectId {
         self.effects.push(effect);
+        self.timing.effects.push(0.0);
         self.order.push(self.effects.len() - 1);
         EffectId(self.effects.len() - 1)
     }
@@ -685,6 +730,11 @@ impl Solver {
         &self.order
     }
 
+    /// Wall-clock seconds spent in the steps so far, by stage and by effect.
+    pub fn timing(&self) -> &StepTiming {
+        &self.timing
+    }
+
     /// Set-up report (`None` before initialization).
     pub fn setup_report(&self) -> Option<&SetupReport> {
         self.setup.as_ref()
@@ -825,6 +875,8 @@ impl Solver {
             limit,
             massless_nodes,
         };
+        // The forces at t = 0 are set-up, not a step.
+        self.timing.reset();
         self.setup = Some(report);
         Ok(report)
     }
@@ -875,6 +927,7 @@ impl Solver {
 
     /// Zero the accumulators, add the loads at `time` and every effect's forces.
     fn compute_forces(&mut self, time: f64, dt: f64, step: u64) -> Result<(), FemError> {
+        let started = Instant::now();
         self.forces.clear();
         self.eval_amplitudes(time);
         for l in &self.loads {
@@ -888,10 +941,15 @@ impl Solver {
         }
         let ctx = StepContext { time, dt, step };
         let mut tally = EnergyTally::default();
+        let mut mark = Instant::now();
+        self.timing.assembly += (mark - started).as_secs_f64();
         for &k in &self.order {
             let e = &mut self.effects[k];
             let mut fields = self.fields.access(k);
             e.add_forces(&ctx, &self.state, &mut self.forces, &mut fields)?;
+            let now = Instant::now();
+            self.timing.effects[k] += (now - mark).as_secs_f64();
+            mark = now;
             tally.add(&e.energies());
         }
         self.tally = tally;
@@ -921,6 +979,7 @@ impl Solver {
                 });
             }
         }
+        self.timing.assembly += mark.elapsed().as_secs_f64();
         Ok(())
     }
 
@@ -989,8 +1048,17 @@ impl Solver {
     // ----- stepping ---------------------------------------------------------
 
     /// Advance one step `t_n → t_{n+1}` (initializing first if needed).
+    /// Its wall-clock time goes to [`Solver::timing`].
     pub fn step(&mut self) -> Result<StepReport, FemError> {
         self.initialize()?;
+        let started = Instant::now();
+        let report = self.advance(started);
+        self.timing.total += started.elapsed().as_secs_f64();
+        report
+    }
+
+    /// The step of [`Solver::step`] once initialized; `started` is when it began.
+    fn advance(&mut self, started: Instant) -> Result<StepReport, FemError> {
         let first = self.step == 0;
         let dt = self.dt_next;
         let t_n = self.time;
@@ -1156,8 +1224,11 @@ impl Solver {
         self.dt_prev = dt;
 
         // 5. Forces at t_{n+1}; 6. next time step.
+        self.timing.integration += started.elapsed().as_secs_f64();
         self.compute_forces(self.time, dt, self.step)?;
+        let mark = Instant::now();
         let (dt_next, limit) = self.next_dt()?;
+        self.timing.time_step += mark.elapsed().as_secs_f64();
         self.limit = limit;
         if !dt_next.is_finite() || dt_next < self.dt_floor {
             let (effect, element, what) = match limit {

@@ -622,6 +622,12 @@ fn run(args: &RunArgs) -> Outcome {
         say!("  {}", s.description);
     }
     say!(
+        "  time: {}; after the loop {:.2} s (final snapshot, frames index) + {:.2} s (writing the files)",
+        s.timing.line(s.wall_time_s),
+        s.timing.final_output,
+        result.write_s
+    );
+    say!(
         "  energy (mJ): internal {:.1}, plastic {:.1}, friction {:.1}, kinetic {:.2}, hourglass {:.2}, external work {:.1}; balance error {:.2e}; max kinetic/internal while forming {:.3}",
         s.energy.internal,
         s.energy.plastic,

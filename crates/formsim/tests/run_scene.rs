@@ -184,6 +184,7 @@ fn square_cup_coarse_writes_every_output() {
             "energy.{key}"
         );
     }
+    check_timing(&json);
     assert!(json["sections"]["OD"]["major_max"].as_f64().is_some());
     assert!(json["sections"]["OD"]["minor_min"].as_f64().is_some());
     assert!(
@@ -375,6 +376,49 @@ fn levanov_cup_reads_the_flow_stress_from_the_first_step() {
     assert_eq!(r.summary.law, "levanov");
     assert_eq!(r.summary.status, "completed");
     assert!(r.summary.energy.balance_error_rel < 0.02);
+}
+
+/// summary.json's `timing`: every key present, finite and >= 0; the loop's
+/// stages (elements, contact, engine, output) add up to its wall time and
+/// contact's stages to contact's total, within 10 % (each stage is timed on
+/// its own: a stage left out of the timers shows as a shortfall).
+fn check_timing(json: &serde_json::Value) {
+    let t = &json["timing"];
+    let get = |v: &serde_json::Value, key: &str| {
+        let s = v[key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("timing.{key} missing in {t}"));
+        assert!(s.is_finite() && s >= 0.0, "timing.{key} = {s}");
+        s
+    };
+    let top: Vec<f64> = ["elements", "engine", "output", "final_output"]
+        .iter()
+        .map(|k| get(t, k))
+        .collect();
+    let c = &t["contact"];
+    let total = get(c, "total");
+    let stages: f64 = [
+        "press",
+        "geometry",
+        "broad_phase",
+        "projection",
+        "normal",
+        "friction",
+        "scatter",
+    ]
+    .iter()
+    .map(|k| get(c, k))
+    .sum();
+    let wall = json["wall_time_s"].as_f64().unwrap();
+    let loop_sum = top[0] + top[1] + top[2] + total;
+    assert!(
+        (loop_sum / wall - 1.0).abs() < 0.1,
+        "stages sum to {loop_sum} s, the loop took {wall} s: {t}"
+    );
+    assert!(
+        total > 0.0 && (stages / total - 1.0).abs() < 0.1,
+        "contact stages sum to {stages} s of {total} s: {t}"
+    );
 }
 
 /// The coarse cup of `square_cup_coarse_writes_every_output`, run once by

@@ -12,6 +12,7 @@ pub mod out_dir;
 pub mod post;
 pub mod reference;
 pub mod summary;
+pub mod timing;
 pub mod tools_report;
 pub mod warnings;
 pub mod write;
@@ -96,6 +97,9 @@ pub struct RunResult {
     pub last: Snapshot,
     /// Snapshots at the report strokes.
     pub states: Vec<(f64, Snapshot)>,
+    /// Seconds spent writing the files after `summary.json` was assembled
+    /// (`summary.json`, sections, CSVs, plots): not in its `timing`.
+    pub write_s: f64,
 }
 
 /// Run `loaded` and write its outputs to `options.out`.
@@ -162,6 +166,10 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
     }
     let pull = pulled_set(loaded);
     let dt0 = setup.dt_initial;
+    // The loop's time outside `Solver::step` (sampling, snapshots, frames,
+    // progress): from `mark` to each step, and after the last.
+    let mut output_s = 0.0;
+    let mut mark = Instant::now();
     loop {
         let time = model.solver.time();
         let (stroke, force) = stroke_and_force(&model, o.symmetry_factor);
@@ -222,7 +230,10 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
             break;
         }
         // The steps `Solver::run_until(end, …)` takes, landing on `end`.
-        if let Err(err) = model.solver.step_toward(end) {
+        output_s += mark.elapsed().as_secs_f64();
+        let stepped = model.solver.step_toward(end);
+        mark = Instant::now();
+        if let Err(err) = stepped {
             stop = Some(err.to_string());
             break;
         }
@@ -249,13 +260,16 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         (_, Some(b)) => b.finish_and_clear(),
         _ => {}
     }
+    output_s += mark.elapsed().as_secs_f64();
     let wall = started.elapsed().as_secs_f64();
+    let finish = Instant::now();
     let time = model.solver.time();
     let (stroke, force) = stroke_and_force(&model, o.symmetry_factor);
     let last = post.snapshot(&model, time, stroke, force);
     if o.frames > 0 {
         write::pvd(&out.join("blank.pvd"), &frames)?;
     }
+    let timing = timing::Timing::new(&model, output_s, finish.elapsed().as_secs_f64());
     let summary = summary::Summary::new(summary::Inputs {
         loaded,
         model: &model,
@@ -274,15 +288,19 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         clamp_seen,
         stopped: stop.clone(),
         dt0,
+        timing,
     });
-    let result = RunResult {
+    let mut result = RunResult {
         summary,
         history,
         tool_history,
         last,
         states,
+        write_s: 0.0,
     };
+    let writing = Instant::now();
     write::all(out, &result, &model, o.plots)?;
+    result.write_s = writing.elapsed().as_secs_f64();
     if let Some(message) = stop {
         return Err(RunError::Solver {
             time,

@@ -140,6 +140,8 @@ pub struct Summary {
     pub increments: u64,
     /// Wall time of the time-step loop (s).
     pub wall_time_s: f64,
+    /// Where the wall time went, per stage (s).
+    pub timing: super::timing::Timing,
     /// `elements × increments / wall_time_s`.
     pub element_cycles_per_s: f64,
     /// Threads of the rayon pool.
@@ -228,6 +230,8 @@ pub struct Inputs<'a> {
     pub stopped: Option<String>,
     /// First time step (s).
     pub dt0: f64,
+    /// Seconds per stage.
+    pub timing: super::timing::Timing,
 }
 
 /// The stroke as a key: `15` for 15.0, `12.5` for 12.5.
@@ -303,6 +307,7 @@ impl Summary {
             nodes: i.model.mesh.nodes.len(),
             increments,
             wall_time_s: i.wall,
+            timing: i.timing,
             element_cycles_per_s: if i.wall > 0.0 {
                 elements as f64 * increments as f64 / i.wall
             } else {

@@ -1,0 +1,62 @@
+//! Wall-clock seconds contact spends per stage of its step.
+
+/// Seconds spent per stage of the contact step, summed over the steps
+/// (wall clock, [`std::time::Instant`] read at the stage boundaries only).
+///
+/// A [`crate::ContactPair`] fills the stages of its own step
+/// (`broad_phase` … `scatter`); [`crate::ContactEffect::timing`] adds its
+/// pairs' together with its own `press` and `geometry`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ContactTiming {
+    /// Placing the tools for the step (the press) (s).
+    pub press: f64,
+    /// The blank's nodal geometry update (areas, normals, gradients the laws read) (s).
+    pub geometry: f64,
+    /// Candidate selection: bounding-box margin and far-node skipping (pair step 1a) (s).
+    pub broad_phase: f64,
+    /// Projecting the candidates on the tool (pair step 1b) (s).
+    pub projection: f64,
+    /// Gap, penalty pressure, gathering the touching points (pair step 1c) (s).
+    pub normal: f64,
+    /// The friction law's batch return mapping (pair step 2) (s).
+    pub friction: f64,
+    /// Scattering forces, reactions and energies (pair step 3) (s).
+    pub scatter: f64,
+}
+
+impl ContactTiming {
+    /// Stage-wise sum.
+    pub fn add(&mut self, o: &ContactTiming) {
+        self.press += o.press;
+        self.geometry += o.geometry;
+        self.broad_phase += o.broad_phase;
+        self.projection += o.projection;
+        self.normal += o.normal;
+        self.friction += o.friction;
+        self.scatter += o.scatter;
+    }
+
+    /// Sum of the stages (s).
+    pub fn sum(&self) -> f64 {
+        self.press
+            + self.geometry
+            + self.broad_phase
+            + self.projection
+            + self.normal
+            + self.friction
+            + self.scatter
+    }
+
+    /// The stages as `(name, seconds)`, in the order of the step.
+    pub fn stages(&self) -> [(&'static str, f64); 7] {
+        [
+            ("press", self.press),
+            ("geometry", self.geometry),
+            ("broad_phase", self.broad_phase),
+            ("projection", self.projection),
+            ("normal", self.normal),
+            ("friction", self.friction),
+            ("scatter", self.scatter),
+        ]
+    }
+}
