@@ -51,6 +51,17 @@ fn one_line(what: &str, e: &str) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// Load `path` with `sets` and build its model: Ok, or a one-line error.
+fn load_and_build(path: &Path, sets: &[String]) -> Result<(), TestCaseError> {
+    match scene::load(path, sets) {
+        Err(e) => one_line("load", &e.to_string()),
+        Ok(loaded) => match scene::build(&loaded) {
+            Err(e) => one_line("build", &e.to_string()),
+            Ok(_) => Ok(()),
+        },
+    }
+}
+
 /// Values that break naive parsers and range checks, as TOML text.
 fn nasty_value() -> impl Strategy<Value = String> {
     let fixed = prop::sample::select(vec![
@@ -130,17 +141,7 @@ fn fuzz_overrides(scene_file: &str) {
     let pair = (prop::sample::select(keys), nasty_value()).prop_map(|(k, v)| format!("{k}={v}"));
     let sets = prop::collection::vec(pair, 1..3);
     runner()
-        .run(&sets, |sets| {
-            match scene::load(&path, &sets) {
-                Err(e) => one_line("load", &e.to_string())?,
-                Ok(loaded) => {
-                    if let Err(e) = scene::build(&loaded) {
-                        one_line("build", &e.to_string())?;
-                    }
-                }
-            }
-            Ok(())
-        })
+        .run(&sets, |sets| load_and_build(&path, &sets))
         .unwrap();
 }
 
@@ -197,15 +198,7 @@ fn fuzz_mesh_file(name: &str, keywords: &'static [&'static str]) {
     runner()
         .run(&mesh_text(keywords), |text| {
             std::fs::write(&mesh_path, &text).unwrap();
-            match scene::load(&scene_path, &[]) {
-                Err(e) => one_line("load", &e.to_string())?,
-                Ok(loaded) => {
-                    if let Err(e) = scene::build(&loaded) {
-                        one_line("build", &e.to_string())?;
-                    }
-                }
-            }
-            Ok(())
+            load_and_build(&scene_path, &[])
         })
         .unwrap();
 }
@@ -291,15 +284,7 @@ fn fuzz_tool_file(name: &str, content: impl Strategy<Value = Vec<u8>>) {
     runner()
         .run(&content, |bytes| {
             std::fs::write(&tool_path, &bytes).unwrap();
-            match scene::load(&scene_path, &[]) {
-                Err(e) => one_line("load", &e.to_string())?,
-                Ok(loaded) => {
-                    if let Err(e) = scene::build(&loaded) {
-                        one_line("build", &e.to_string())?;
-                    }
-                }
-            }
-            Ok(())
+            load_and_build(&scene_path, &[])
         })
         .unwrap();
 }
