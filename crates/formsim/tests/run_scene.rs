@@ -1,29 +1,11 @@
 //! `formsim run` end to end on small versions of the ready scenes: every output
 //! file is written, finite and consistent, and the block on a plane slides at `μN`.
 
-use formsim::run::{RunOptions, RunResult, run};
+mod common;
+
+use common::{root, run_scene};
+use formsim::run::RunResult;
 use formsim::scene;
-use std::path::{Path, PathBuf};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// Run a ready scene with overrides into a fresh temporary directory.
-fn run_scene(name: &str, sets: &[&str]) -> (tempfile::TempDir, RunResult) {
-    let dir = tempfile::tempdir().unwrap();
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let loaded = scene::load(&root().join(format!("scenes/{name}.toml")), &sets).unwrap();
-    let r = run(
-        &loaded,
-        &RunOptions {
-            out: dir.path().to_path_buf(),
-            progress: Default::default(),
-        },
-    )
-    .unwrap();
-    (dir, r)
-}
 
 /// Block on a plane (benchmarks.md §3): the friction force while sliding is
 /// `μ N` = 0.2 × 100 N; issue 5's tolerance 1 %.

@@ -4,40 +4,25 @@
 //! fixed punch) runs, balances its energy, the holder delivers its force, and
 //! summary.json carries the sections I–E and D–J and every key of issue 16.
 
-use formsim::run::{RunOptions, RunResult, run};
-use formsim::scene;
-use std::path::PathBuf;
+mod common;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use formsim::run::RunResult;
 
 /// The S-rail on 35 × 14 shells (10 mm), drawn 8 mm in 10 ms (stroke 9 mm
 /// with the 1 mm approach), reported at 5 and 9 mm.
 fn coarse_s_rail() -> (tempfile::TempDir, RunResult) {
-    let dir = tempfile::tempdir().unwrap();
-    let sets: Vec<String> = [
-        "blank.mesh.divisions=[35, 14]",
-        "solver.mass_scaling_dt=2e-6",
-        "steps[2].duration=1e-2",
-        "steps[2].motions[1].distance=8.0",
-        "output.report_strokes=[5.0, 9.0]",
-        "output.frames=2",
-        "output.plots=false",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let loaded = scene::load(&root().join("scenes/s-rail.toml"), &sets).unwrap();
-    let r = run(
-        &loaded,
-        &RunOptions {
-            out: dir.path().to_path_buf(),
-            progress: Default::default(),
-        },
+    common::run_scene(
+        "s-rail",
+        &[
+            "blank.mesh.divisions=[35, 14]",
+            "solver.mass_scaling_dt=2e-6",
+            "steps[2].duration=1e-2",
+            "steps[2].motions[1].distance=8.0",
+            "output.report_strokes=[5.0, 9.0]",
+            "output.frames=2",
+            "output.plots=false",
+        ],
     )
-    .unwrap();
-    (dir, r)
 }
 
 /// Completes; energy balance below 1 %; the holder delivers its 10 kN within
