@@ -190,6 +190,11 @@ pub struct ContactPair {
     pub energy: ContactEnergy,
     /// Whether any point hit the clamp of its law during the last step.
     pub clamped: bool,
+    /// Deepest penetration `−g` of the points touching in the last step (mm;
+    /// 0 when none touch): the face of the blank (mid-surface ± half the
+    /// current thickness) inside the tool. With the penalty `p A = k (−g)` it
+    /// is the largest `F_N / k`; the hard cases compare it with the thickness.
+    pub penetration_max: f64,
     /// Projections on the tool so far (all steps).
     pub projections: u64,
     /// Projections skipped so far because the node could not reach the tool
@@ -313,6 +318,7 @@ impl ContactPair {
             reaction: Reaction::default(),
             energy: ContactEnergy::default(),
             clamped: false,
+            penetration_max: 0.0,
             projections: 0,
             skipped: 0,
             timing: ContactTiming::default(),
@@ -403,6 +409,7 @@ impl ContactPair {
         self.inputs.clear();
         self.reaction = Reaction::default();
         self.clamped = false;
+        self.penetration_max = 0.0;
         let mut stored = 0.0;
         let k_t = self.integrator.stick_stiffness();
 
@@ -473,6 +480,7 @@ impl ContactPair {
                 f_n = (f_n - c * v_rel.dot(&n_new)).max(0.0);
             }
             stored += 0.5 * self.stiffness[k] * gap * gap;
+            self.penetration_max = self.penetration_max.max(-gap);
             self.reaction.stiffness += self.stiffness[k];
             let n_old = if self.status[k] == PointStatus::Open {
                 n_new
@@ -703,6 +711,7 @@ impl ContactPair {
             self.force[k] = Vec3::zeros();
         }
         self.reaction = Reaction::default();
+        self.penetration_max = 0.0;
         self.energy.stored = 0.0;
     }
 

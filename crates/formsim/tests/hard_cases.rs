@@ -1,0 +1,468 @@
+//! Hard cases (issue 19, item 1): small scenes in `scenes/hard/` that stress
+//! one thing each (μ = 1, lift-off at vanishing pressure, a law's clamp, a
+//! 10 m/s impact, the time step near its limit). Every case is checked twice:
+//!
+//! - run as `formsim run` runs it ([`common::run_scene`]): status
+//!   `"completed"`, `summary.json` written, the friction column of
+//!   `energy.csv` never decreasing;
+//! - built with [`formsim::scene::build`] and stepped with
+//!   `Solver::step_toward` (the very steps of the run), checking after
+//!   **every** step: every nodal position, velocity and energy finite; at every
+//!   touching point of every pair `|t| ≤ τ_c (1 + 1e-9)` (the return mapping
+//!   projects onto the friction cone; 1e-9 is round-off); the friction
+//!   energy never decreasing (dissipation ≥ 0); the deepest penetration
+//!   ([`contact::ContactPair::penetration_max`]) and the kinetic energy
+//!   against each case's bound; the energy balance error.
+//!
+//! The figures measured are in docs/hard-cases.md.
+
+mod common;
+
+use common::{root, run_scene};
+use contact::PointStatus;
+use formsim::scene::{self, Model};
+use std::time::Instant;
+
+/// What one stepped run measured.
+#[derive(Debug, Default)]
+struct Figures {
+    /// Steps taken.
+    steps: usize,
+    /// Largest relative energy balance error over the steps once the run
+    /// has done 1 % of its final external work (before that the scale of
+    /// the relative error is round-off).
+    balance_max: f64,
+    /// Relative balance error at the end.
+    balance_end: f64,
+    /// Deepest penetration over the run, in initial thicknesses.
+    penetration: f64,
+    /// Largest `|t| / τ_c` over every touching point and step.
+    traction_ratio: f64,
+    /// Largest kinetic energy (mJ).
+    kinetic_max: f64,
+    /// External work at the end (mJ).
+    external_end: f64,
+    /// Friction energy at the end (mJ).
+    friction_end: f64,
+    /// Whether any point slipped at any step.
+    slipped: bool,
+    /// Whether any point was ever touching (per step count of steps with contact).
+    steps_touching: usize,
+    /// Whether any pair hit its law's clamp.
+    clamped: bool,
+    /// Seconds of the stepped run.
+    wall_s: f64,
+}
+
+/// Build `scenes/NAME.toml` with `sets`, step it to its end and check every
+/// step (module docs); `each` sees the model after every step.
+fn stepped(name: &str, sets: &[&str], mut each: impl FnMut(&Model)) -> Figures {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let loaded = scene::load(&root().join(format!("scenes/{name}.toml")), &sets).unwrap();
+    let mut model = scene::build(&loaded).unwrap();
+    let t0 = model.thickness0;
+    let end = model.end_time;
+    let mut f = Figures::default();
+    let mut ledgers = Vec::new();
+    let mut friction_prev = 0.0;
+    let started = Instant::now();
+    while model.solver.time() < end {
+        model
+            .solver
+            .step_toward(end)
+            .unwrap_or_else(|e| panic!("{name} {sets:?}: step {}: {e}", f.steps));
+        f.steps += 1;
+        let st = model.solver.state();
+        assert!(
+            st.x.iter()
+                .chain(&st.v)
+                .chain(&st.w)
+                .all(|v| v.iter().all(|c| c.is_finite())),
+            "{name}: a non-finite nodal value at step {}",
+            f.steps
+        );
+        let e = *model.solver.ledger();
+        assert!(
+            [
+                e.kinetic,
+                e.internal,
+                e.contact,
+                e.friction,
+                e.external,
+                e.balance_error
+            ]
+            .iter()
+            .all(|x| x.is_finite()),
+            "{name}: a non-finite energy at step {}: {e:?}",
+            f.steps
+        );
+        assert!(
+            e.friction >= friction_prev,
+            "{name}: friction energy fell from {friction_prev} to {} mJ at step {} (negative dissipation)",
+            e.friction,
+            f.steps
+        );
+        friction_prev = e.friction;
+        f.kinetic_max = f.kinetic_max.max(e.kinetic);
+        ledgers.push((e.external.abs(), e.balance_error));
+        let c = model.contact().expect("every hard case has contact");
+        let mut touching = false;
+        for p in c.pairs() {
+            f.clamped |= p.clamped;
+            f.penetration = f.penetration.max(p.penetration_max / t0);
+            for k in 0..p.status.len() {
+                if p.status[k] == PointStatus::Open {
+                    continue;
+                }
+                touching = true;
+                f.slipped |= p.status[k] == PointStatus::Slip;
+                let (t, tau) = (p.traction[k].norm(), p.tau_c[k]);
+                assert!(
+                    t <= tau * (1.0 + 1e-9),
+                    "{name} {sets:?}: pair {} point {k}: |t| = {t} MPa > tau_c = {tau} MPa at step {}",
+                    p.name(),
+                    f.steps
+                );
+                if tau > 0.0 {
+                    f.traction_ratio = f.traction_ratio.max(t / tau);
+                }
+            }
+        }
+        f.steps_touching += usize::from(touching);
+        each(&model);
+    }
+    f.wall_s = started.elapsed().as_secs_f64();
+    let e = model.solver.ledger();
+    f.balance_end = e.balance_error;
+    f.external_end = e.external;
+    f.friction_end = e.friction;
+    let floor = 0.01 * f.external_end.abs();
+    f.balance_max = ledgers
+        .iter()
+        .filter(|(w, _)| *w >= floor)
+        .map(|(_, b)| *b)
+        .fold(0.0, f64::max);
+    f
+}
+
+/// Run `scenes/NAME.toml` as `formsim run` does: it completes, writes
+/// `summary.json`, and the friction column of `energy.csv` never decreases.
+/// Returns the summary's wall time (s) and whether the clamp was reported.
+fn completes(name: &str, sets: &[&str]) -> (f64, bool) {
+    let (dir, r) = run_scene(name, sets);
+    assert_eq!(r.summary.status, "completed", "{name} {sets:?}");
+    assert!(dir.path().join("summary.json").is_file());
+    let csv = std::fs::read_to_string(dir.path().join("energy.csv")).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = head.iter().position(|h| *h == "friction").unwrap();
+    let mut prev = 0.0;
+    for line in lines {
+        let v: f64 = line.split(',').nth(col).unwrap().parse().unwrap();
+        assert!(
+            v.is_finite() && v >= prev,
+            "{name}: energy.csv friction {prev} -> {v}"
+        );
+        prev = v;
+    }
+    (r.summary.wall_time_s, r.summary.friction_clamp_active)
+}
+
+/// Print a case's figures (collected into docs/hard-cases.md).
+fn report(case: &str, f: &Figures, run_wall: f64) {
+    eprintln!(
+        "{case}: steps {}, balance end {:.2e} max {:.2e}, penetration {:.3e} t0, |t|/tau_c max {:.9}, \
+         kinetic max {:.4e} mJ, external {:.4e} mJ, friction {:.4e} mJ, stepped {:.2} s, run {:.2} s",
+        f.steps,
+        f.balance_end,
+        f.balance_max,
+        f.penetration,
+        f.traction_ratio,
+        f.kinetic_max,
+        f.external_end,
+        f.friction_end,
+        f.wall_s,
+        run_wall
+    );
+}
+
+/// Mass of the 10 × 10 × 1 mm steel block (tonne).
+const BLOCK_MASS: f64 = 100.0 * 7.85e-9;
+
+/// μ = 1 (AC), sliding: the drag force is μN = 100 N (1 %, as the block on a
+/// plane at μ = 0.2) and every touching point sits on the cone.
+///
+/// Bounds: balance error ≤ 1 % (the run's own warning bound, "energy created
+/// or lost unaccounted"); penetration ≤ 1 % of t: the static penalty
+/// compression under 1 MPa is `p A / k = 1 MPa × d / (s K)` ≈ 2e-4 t, and
+/// sliding adds no normal load; kinetic energy ≤ ½ M (2 × 100 mm/s)²:
+/// twice the drag speed on every node.
+#[test]
+fn high_friction_slides_at_mu_n() {
+    let name = "hard/high-friction-slide";
+    let (wall, _) = completes(name, &[]);
+    let (_d, r) = run_scene(name, &[]);
+    let b = r.summary.block.expect("block result");
+    assert!((b.analytic - 100.0).abs() < 1e-9, "{}", b.analytic);
+    assert!(
+        (b.slip_force / b.analytic - 1.0).abs() < 0.01,
+        "slip force {} N vs mu N = {} N",
+        b.slip_force,
+        b.analytic
+    );
+    let f = stepped(name, &[], |_| {});
+    report("high-friction-slide", &f, wall);
+    assert!(f.slipped);
+    assert!(f.balance_max < 0.01, "{f:?}");
+    assert!(f.penetration < 0.01, "{f:?}");
+    assert!(f.kinetic_max < 0.5 * BLOCK_MASS * 200.0f64.powi(2), "{f:?}");
+}
+
+/// What a sticking run measured: its figures, the largest friction force
+/// over the normal force from the push on, whether any point slipped or any
+/// slip accumulated or any energy was dissipated from the push on.
+struct Stick {
+    figures: Figures,
+    ratio_max: f64,
+    slipped: bool,
+    slip_grew: bool,
+    dissipated: bool,
+}
+
+/// Step the sticking block `name` with `sets`, watching it from the push
+/// (1 ms, the normal load fully up) on.
+fn stick(name: &str, sets: &[&str]) -> Stick {
+    let push = 1.0e-3;
+    let mut at_push: Option<(Vec<f64>, f64)> = None;
+    let (mut ratio_max, mut slipped, mut slip_grew, mut dissipated) = (0.0f64, false, false, false);
+    let figures = stepped(name, sets, |m| {
+        if m.solver.time() < push {
+            return;
+        }
+        let p = &m.contact().unwrap().pairs()[0];
+        let friction = m.solver.ledger().friction;
+        let (slip0, friction0) = at_push.get_or_insert_with(|| (p.slip.clone(), friction));
+        slip_grew |= &p.slip != slip0;
+        dissipated |= friction != *friction0;
+        slipped |= p.status.contains(&PointStatus::Slip);
+        let r = p.reaction.force;
+        ratio_max = ratio_max.max(r.x.hypot(r.y) / r.z.abs());
+    });
+    Stick {
+        figures,
+        ratio_max,
+        slipped,
+        slip_grew,
+        dissipated,
+    }
+}
+
+/// μ = 1 (AC), a push of half μN: the block sticks everywhere. From the
+/// moment the push starts (1 ms, the normal load fully up) no point slips
+/// (every touching point is `Stick` at every step), no slip accumulates, no
+/// energy is dissipated, and the friction force on the plane is the push,
+/// `T/N` = 0.5 (to 1 %: the stick springs carry it statically), below μN.
+/// (While the normal load ramps up from zero, `τ_c ≈ 0` at first touch and
+/// the nodes slip a little with the plate's own motion: not counted.)
+///
+/// The scene runs at `safety_factor = 0.6`: at the default 0.9 the stick
+/// springs and the shells together are unstable and the block chatters
+/// (see `dt_limit_*` and docs/hard-cases.md).
+///
+/// Bounds: balance ≤ 1 %; penetration ≤ 1 % of t (as sliding); kinetic
+/// energy ≤ the external work (nothing else can feed it).
+#[test]
+fn high_friction_sticks_under_half_mu_n() {
+    let name = "hard/high-friction-stick";
+    let (wall, _) = completes(name, &[]);
+    let s = stick(name, &[]);
+    let f = &s.figures;
+    report("high-friction-stick", f, wall);
+    eprintln!(
+        "high-friction-stick: friction force / N max {:.6}",
+        s.ratio_max
+    );
+    assert!(f.steps_touching > 0, "{f:?}");
+    assert!(!s.slipped && !s.slip_grew && !s.dissipated, "{f:?}");
+    assert!((s.ratio_max - 0.5).abs() < 0.005, "T/N max {}", s.ratio_max);
+    assert!(f.balance_max < 0.01, "{f:?}");
+    assert!(f.penetration < 0.01, "{f:?}");
+    assert!(f.kinetic_max <= f.external_end.abs(), "{f:?}");
+}
+
+/// dt-limit, the stable side: the sticking block at 0.95 of the step that is
+/// stable for the shells and the stick springs together (safety factor
+/// 0.725 = 0.95 × 0.763 of the shells' step, no mass scaling): it runs and
+/// sticks exactly as at 0.6 (same checks and bounds as
+/// `high_friction_sticks_under_half_mu_n`).
+#[test]
+fn dt_limit_at_095_of_the_combined_limit_runs_and_sticks() {
+    let name = "hard/dt-limit";
+    let (wall, _) = completes(name, &[]);
+    let s = stick(name, &[]);
+    let f = &s.figures;
+    report("dt-limit 0.95", f, wall);
+    assert!(!s.slipped && !s.slip_grew && !s.dissipated, "{f:?}");
+    assert!((s.ratio_max - 0.5).abs() < 0.005, "T/N max {}", s.ratio_max);
+    assert!(f.balance_max < 0.01, "{f:?}");
+    assert!(f.penetration < 0.01, "{f:?}");
+    assert!(f.kinetic_max <= f.external_end.abs(), "{f:?}");
+}
+
+/// dt-limit, the unstable side: at 1.05 of the combined limit (safety
+/// factor 0.80) the run must stop with a message naming the node.
+#[test]
+#[ignore = "not detected today: the engine takes min(shell step, contact step) instead of \
+            combining the two on the nodes they share, so at 1.05 of the combined limit the \
+            stick springs grow at ~3.6e6 rad/s until the friction cone caps them, the block \
+            chatters and walks (friction force up to mu N) and the run completes \
+            (docs/hard-cases.md)"]
+fn dt_limit_at_105_of_the_combined_limit_is_stopped() {
+    let (_dir, r) = run_scene("hard/dt-limit", &["solver.safety_factor=0.80"]);
+    assert_ne!(r.summary.status, "completed");
+    assert!(r.summary.status.contains("node"), "{}", r.summary.status);
+}
+
+/// A step above the engine's own stable limit cannot be asked for:
+/// `safety_factor = 1.05` is refused naming the key (and `dt_max` only
+/// lowers the step), so the 1.05 case can only be reached against the
+/// combined limit above.
+#[test]
+fn dt_limit_safety_factor_above_one_is_refused() {
+    let sets = vec!["solver.safety_factor=1.05".to_string()];
+    let e = scene::load(&root().join("scenes/hard/dt-limit.toml"), &sets).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("solver.safety_factor") && msg.contains("1.05"),
+        "{msg}"
+    );
+}
+
+/// Steps of a lift-off run: the smallest positive pressure at a touching
+/// point, how many times the block lost every contact for more than 20 µs
+/// (a flight; the planned ones last about 150 µs) and came back, and how
+/// many re-contacts there were in all (a brief rebound counts there).
+fn liftoff(sets: &[&str]) -> (Figures, f64, usize, usize) {
+    let name = "hard/wvs-liftoff";
+    let (mut p_min, mut flights, mut returns) = (f64::INFINITY, 0usize, 0usize);
+    let mut open_since: Option<f64> = None;
+    let f = stepped(name, sets, |m| {
+        let t = m.solver.time();
+        if t < 2.0e-3 {
+            return;
+        }
+        let p = &m.contact().unwrap().pairs()[0];
+        let open = p.status.iter().all(|s| *s == PointStatus::Open);
+        match (open, open_since) {
+            (true, None) => open_since = Some(t),
+            (false, Some(t0)) => {
+                returns += 1;
+                flights += usize::from(t - t0 > 2.0e-5);
+                open_since = None;
+            }
+            _ => {}
+        }
+        for (k, s) in p.status.iter().enumerate() {
+            if *s != PointStatus::Open && p.pressure[k] > 0.0 {
+                p_min = p_min.min(p.pressure[k]);
+            }
+        }
+    });
+    (f, p_min, flights, returns)
+}
+
+/// WVS ν = 0.3 (and Levanov), sliding at 100 mm/s while the normal load
+/// cycles four times from 1 MPa down to 1e-6 MPa and to a 2 N pull: the
+/// block loses every contact and comes back four times, the pressure goes
+/// down to the regularised range (< 1e-5 MPa), the traction stays in the cone.
+///
+/// Bounds: balance ≤ 1 %; penetration ≤ 1 % of t (static 2e-4 t, the
+/// re-contact at a few hundred mm/s adds `v/ω` ≈ 5e-4 mm); kinetic energy
+/// ≤ the external work.
+#[test]
+fn wvs_liftoff_and_recontact_while_sliding() {
+    for (case, sets) in [
+        ("wvs-liftoff", &[][..]),
+        ("wvs-liftoff levanov", &["contact.law=levanov"][..]),
+    ] {
+        let (wall, _) = completes("hard/wvs-liftoff", sets);
+        let (f, p_min, flights, returns) = liftoff(sets);
+        report(case, &f, wall);
+        eprintln!(
+            "{case}: flights {flights}, re-contacts {returns}, smallest pressure {p_min:.3e} MPa"
+        );
+        assert_eq!(flights, 4, "{case}: {f:?}");
+        // The load's floor is 1e-6 MPa: the pressure must get within 2x of it.
+        assert!(p_min < 2e-6, "{case}: smallest pressure {p_min}");
+        assert!(f.slipped);
+        assert!(f.balance_max < 0.01, "{case}: {f:?}");
+        assert!(f.penetration < 0.01, "{case}: {f:?}");
+        assert!(f.kinetic_max <= f.external_end.abs(), "{case}: {f:?}");
+    }
+}
+
+/// WH softening to its floor mid-slide: `friction_clamp_active` in
+/// summary.json, the clamp first reached between 2.0 and 3.8 ms (predicted
+/// about 2.9 ms: 0.14 mm of slip), the traction in the cone throughout, and
+/// at the end the drag force is `μ_min N` (1 %, as the block on a plane).
+///
+/// Bounds: balance ≤ 1 %; penetration ≤ 1 % of t; kinetic energy
+/// ≤ ½ M (2 × 100 mm/s)².
+#[test]
+fn wh_clamp_reached_mid_slide() {
+    let name = "hard/wh-clamp";
+    let (wall, clamp) = completes(name, &[]);
+    assert!(clamp, "summary.json: friction_clamp_active false");
+    let mut first: Option<f64> = None;
+    let mut ratio = 0.0;
+    let f = stepped(name, &[], |m| {
+        let p = &m.contact().unwrap().pairs()[0];
+        if p.clamped && first.is_none() {
+            first = Some(m.solver.time());
+        }
+        ratio = p.reaction.force.x.abs() / p.reaction.force.z.abs();
+    });
+    report("wh-clamp", &f, wall);
+    eprintln!("wh-clamp: clamp from {first:?} s, final drag / N {ratio:.6}");
+    let first = first.expect("clamp reached");
+    assert!(
+        (2.0e-3..3.8e-3).contains(&first),
+        "clamp first at {first} s"
+    );
+    assert!((ratio / 0.05 - 1.0).abs() < 0.01, "drag / N = {ratio}");
+    assert!(f.balance_max < 0.01, "{f:?}");
+    assert!(f.penetration < 0.01, "{f:?}");
+    assert!(f.kinetic_max < 0.5 * BLOCK_MASS * 200.0f64.powi(2), "{f:?}");
+}
+
+/// A cylinder at 10 m/s from t = 0 onto a clamped plate: contact starts at
+/// 0.5 mm / 1e4 mm/s = 50 µs (within one step), the run completes.
+///
+/// Bounds: balance ≤ 1 %; penetration ≤ 5 % of t: a free node struck at
+/// `v` penetrates `v/ω` with `ω = √(k/m)` of its penalty spring,
+/// 1e4 / 8.8e5 = 0.011 mm = 1.1 % of t, and the plate's bending resists
+/// further; kinetic energy ≤ ½ M_plate (2v)² (an elastic bounce off a
+/// rigid tool leaves at 2v at most).
+#[test]
+fn impact_at_10_m_per_s() {
+    let name = "hard/impact";
+    let (wall, _) = completes(name, &[]);
+    let mut first: Option<f64> = None;
+    let f = stepped(name, &[], |m| {
+        let p = &m.contact().unwrap().pairs()[0];
+        if first.is_none() && p.status.iter().any(|s| *s != PointStatus::Open) {
+            first = Some(m.solver.time());
+        }
+    });
+    report("impact", &f, wall);
+    eprintln!("impact: first contact at {first:?} s");
+    let first = first.expect("the striker hits");
+    assert!(
+        (first - 5.0e-5).abs() < 1.0e-6,
+        "first contact at {first} s"
+    );
+    assert!(f.balance_max < 0.01, "{f:?}");
+    assert!(f.penetration < 0.05, "{f:?}");
+    let plate = 40.0 * 20.0 * 1.0 * 7.85e-9;
+    assert!(f.kinetic_max < 0.5 * plate * 2.0e4f64.powi(2), "{f:?}");
+}
