@@ -18,7 +18,6 @@ pub mod warnings;
 pub mod write;
 
 use crate::output::OutputError;
-use crate::scene::schema::SceneKind;
 use crate::scene::validate::dof_from_name;
 use crate::scene::{LoadedScene, Model, SceneError};
 use post::{Post, Snapshot};
@@ -325,33 +324,22 @@ fn stroke_and_force(model: &Model, symmetry: f64) -> (f64, f64) {
     }
 }
 
-/// The node set, DOF axis and averaging start of a capstan's or block's pulled end.
+/// The node set, DOF axis and averaging start of the pulled end of a
+/// capstan, block or strip scene.
 fn pulled_set(loaded: &LoadedScene) -> Option<(String, usize, f64)> {
-    let o = &loaded.scene.output;
-    match loaded.scene.scene.kind {
-        SceneKind::Capstan => o.capstan.as_ref().map(|c| {
+    let kind = loaded.scene.scene.kind;
+    loaded
+        .scene
+        .output
+        .pulled_ends()
+        .find(|e| e.kind == kind)
+        .map(|e| {
             (
-                c.pull_set.clone(),
-                dof_from_name(&c.pull_dof).map_or(0, |d| d.axis()),
-                c.average_from,
+                e.pull_set.to_string(),
+                dof_from_name(e.pull_dof).map_or(0, |d| d.axis()),
+                e.average_from,
             )
-        }),
-        SceneKind::BlockOnPlane => o.block.as_ref().map(|b| {
-            (
-                b.pull_set.clone(),
-                dof_from_name(&b.pull_dof).map_or(0, |d| d.axis()),
-                b.average_from,
-            )
-        }),
-        SceneKind::StripDraw => o.strip.as_ref().map(|b| {
-            (
-                b.pull_set.clone(),
-                dof_from_name(&b.pull_dof).map_or(0, |d| d.axis()),
-                b.average_from,
-            )
-        }),
-        _ => None,
-    }
+        })
 }
 
 /// The index of a strip-draw scene's holder.

@@ -2,27 +2,32 @@
 //! (docs/contact.md, "Where a step goes").
 
 use crate::scene::Model;
+use contact::ContactTiming;
 use serde::Serialize;
 
-/// Contact's seconds: the whole effect and its stages.
-#[derive(Debug, Clone, Copy, Default, Serialize)]
+/// Contact's seconds: the whole effect (`total`, as the solver timed it) and
+/// its stages (contact's own [`ContactTiming`]), written to `summary.json` as
+/// one object: `{total, press, geometry, broad_phase, projection, normal,
+/// friction, scatter}` (s).
+#[derive(Debug, Clone, Copy, Default)]
 pub struct ContactSeconds {
-    /// The contact effect's whole `add_forces`, as the solver timed it (s).
+    /// The contact effect's whole `add_forces` (s).
     pub total: f64,
-    /// Moving the tools (the press) (s).
-    pub press: f64,
-    /// The blank's nodal geometry update (s).
-    pub geometry: f64,
-    /// Candidate selection of the pairs (step 1a) (s).
-    pub broad_phase: f64,
-    /// Projection of the candidates on the tools (step 1b) (s).
-    pub projection: f64,
-    /// Gap, penalty and gathering of the touching points (step 1c) (s).
-    pub normal: f64,
-    /// The friction laws' batch return mapping (step 2) (s).
-    pub friction: f64,
-    /// Forces, reactions and energies (step 3) (s).
-    pub scatter: f64,
+    /// Its stages (s).
+    pub stages: ContactTiming,
+}
+
+impl Serialize for ContactSeconds {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let stages = self.stages.stages();
+        let mut map = serializer.serialize_map(Some(1 + stages.len()))?;
+        map.serialize_entry("total", &self.total)?;
+        for (name, seconds) in stages {
+            map.serialize_entry(name, &seconds)?;
+        }
+        map.end()
+    }
 }
 
 /// Seconds spent over the run, per stage (wall clock).
@@ -60,19 +65,10 @@ impl Timing {
             .map(effect)
             .sum();
         let contact = match (contact_index, model.contact()) {
-            (Some(k), Some(c)) => {
-                let s = c.timing();
-                ContactSeconds {
-                    total: effect(k),
-                    press: s.press,
-                    geometry: s.geometry,
-                    broad_phase: s.broad_phase,
-                    projection: s.projection,
-                    normal: s.normal,
-                    friction: s.friction,
-                    scatter: s.scatter,
-                }
-            }
+            (Some(k), Some(c)) => ContactSeconds {
+                total: effect(k),
+                stages: c.timing(),
+            },
             _ => ContactSeconds::default(),
         };
         Self {
@@ -97,21 +93,20 @@ impl Timing {
             if wall > 0.0 { 100.0 * s / wall } else { 0.0 }
         };
         let c = &self.contact;
+        let stages: Vec<String> = c
+            .stages
+            .stages()
+            .iter()
+            .map(|(name, seconds)| format!("{} {seconds:.2}", name.replace('_', " ")))
+            .collect();
         format!(
-            "elements {:.2} s ({:.0} %), contact {:.2} s ({:.0} %: press {:.2}, geometry {:.2}, \
-             broad phase {:.2}, projection {:.2}, normal {:.2}, friction {:.2}, scatter {:.2}), \
+            "elements {:.2} s ({:.0} %), contact {:.2} s ({:.0} %: {}), \
              engine {:.2} s ({:.0} %), output {:.2} s ({:.0} %)",
             self.elements,
             pct(self.elements),
             c.total,
             pct(c.total),
-            c.press,
-            c.geometry,
-            c.broad_phase,
-            c.projection,
-            c.normal,
-            c.friction,
-            c.scatter,
+            stages.join(", "),
             self.engine,
             pct(self.engine),
             self.output,

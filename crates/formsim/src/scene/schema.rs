@@ -676,6 +676,77 @@ pub struct Output {
     pub strip: Option<StripOutput>,
 }
 
+/// The pulled end of a capstan, block or strip output: the node set whose
+/// prescribed motion's reaction is averaged.
+#[derive(Debug, Clone, Copy)]
+pub struct PulledEnd<'a> {
+    /// The scene kind the output belongs to.
+    pub kind: SceneKind,
+    /// Its key (`output.capstan`, `output.block`, `output.strip`).
+    pub key: &'static str,
+    /// The node set pulled.
+    pub pull_set: &'a str,
+    /// The DOF it is pulled along (`ux`, `uy`, `uz`).
+    pub pull_dof: &'a str,
+    /// Averaging starts at this time (s).
+    pub average_from: f64,
+}
+
+impl<'a> PulledEnd<'a> {
+    fn new(
+        kind: SceneKind,
+        key: &'static str,
+        pull_set: &'a str,
+        pull_dof: &'a str,
+        average_from: f64,
+    ) -> Self {
+        Self {
+            kind,
+            key,
+            pull_set,
+            pull_dof,
+            average_from,
+        }
+    }
+}
+
+impl Output {
+    /// The pulled ends of the capstan, block and strip outputs present.
+    pub fn pulled_ends(&self) -> impl Iterator<Item = PulledEnd<'_>> {
+        [
+            self.capstan.as_ref().map(|c| {
+                PulledEnd::new(
+                    SceneKind::Capstan,
+                    "output.capstan",
+                    &c.pull_set,
+                    &c.pull_dof,
+                    c.average_from,
+                )
+            }),
+            self.block.as_ref().map(|b| {
+                PulledEnd::new(
+                    SceneKind::BlockOnPlane,
+                    "output.block",
+                    &b.pull_set,
+                    &b.pull_dof,
+                    b.average_from,
+                )
+            }),
+            self.strip.as_ref().map(|b| {
+                PulledEnd::new(
+                    SceneKind::StripDraw,
+                    "output.strip",
+                    &b.pull_set,
+                    &b.pull_dof,
+                    b.average_from,
+                )
+            }),
+        ]
+        .into_iter()
+        .flatten()
+    }
+}
+
 impl Default for Output {
     fn default() -> Self {
         Self {

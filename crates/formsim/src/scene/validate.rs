@@ -472,25 +472,12 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
             Some(_) => {}
         }
     }
-    for (key, pull_dof, from) in [
-        o.capstan
-            .as_ref()
-            .map(|c| ("output.capstan", &c.pull_dof, c.average_from)),
-        o.block
-            .as_ref()
-            .map(|b| ("output.block", &b.pull_dof, b.average_from)),
-        o.strip
-            .as_ref()
-            .map(|b| ("output.strip", &b.pull_dof, b.average_from)),
-    ]
-    .into_iter()
-    .flatten()
-    {
-        non_negative(&format!("{key}.average_from"), from, "s")?;
-        if !matches!(pull_dof.as_str(), "ux" | "uy" | "uz") {
+    for end in o.pulled_ends() {
+        non_negative(&format!("{}.average_from", end.key), end.average_from, "s")?;
+        if !matches!(end.pull_dof, "ux" | "uy" | "uz") {
             return err(
-                &format!("{key}.pull_dof"),
-                format!("\"{pull_dof}\": must be ux, uy or uz"),
+                &format!("{}.pull_dof", end.key),
+                format!("\"{}\": must be ux, uy or uz", end.pull_dof),
             );
         }
     }
