@@ -106,20 +106,7 @@ impl Amplitude {
                 let s5 = s * s * s * s * s;
                 s5 * (21.0 + s * (-35.0 + 15.0 * s))
             }
-            Amplitude::Table(p) => {
-                let Some(first) = p.first() else { return 0.0 };
-                if t <= first.0 {
-                    return first.1;
-                }
-                let last = p[p.len() - 1];
-                if t >= last.0 {
-                    return last.1;
-                }
-                // First point with time > t (exists, since t < last.0).
-                let k = p.partition_point(|q| q.0 <= t);
-                let (a, b) = (p[k - 1], p[k]);
-                a.1 + (b.1 - a.1) * (t - a.0) / (b.0 - a.0)
-            }
+            Amplitude::Table(p) => table_value(p, t),
         }
     }
 
@@ -186,4 +173,28 @@ mod tests {
         let s = Amplitude::SmoothStep { t0: 1.0, t1: 3.0 };
         assert!(a.value(1.4) < 0.5 * s.value(1.4));
     }
+}
+
+/// The piecewise-linear function through `points` (strictly increasing
+/// abscissae) at `x`, held constant beyond the ends; 0 for no points, NaN
+/// for a NaN `x`. Amplitude tables and force curves
+/// ([`crate::ForceLaw::Compression`]) both read it.
+pub(crate) fn table_value(points: &[(f64, f64)], x: f64) -> f64 {
+    let Some(first) = points.first() else {
+        return 0.0;
+    };
+    if x.is_nan() {
+        return f64::NAN;
+    }
+    if x <= first.0 {
+        return first.1;
+    }
+    let last = points[points.len() - 1];
+    if x >= last.0 {
+        return last.1;
+    }
+    // First point with abscissa > x (exists, since x < last.0).
+    let k = points.partition_point(|q| q.0 <= x);
+    let (a, b) = (points[k - 1], points[k]);
+    a.1 + (b.1 - a.1) * (x - a.0) / (b.0 - a.0)
 }

@@ -98,19 +98,7 @@ impl ForceLaw {
     pub fn value(&self, c: f64) -> f64 {
         match self {
             ForceLaw::Constant(f) => *f,
-            ForceLaw::Compression(_) if c.is_nan() => f64::NAN,
-            ForceLaw::Compression(rows) => {
-                let (first, last) = (rows[0], rows[rows.len() - 1]);
-                if c <= first.0 {
-                    return first.1;
-                }
-                if c >= last.0 {
-                    return last.1;
-                }
-                let k = rows.partition_point(|r| r.0 <= c);
-                let (a, b) = (rows[k - 1], rows[k]);
-                a.1 + (b.1 - a.1) * (c - a.0) / (b.0 - a.0)
-            }
+            ForceLaw::Compression(rows) => crate::amplitude::table_value(rows, c),
         }
     }
 
