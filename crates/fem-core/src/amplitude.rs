@@ -147,6 +147,30 @@ impl Amplitude {
     }
 }
 
+/// The piecewise-linear function through `points` (strictly increasing
+/// abscissae) at `x`, held constant beyond the ends; 0 for no points, NaN
+/// for a NaN `x`. Amplitude tables and force curves
+/// ([`crate::ForceLaw::Compression`]) both read it.
+pub(crate) fn table_value(points: &[(f64, f64)], x: f64) -> f64 {
+    let Some(first) = points.first() else {
+        return 0.0;
+    };
+    if x.is_nan() {
+        return f64::NAN;
+    }
+    if x <= first.0 {
+        return first.1;
+    }
+    let last = points[points.len() - 1];
+    if x >= last.0 {
+        return last.1;
+    }
+    // First point with abscissa > x (exists, since x < last.0).
+    let k = points.partition_point(|q| q.0 <= x);
+    let (a, b) = (points[k - 1], points[k]);
+    a.1 + (b.1 - a.1) * (x - a.0) / (b.0 - a.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -173,28 +197,4 @@ mod tests {
         let s = Amplitude::SmoothStep { t0: 1.0, t1: 3.0 };
         assert!(a.value(1.4) < 0.5 * s.value(1.4));
     }
-}
-
-/// The piecewise-linear function through `points` (strictly increasing
-/// abscissae) at `x`, held constant beyond the ends; 0 for no points, NaN
-/// for a NaN `x`. Amplitude tables and force curves
-/// ([`crate::ForceLaw::Compression`]) both read it.
-pub(crate) fn table_value(points: &[(f64, f64)], x: f64) -> f64 {
-    let Some(first) = points.first() else {
-        return 0.0;
-    };
-    if x.is_nan() {
-        return f64::NAN;
-    }
-    if x <= first.0 {
-        return first.1;
-    }
-    let last = points[points.len() - 1];
-    if x >= last.0 {
-        return last.1;
-    }
-    // First point with abscissa > x (exists, since x < last.0).
-    let k = points.partition_point(|q| q.0 <= x);
-    let (a, b) = (points[k - 1], points[k]);
-    a.1 + (b.1 - a.1) * (x - a.0) / (b.0 - a.0)
 }
