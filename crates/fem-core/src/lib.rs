@@ -70,7 +70,7 @@ pub use effect::{Effect, EnergyTally, StableDt};
 pub use energy::{EnergyLedger, History, HistoryRow};
 pub use error::FemError;
 pub use fields::{FieldAccess, NodalField, SharedFields};
-pub use mesh::{Mesh, MeshQuality, rectangle, wrapped_strip};
+pub use mesh::{Mesh, MeshQuality, rectangle, wrapped_strip, wrapped_strip_segments};
 pub use mesh_io::{MeshFile, read_inp, read_inp_numbered, read_msh, read_msh_numbered};
 pub use press::{ForceLaw, Press, PressStep, StepChange, StepEnd, ToolLoad, ToolMotion};
 pub use settings::SolverSettings;

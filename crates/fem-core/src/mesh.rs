@@ -294,6 +294,17 @@ pub fn rectangle(lx: f64, ly: f64, nx: usize, ny: usize) -> Result<Mesh, FemErro
     Ok(mesh)
 }
 
+/// The segments of [`wrapped_strip`]'s centre line: along each tail
+/// (`tail / h` rounded, at least 1) and over the drum (`rm angle / h`
+/// rounded up, at least 1), as whole numbers in `f64` so that a size
+/// estimate of an absurd input does not overflow.
+pub fn wrapped_strip_segments(rm: f64, tail: f64, angle: f64, h: f64) -> (f64, f64) {
+    (
+        (tail / h).round().max(1.0),
+        (rm * angle / h).ceil().max(1.0),
+    )
+}
+
 /// A strip wrapped over a drum of axis `y` through the origin (the capstan,
 /// benchmarks.md §3): a horizontal tail of length `tail` on top of the drum
 /// from `x = tail` to the drum's top, an arc of `angle` (rad) in the x–z
@@ -331,8 +342,8 @@ pub fn wrapped_strip(rm: f64, width: f64, tail: f64, angle: f64, h: f64) -> Resu
         });
     }
     let half_pi = std::f64::consts::FRAC_PI_2;
-    let n1 = ((tail / h).round() as usize).max(1);
-    let na = ((rm * angle / h).ceil() as usize).max(1);
+    let (n1, na) = wrapped_strip_segments(rm, tail, angle, h);
+    let (n1, na) = (n1 as usize, na as usize);
     let mut centre = Vec::with_capacity(2 * n1 + na + 1);
     for i in 0..=n1 {
         centre.push((tail - i as f64 * tail / n1 as f64, rm));

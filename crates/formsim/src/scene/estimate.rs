@@ -153,8 +153,7 @@ impl MeshSize {
 /// [`fem_core::wrapped_strip`]'s counts: tails of `round(tail/h)`
 /// elements, an arc of `ceil(r θ / h)`, two elements across.
 fn strip_size(r: f64, width: f64, tail: f64, angle: f64, h: f64) -> MeshSize {
-    let n1 = (tail / h).round().max(1.0);
-    let na = (r * angle / h).ceil().max(1.0);
+    let (n1, na) = fem_core::wrapped_strip_segments(r, tail, angle, h);
     let rows = 2.0 * n1 + na + 1.0;
     let chord = 2.0 * r * (0.5 * angle / na).sin();
     MeshSize {
