@@ -50,6 +50,7 @@ pub mod closest_point;
 pub mod differential;
 pub mod error;
 pub mod nurbs_tool;
+pub mod planar;
 pub mod surface;
 
 pub use error::NurbsError;

@@ -19,6 +19,7 @@ use crate::bvh::Bvh;
 use crate::closest_point::{ParamBox, PatchHit, newton, newton_in};
 use crate::differential::local_geometry_rotated;
 use crate::error::NurbsError;
+use crate::planar::{self, Plane};
 use crate::surface::{Derivs, NurbsSurface, PatchDef};
 use plugins_api::{
     Aabb, Mat3, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface, Vec3,
@@ -58,6 +59,11 @@ pub struct NurbsTool {
     name: String,
     patches: Vec<OrientedPatch>,
     domains: Vec<ParamBox>,
+    /// The plane of each planar patch (see [`crate::planar`]).
+    planes: Vec<Option<Plane>>,
+    /// Whether warm projections on planar patches take the plane's closed
+    /// form ([`crate::planar`]); `true` unless switched off for comparison.
+    planar_path: bool,
     elements: Vec<Element>,
     seeds: Vec<Seed>,
     bvh: Bvh,
@@ -78,6 +84,9 @@ struct Found {
     dist: f64,
     /// Which of the caller's two derivative slots holds the answer's.
     slot: usize,
+    /// Whether the answer is the foot on a planar patch's plane
+    /// ([`crate::planar`]): normal and curvature come from the plane.
+    planar: bool,
 }
 
 impl Found {
@@ -90,6 +99,7 @@ impl Found {
             v: b.hit.v,
             dist: b.dist,
             slot: 0,
+            planar: false,
         }
     }
 }
@@ -144,11 +154,18 @@ impl NurbsTool {
             }
         }
         let boxes: Vec<Aabb> = elements.iter().map(|e| e.bbox).collect();
+        let planes = patches
+            .iter()
+            .zip(&domains)
+            .map(|(p, d)| planar::plane_of(p, d))
+            .collect();
         Ok(Self {
             name: name.to_string(),
             bvh: Bvh::build(&boxes),
             patches,
             domains,
+            planes,
+            planar_path: true,
             elements,
             seeds,
             local_box,
@@ -174,6 +191,18 @@ impl NurbsTool {
     /// The oriented patches (local frame).
     pub fn patches(&self) -> &[OrientedPatch] {
         &self.patches
+    }
+
+    /// Whether patch `i` is planar (its warm projections take the plane's
+    /// closed form, [`crate::planar`]).
+    pub fn is_planar(&self, i: usize) -> bool {
+        self.planes.get(i).is_some_and(Option::is_some)
+    }
+
+    /// Switch the planar warm projection ([`crate::planar`]) on or off (on
+    /// by default); off, every warm projection runs Newton, for comparison.
+    pub fn set_planar_path(&mut self, on: bool) {
+        self.planar_path = on;
     }
 
     /// Bounding box in the tool's local frame (mm).
@@ -240,6 +269,26 @@ impl NurbsTool {
             let pi = h.patch as usize;
             if pi < self.patches.len() && h.u.is_finite() && h.v.is_finite() {
                 let [d0, d1] = ds;
+                if let Some(plane) = self.planes[pi].as_ref().filter(|_| self.planar_path)
+                    && let Some(hit) = planar::warm(
+                        &self.patches[pi].surface,
+                        &self.domains[pi],
+                        plane,
+                        x,
+                        h.u,
+                        h.v,
+                        d0,
+                    )
+                {
+                    return Found {
+                        patch: pi,
+                        u: hit.u,
+                        v: hit.v,
+                        dist: hit.dist,
+                        slot: 0,
+                        planar: true,
+                    };
+                }
                 let end = newton_in(
                     &self.patches[pi].surface,
                     &self.domains[pi],
@@ -256,6 +305,7 @@ impl NurbsTool {
                         v: end.v,
                         dist,
                         slot: end.slot,
+                        planar: false,
                     };
                 }
                 let warm = Best {
@@ -322,6 +372,11 @@ impl NurbsTool {
         pose: &RigidPose,
         rotated: bool,
     ) -> Projection {
+        if b.planar
+            && let Some(plane) = &self.planes[b.patch]
+        {
+            return self.finish_planar(x_local, b, d, plane, pose, rotated);
+        }
         let sign = self.patches[b.patch].sign;
         // The signed distance needs the local normal's side only: r · (S_u × S_v).
         let side = (x_local - d.s).dot(&d.su.cross(&d.sv)) * sign;
@@ -338,6 +393,38 @@ impl NurbsTool {
             curvature: g.curvature,
             k1: g.k1,
             k2: g.k2,
+            patch: b.patch as u32,
+            u: b.u,
+            v: b.v,
+        }
+    }
+
+    /// [`Self::finish`] for a foot on a planar patch's plane: the plane's
+    /// normal, zero curvature, the signed height as the distance (the answer
+    /// depends on the query point only, not on the hint it started from).
+    #[inline(always)]
+    fn finish_planar(
+        &self,
+        x_local: &Vec3,
+        b: &Found,
+        d: &Derivs,
+        plane: &Plane,
+        pose: &RigidPose,
+        rotated: bool,
+    ) -> Projection {
+        let height = x_local.dot(&plane.normal) - plane.offset;
+        let (point, normal) = if rotated {
+            (pose.to_global(&d.s), pose.rotation * plane.normal)
+        } else {
+            (d.s + pose.translation, plane.normal)
+        };
+        Projection {
+            point,
+            normal,
+            distance: height,
+            curvature: Mat3::zeros(),
+            k1: 0.0,
+            k2: 0.0,
             patch: b.patch as u32,
             u: b.u,
             v: b.v,

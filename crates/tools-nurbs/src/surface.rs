@@ -482,6 +482,14 @@ impl NurbsSurface {
         })
     }
 
+    /// Every Cartesian control point of the net (mm); the surface lies in
+    /// their convex hull (positive weights).
+    pub fn control_points(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.cw
+            .iter()
+            .map(|c| Vec3::new(c[0] / c[3], c[1] / c[3], c[2] / c[3]))
+    }
+
     /// Point only (mm).
     pub fn point(&self, u: f64, v: f64) -> Vec3 {
         self.eval(u, v).s
@@ -532,6 +540,13 @@ impl NurbsSurface {
     #[inline]
     pub(crate) fn piece_bounds(&self, index: usize) -> [f64; 4] {
         self.pieces[index].bounds
+    }
+
+    /// The parameter box `[u_0, u_1, v_0, v_1]` of the Bézier piece holding
+    /// `(u, v)` (clamped to the domain), the one [`Self::eval`] evaluates there.
+    #[inline]
+    pub fn piece_box(&self, u: f64, v: f64) -> [f64; 4] {
+        self.pieces[self.locate(u, v).0].bounds
     }
 
     /// Homogeneous derivatives `[A, A_u, A_v, A_uu, A_uv, A_vv]` of the piece

@@ -3,6 +3,7 @@
 use plugins_api::{Mat3, RigidPose, RigidVelocity, ToolSurface, Vec3};
 use tools_nurbs::builders::square_cup::{PunchParams, punch};
 use tools_nurbs::builders::{Model, Placement};
+use tools_nurbs::closest_point::STEP_TOL;
 
 /// Rigid-body invariance (design.md: the scheduler moves a tool only through
 /// its pose): with a rotation and a translation, every projection equals the
@@ -43,9 +44,20 @@ fn posed_punch_projection_is_the_rotated_local_projection() {
             assert!((g.curvature - k).norm() < 1e-12 * (1.0 + k.norm()), "{xl}");
             assert!((g.k1 - l.k1).abs() < 1e-12 && (g.k2 - l.k2).abs() < 1e-12);
             assert_eq!(g.patch, l.patch);
-            // A warm start from the answer reproduces it.
+            // A warm start from the answer reproduces it, to the tolerance
+            // the cold answer was converged to: on a planar patch the warm
+            // answer is the exact foot of the perpendicular (its offset is
+            // along the normal to rounding), while Newton stops at a step of
+            // STEP_TOL (1 + distance).
             let w = tool.project(&x, Some(g.hint())).unwrap();
-            assert!((w.point - g.point).norm() < tol, "{xl}");
+            let newton = 2.0 * STEP_TOL * (1.0 + g.distance.abs());
+            assert!(
+                (w.point - g.point).norm() < tol.max(newton),
+                "{xl} {g:?} {w:?}"
+            );
+            if w.k1 == 0.0 && w.k2 == 0.0 {
+                assert!((x - w.point).cross(&w.normal).norm() < tol, "{xl} {w:?}");
+            }
             checked += 1;
         }
     }
