@@ -50,6 +50,12 @@ pub struct BlankGeometry {
     pub vel_grad_evaluations: u64,
     /// How many times the deformation gradients were evaluated.
     pub def_grad_evaluations: u64,
+    /// How many times [`BlankGeometry::update`] computed the nodal areas and
+    /// normals itself (rather than taking them from [`BlankGeometry::set_nodal`]).
+    pub nodal_evaluations: u64,
+    /// Whether the nodal areas and normals of the coming [`BlankGeometry::update`]
+    /// were given ([`BlankGeometry::set_nodal`]) rather than to be computed.
+    nodal_given: bool,
     // Per-quad scratch.
     quad_area: Vec<f64>,
     quad_normal: Vec<Vec3>,
@@ -155,6 +161,8 @@ impl BlankGeometry {
             f_new: Vec::new(),
             vel_grad_evaluations: 0,
             def_grad_evaluations: 0,
+            nodal_evaluations: 0,
+            nodal_given: false,
             quad_area: vec![0.0; nq],
             quad_normal: vec![Vec3::z(); nq],
             quad_l: Vec::new(),
@@ -183,6 +191,33 @@ impl BlankGeometry {
     /// parallel (rayon); every quad and node is computed alone, in a fixed
     /// order of its own terms, so the result does not depend on the threads.
     pub fn update_areas(&mut self, x: &[Vec3]) {
+        self.update_quads(x);
+        self.update_nodes();
+    }
+
+    /// Take the nodal areas (mm²) and unit normals of the coming
+    /// [`BlankGeometry::update`] from whoever computed them already (the
+    /// blank's shells, through `fem-core`'s shared fields), so that the update
+    /// computes only what else the step needs. Lengths must be the node count.
+    pub fn set_nodal(&mut self, area: &[f64], normal: [&[f64]; 3]) {
+        let [nx, ny, nz] = normal;
+        let n = self.area.len();
+        if area.len() != n || nx.len() != n || ny.len() != n || nz.len() != n {
+            return;
+        }
+        self.area.copy_from_slice(area);
+        for (i, o) in self.normal.iter_mut().enumerate() {
+            let v = Vec3::new(nx[i], ny[i], nz[i]);
+            if v != Vec3::zeros() {
+                *o = v;
+            }
+        }
+        self.nodal_given = true;
+    }
+
+    /// Per-quad areas and normals of the configuration `x` (parallel for
+    /// large blanks, as [`BlankGeometry::update_areas`]).
+    fn update_quads(&mut self, x: &[Vec3]) {
         let quad = |q: &[u32; 4], area: &mut f64, normal: &mut Vec3| {
             if let Some(f) = centre_frame(q.map(|a| x[a as usize])) {
                 *area = f.area;
@@ -191,6 +226,27 @@ impl BlankGeometry {
                 *area = 0.0;
             }
         };
+        if self.quads.len() > Self::PARALLEL_MIN_QUADS && rayon::current_num_threads() > 1 {
+            self.quads
+                .par_iter()
+                .zip(self.quad_area.par_iter_mut())
+                .zip(self.quad_normal.par_iter_mut())
+                .with_min_len(PARALLEL_CHUNK)
+                .for_each(|((q, a), n)| quad(q, a, n));
+        } else {
+            for ((q, a), n) in self
+                .quads
+                .iter()
+                .zip(&mut self.quad_area)
+                .zip(&mut self.quad_normal)
+            {
+                quad(q, a, n);
+            }
+        }
+    }
+
+    /// Nodal areas and normals from the per-quad ones.
+    fn update_nodes(&mut self) {
         let (offsets, around) = (&self.offsets, &self.around);
         let node = |i: usize,
                     quad_area: &[f64],
@@ -211,12 +267,6 @@ impl BlankGeometry {
             }
         };
         if self.quads.len() > Self::PARALLEL_MIN_QUADS && rayon::current_num_threads() > 1 {
-            self.quads
-                .par_iter()
-                .zip(self.quad_area.par_iter_mut())
-                .zip(self.quad_normal.par_iter_mut())
-                .with_min_len(PARALLEL_CHUNK)
-                .for_each(|((q, a), n)| quad(q, a, n));
             let (qa, qn) = (&self.quad_area, &self.quad_normal);
             self.area
                 .par_iter_mut()
@@ -225,26 +275,28 @@ impl BlankGeometry {
                 .with_min_len(PARALLEL_CHUNK)
                 .for_each(|(i, (a, n))| node(i, qa, qn, a, n));
         } else {
-            for ((q, a), n) in self
-                .quads
-                .iter()
-                .zip(&mut self.quad_area)
-                .zip(&mut self.quad_normal)
-            {
-                quad(q, a, n);
-            }
             for (i, (a, n)) in self.area.iter_mut().zip(&mut self.normal).enumerate() {
                 node(i, &self.quad_area, &self.quad_normal, a, n);
             }
         }
     }
 
-    /// Everything the step needs for `needs`: areas and normals always; the
+    /// Everything the step needs for `needs`: areas and normals (unless
+    /// [`BlankGeometry::set_nodal`] gave them for this update); the
     /// mid-step velocity gradient only for [`PointNeeds::SPIN`] or
     /// [`PointNeeds::VELOCITY_GRADIENT`]; the deformation gradients at `n`
     /// and `n+1` only for [`PointNeeds::DEFORMATION_GRADIENT`].
     pub fn update(&mut self, blank: &BlankView<'_>, dt: f64, needs: PointNeeds) {
-        self.update_areas(blank.x);
+        let gradients = needs.contains(PointNeeds::SPIN)
+            || needs.contains(PointNeeds::VELOCITY_GRADIENT)
+            || needs.contains(PointNeeds::DEFORMATION_GRADIENT);
+        if !std::mem::take(&mut self.nodal_given) {
+            self.nodal_evaluations += 1;
+            self.update_areas(blank.x);
+        } else if gradients {
+            // The gradients' nodal means weigh the quads by their areas.
+            self.update_quads(blank.x);
+        }
         let nq = self.quads.len();
         let nn = self.area.len();
         if needs.contains(PointNeeds::SPIN) || needs.contains(PointNeeds::VELOCITY_GRADIENT) {

@@ -32,6 +32,12 @@ use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair, ContactTiming}
 /// writing them (a rigid block on springs, say) it keeps the initial
 /// thickness given to [`ContactEffect::new`] and zero flow stress.
 ///
+/// The blank's nodal areas and normals come the same way when a writer gives
+/// them ([`NodalField::AREA`], [`NodalField::NORMAL_X`], …: the shells
+/// compute them from the element frames of their own step), so the quad
+/// geometry is computed once per step; without a writer contact computes
+/// them itself ([`BlankGeometry::update`]).
+///
 /// At the initial force computation (`Δt = 0`) contact adds nothing: a scene
 /// starts with its tools clear of the blank or just touching it.
 ///
@@ -164,6 +170,14 @@ impl ContactEffect {
     /// (no allocation); a field nobody writes leaves its array as it was.
     fn take_fields(&mut self, fields: &FieldAccess<'_>) {
         copy_field(&mut self.thickness, fields, NodalField::THICKNESS);
+        if let (Some(area), Some(nx), Some(ny), Some(nz)) = (
+            fields.read(NodalField::AREA),
+            fields.read(NodalField::NORMAL_X),
+            fields.read(NodalField::NORMAL_Y),
+            fields.read(NodalField::NORMAL_Z),
+        ) {
+            self.geometry.set_nodal(area, [nx, ny, nz]);
+        }
         if let Some((top, bottom)) = &mut self.flow_stress {
             copy_field(top, fields, NodalField::FLOW_STRESS_TOP);
             copy_field(bottom, fields, NodalField::FLOW_STRESS_BOTTOM);
@@ -318,9 +332,19 @@ fn copy_field(dst: &mut [f64], fields: &FieldAccess<'_>, field: NodalField) {
 }
 
 /// What contact reads without and with a law that needs the flow stress.
-const READS_THICKNESS: [NodalField; 1] = [NodalField::THICKNESS];
-const READS_ALL: [NodalField; 3] = [
+const READS_THICKNESS: [NodalField; 5] = [
     NodalField::THICKNESS,
+    NodalField::AREA,
+    NodalField::NORMAL_X,
+    NodalField::NORMAL_Y,
+    NodalField::NORMAL_Z,
+];
+const READS_ALL: [NodalField; 7] = [
+    NodalField::THICKNESS,
+    NodalField::AREA,
+    NodalField::NORMAL_X,
+    NodalField::NORMAL_Y,
+    NodalField::NORMAL_Z,
     NodalField::FLOW_STRESS_TOP,
     NodalField::FLOW_STRESS_BOTTOM,
 ];

@@ -2,7 +2,9 @@
 //! field its writer fills in the same step (fem-core's shared fields): with
 //! the blank's shells, the thickness contact reads at step n is the shells'
 //! nodal thickness at step n, not step n − 1; with a writer that toggles the
-//! thickness every step, the gap follows the toggle in the same step.
+//! thickness every step, the gap follows the toggle in the same step. The
+//! nodal areas and normals the shells write from their element frames are
+//! those contact would compute itself from the same positions.
 
 mod common;
 use common::Plane;
@@ -131,6 +133,91 @@ fn contact_reads_the_shells_thickness_of_the_same_step() {
         .unwrap();
     assert!(steps > 100, "{steps} steps");
     assert!(previous[0] < 0.998 * t0, "{}", previous[0]);
+}
+
+/// A warped 6 × 4 plate of shells stretched into plasticity: after every
+/// step the nodal areas and normals contact read from the shells' shared
+/// fields equal those of contact's own quad geometry
+/// ([`BlankGeometry::update_areas`]) at the step's positions, to 1e-12
+/// relative (the same quantities, `¼ Σ ½ |d₁₃ × d₂₄|` and the
+/// area-weighted mean of the normals, rounded in another order).
+#[test]
+fn contact_reads_the_shells_nodal_area_and_normal_of_the_same_step() {
+    let t0 = 1.0;
+    let mut mesh = rectangle(30.0, 20.0, 6, 4).unwrap();
+    mesh.nodes
+        .iter_mut()
+        .for_each(|p| p.z = 0.5 * t0 + 0.8 * (0.2 * p.x).sin() * (0.3 * p.y).cos());
+    let settings = SolverSettings {
+        mass_scaling_dt: Some(2e-7),
+        ..SolverSettings::default()
+    };
+    let mut solver = Solver::new(&mesh, settings).unwrap();
+    let cid = solver.add_effect(contact_on_plane(&mesh.nodes, &mesh.quads, t0));
+    let steel = J2PlaneStress::new(
+        2.06e5,
+        0.3,
+        7.85e-9,
+        Hardening::swift(565.32, 0.007117, 0.2589).unwrap(),
+    )
+    .unwrap();
+    solver.add_effect(
+        ShellSet::new(
+            "blank",
+            &mesh.nodes,
+            &mesh.quads,
+            Section::new(t0).unwrap(),
+            BelytschkoTsay::default(),
+            steel,
+        )
+        .unwrap(),
+    );
+    solver.fix("x0", Dofs::of(&[Dof::Ux])).unwrap();
+    solver.fix("y0", Dofs::of(&[Dof::Uy])).unwrap();
+    solver
+        .fix("all", Dofs::of(&[Dof::Uz, Dof::Rx, Dof::Ry]))
+        .unwrap();
+    solver
+        .prescribe(
+            "x1",
+            Dof::Ux,
+            MotionKind::Velocity,
+            2e3,
+            Amplitude::Constant,
+        )
+        .unwrap();
+    let mut own = BlankGeometry::new(mesh.nodes.len(), &mesh.quads).unwrap();
+    let mut steps = 0;
+    solver
+        .run_until(5e-5, &mut |s: &Solver, _| {
+            let c: &ContactEffect = s.effect(cid).unwrap();
+            own.update_areas(&s.state().x);
+            let shared = c.geometry();
+            assert_eq!(
+                shared.nodal_evaluations, 0,
+                "contact computed its own areas"
+            );
+            let tilted = own.normal.iter().filter(|n| n.z.abs() < 0.999).count();
+            assert!(2 * tilted > mesh.nodes.len(), "the plate is not warped");
+            for i in 0..mesh.nodes.len() {
+                let (a, b) = (shared.area[i], own.area[i]);
+                assert!(
+                    (a - b).abs() <= 1e-12 * b,
+                    "step {}, node {i}: area {a} vs {b}",
+                    s.steps()
+                );
+                let (m, n) = (shared.normal[i], own.normal[i]);
+                assert!(
+                    (m - n).norm() <= 1e-12,
+                    "step {}, node {i}: normal {m} vs {n}",
+                    s.steps()
+                );
+            }
+            steps += 1;
+            Control::Continue
+        })
+        .unwrap();
+    assert!(steps > 50, "{steps} steps");
 }
 
 /// Writes a nodal thickness of 1.2 mm at even steps and 1.0 mm at odd ones.

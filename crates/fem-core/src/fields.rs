@@ -44,6 +44,19 @@ impl NodalField {
     /// Flow stress of the bottom fibre at the node (MPa); as
     /// [`NodalField::FLOW_STRESS_TOP`].
     pub const FLOW_STRESS_BOTTOM: NodalField = NodalField::new("flow-stress-bottom", "MPa");
+    /// Tributary area of the node (mm²): a quarter of the (projected) areas
+    /// of the shells around it. Written by the blank's shells from the
+    /// element frames they build anyway; read by contact, which then does not
+    /// compute the blank's quad geometry a second time.
+    pub const AREA: NodalField = NodalField::new("area", "mm2");
+    /// `x` component of the nodal unit normal: the area-weighted mean of the
+    /// normals of the shells around the node (mm/mm). Written and read with
+    /// [`NodalField::AREA`].
+    pub const NORMAL_X: NodalField = NodalField::new("normal-x", "-");
+    /// `y` component of the nodal unit normal; as [`NodalField::NORMAL_X`].
+    pub const NORMAL_Y: NodalField = NodalField::new("normal-y", "-");
+    /// `z` component of the nodal unit normal; as [`NodalField::NORMAL_X`].
+    pub const NORMAL_Z: NodalField = NodalField::new("normal-z", "-");
 
     /// A field named `name` (kebab-case, unique) in `unit`.
     pub const fn new(name: &'static str, unit: &'static str) -> Self {

@@ -666,6 +666,10 @@ impl BelytschkoTsay {
         out.d_hourglass = d_hg;
         out.d_plastic = a * sr.dissipation;
         out.length = T::select(*valid, fr.char_length(), a);
+        out.area = T::select(*valid, fr.area, zero);
+        for c in 0..3 {
+            out.normal[c] = T::select(*valid, fr.r[2][c], zero);
+        }
         // Transpose of the projection: f̂z_J += ½ h·ẑ (B1_J Q_x + B2_J Q_y).
         // The warping correction's membrane terms fold into the membrane
         // forces: f̂x = A((N_xx + c M_xy) B1 + (N_xy + c M_xx) B2), f̂y likewise;

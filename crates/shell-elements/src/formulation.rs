@@ -64,6 +64,10 @@ pub struct ElementResult<T = f64> {
     /// Characteristic length for the stable time step (mm); ≤ 0 or NaN
     /// when the element degenerated.
     pub length: T,
+    /// Unit normal of the element's frame (global), `e3`.
+    pub normal: [T; 3],
+    /// Projected area of the element (mm²), the frame's; 0 when the element degenerated.
+    pub area: T,
 }
 
 impl<T: Real> ElementResult<T> {
@@ -80,6 +84,8 @@ impl<T: Real> ElementResult<T> {
             d_hourglass: z,
             d_plastic: z,
             length: z,
+            normal: [z; 3],
+            area: z,
         }
     }
 }
@@ -104,6 +110,12 @@ impl<L: Lanes4> ElementResult<L> {
             d_hourglass: F4(self.d_hourglass.to_array()),
             d_plastic: F4(self.d_plastic.to_array()),
             length: F4(self.length.to_array()),
+            normal: [
+                F4(self.normal[0].to_array()),
+                F4(self.normal[1].to_array()),
+                F4(self.normal[2].to_array()),
+            ],
+            area: F4(self.area.to_array()),
         }
     }
 }
@@ -120,6 +132,12 @@ impl ElementResult<F4> {
             d_hourglass: self.d_hourglass.0[l],
             d_plastic: self.d_plastic.0[l],
             length: self.length.0[l],
+            normal: [
+                self.normal[0].0[l],
+                self.normal[1].0[l],
+                self.normal[2].0[l],
+            ],
+            area: self.area.0[l],
         }
     }
 
@@ -137,6 +155,10 @@ impl ElementResult<F4> {
         self.d_hourglass.0[l] = r.d_hourglass;
         self.d_plastic.0[l] = r.d_plastic;
         self.length.0[l] = r.length;
+        for c in 0..3 {
+            self.normal[c].0[l] = r.normal[c];
+        }
+        self.area.0[l] = r.area;
     }
 }
 

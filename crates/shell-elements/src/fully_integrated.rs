@@ -223,6 +223,8 @@ impl ShellFormulation for FullyIntegrated {
             out.m[i] = [-mg[0], -mg[1], -mg[2]];
         }
         out.length = fr.char_length();
+        out.area = fr.area;
+        out.normal = fr.r[2];
         *st.thickness = new_thickness(t, dzz);
         out
     }

@@ -33,10 +33,14 @@ use crate::section::Section;
 pub const DEFAULT_PARALLEL_MIN: usize = 512;
 
 /// The shared nodal fields a [`ShellSet`] writes (each only when another effect reads it).
-const WRITES: [NodalField; 3] = [
+const WRITES: [NodalField; 7] = [
     NodalField::THICKNESS,
     NodalField::FLOW_STRESS_TOP,
     NodalField::FLOW_STRESS_BOTTOM,
+    NodalField::AREA,
+    NodalField::NORMAL_X,
+    NodalField::NORMAL_Y,
+    NodalField::NORMAL_Z,
 ];
 
 /// Shells of formulation `E` and material `M` over a set of quads.
@@ -437,7 +441,10 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
 
     /// Write the shared nodal fields that another effect reads (no allocation).
     fn write_fields(&self, fields: &mut FieldAccess<'_>) {
-        let [thickness, top, bottom] = fields.write_each(WRITES);
+        let [thickness, top, bottom, area, nx, ny, nz] = fields.write_each(WRITES);
+        if let (Some(area), Some(nx), Some(ny), Some(nz)) = (area, nx, ny, nz) {
+            self.write_area_and_normal(area, [nx, ny, nz]);
+        }
         if let Some(out) = thickness {
             self.nodal_mean(out, self.section.thickness, |e| self.thickness[e]);
         }
@@ -453,6 +460,45 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             }
             self.scale_by_valence(top, 0.0);
             self.scale_by_valence(bottom, 0.0);
+        }
+    }
+
+    /// Nodal tributary areas (a quarter of each element's projected area)
+    /// and unit normals (area-weighted mean of the elements' frame normals)
+    /// from this step's element results, in element order; a node of no
+    /// element (or of degenerate ones only) gets area 0 and normal 0.
+    fn write_area_and_normal(&self, area: &mut [f64], normal: [&mut [f64]; 3]) {
+        area.fill(0.0);
+        let [nx, ny, nz] = normal;
+        for c in [&mut *nx, &mut *ny, &mut *nz] {
+            c.fill(0.0);
+        }
+        let mut add = |q: &[u32; 4], a: f64, n: [f64; 3]| {
+            for &i in q {
+                let i = i as usize;
+                area[i] += 0.25 * a;
+                nx[i] += n[0] * a;
+                ny[i] += n[1] * a;
+                nz[i] += n[2] * a;
+            }
+        };
+        let (blocks, rest) = self.conn.as_chunks::<4>();
+        for (qs, r) in blocks.iter().zip(&self.results_x4) {
+            for (l, q) in qs.iter().enumerate() {
+                let n = [r.normal[0].0[l], r.normal[1].0[l], r.normal[2].0[l]];
+                add(q, r.area.0[l], n);
+            }
+        }
+        for (q, r) in rest.iter().zip(&self.results) {
+            add(q, r.area, r.normal);
+        }
+        for i in 0..area.len() {
+            let len = (nx[i] * nx[i] + ny[i] * ny[i] + nz[i] * nz[i]).sqrt();
+            if len > 0.0 {
+                nx[i] /= len;
+                ny[i] /= len;
+                nz[i] /= len;
+            }
         }
     }
 
