@@ -41,7 +41,7 @@ pub use return_mapping::{
     PairedIntegrator, PointIntegrator, PointState, StepInput, StepOutput, TangentMode,
 };
 pub use tool::{
-    Aabb, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface,
+    Aabb, FlatRegion, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface,
 };
 
 /// Re-export so that plugin authors need no direct nalgebra dependency.

@@ -170,6 +170,33 @@ impl Projection {
     }
 }
 
+/// A disc of a flat piece of a tool, in the tool's local frame, on which
+/// the projection has a closed form (see [`ToolSurface::flat_region`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlatRegion {
+    /// Unit normal of the plane towards the blank side (local frame).
+    pub normal: Vec3,
+    /// `normal · p` for the points `p` of the plane (mm).
+    pub offset: f64,
+    /// Centre of the disc (local frame, mm).
+    pub centre: Vec3,
+    /// Radius of the disc (mm).
+    pub radius: f64,
+}
+
+impl FlatRegion {
+    /// The answer for the point `x_local` (tool's local frame) when the
+    /// foot of its perpendicular on the plane lies in the disc: its signed
+    /// distance (mm) and the foot (local frame); `None` outside the disc.
+    #[inline]
+    pub fn project_local(&self, x_local: &Vec3) -> Option<(f64, Vec3)> {
+        let distance = x_local.dot(&self.normal) - self.offset;
+        let foot = x_local - self.normal * distance;
+        ((foot - self.centre).norm_squared() < self.radius * self.radius)
+            .then_some((distance, foot))
+    }
+}
+
 /// A rigid tool surface that contact can query.
 ///
 /// Implementations must never fail to project a finite point: a point at
@@ -202,6 +229,22 @@ pub trait ToolSurface: Send + Sync {
     /// Closest point of the surface to `x` (global frame), warm-started from
     /// `hint` when given. Errors only for a non-finite `x`.
     fn project(&self, x: &Vec3, hint: Option<ProjectionHint>) -> Result<Projection, ToolError>;
+
+    /// A flat region around the answer that `hint` came from, if the tool
+    /// has one there: for every query point `x` whose perpendicular foot on
+    /// the region's plane lies inside its disc
+    /// ([`FlatRegion::project_local`] of `x` in the local frame), that foot
+    /// is the closest point of patch `hint.patch` to `x`, at the signed
+    /// distance `normal · x_local − offset`, with the region's normal (mapped
+    /// by the pose) and zero curvature: what a warm start from `hint` keeps
+    /// (it stays on its hinted patch while the answer lies inside it). A
+    /// caller may then skip the projection and keep `hint` for later steps
+    /// (its `u`, `v` stay those of the disc's centre). The default, and a
+    /// tool with no flat pieces, has none.
+    fn flat_region(&self, hint: &ProjectionHint) -> Option<FlatRegion> {
+        let _ = hint;
+        None
+    }
 
     /// Project many points; `hints[i]` is read as the warm start of
     /// `points[i]` and `out[i]` receives its answer. The default loops over

@@ -19,10 +19,11 @@ use crate::bvh::Bvh;
 use crate::closest_point::{ParamBox, PatchHit, newton, newton_in};
 use crate::differential::local_geometry_rotated;
 use crate::error::NurbsError;
-use crate::planar::{self, Plane};
+use crate::planar::{self, Outline, Plane};
 use crate::surface::{Derivs, NurbsSurface, PatchDef};
 use plugins_api::{
-    Aabb, Mat3, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface, Vec3,
+    Aabb, FlatRegion, Mat3, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError,
+    ToolSurface, Vec3,
 };
 use rayon::prelude::*;
 
@@ -61,6 +62,8 @@ pub struct NurbsTool {
     domains: Vec<ParamBox>,
     /// The plane of each planar patch (see [`crate::planar`]).
     planes: Vec<Option<Plane>>,
+    /// The outline of each planar patch, for its flat regions.
+    outlines: Vec<Option<Outline>>,
     /// Whether warm projections on planar patches take the plane's closed
     /// form ([`crate::planar`]); `true` unless switched off for comparison.
     planar_path: bool,
@@ -154,10 +157,16 @@ impl NurbsTool {
             }
         }
         let boxes: Vec<Aabb> = elements.iter().map(|e| e.bbox).collect();
-        let planes = patches
+        let planes: Vec<Option<Plane>> = patches
             .iter()
             .zip(&domains)
             .map(|(p, d)| planar::plane_of(p, d))
+            .collect();
+        let outlines = patches
+            .iter()
+            .zip(&domains)
+            .zip(&planes)
+            .map(|((p, d), plane)| plane.map(|_| Outline::of(&p.surface, d)))
             .collect();
         Ok(Self {
             name: name.to_string(),
@@ -165,6 +174,7 @@ impl NurbsTool {
             patches,
             domains,
             planes,
+            outlines,
             planar_path: true,
             elements,
             seeds,
@@ -531,5 +541,21 @@ impl ToolSurface for NurbsTool {
         out: &mut [Projection],
     ) -> Result<(), ToolError> {
         batch(self, points, hints, out)
+    }
+
+    fn flat_region(&self, hint: &ProjectionHint) -> Option<FlatRegion> {
+        let pi = hint.patch as usize;
+        if !self.planar_path {
+            return None;
+        }
+        let (plane, outline) = (self.planes.get(pi)?.as_ref()?, self.outlines[pi].as_ref()?);
+        planar::region(
+            &self.patches[pi].surface,
+            &self.domains[pi],
+            plane,
+            outline,
+            hint.u,
+            hint.v,
+        )
     }
 }

@@ -38,7 +38,7 @@
 use crate::closest_point::ParamBox;
 use crate::nurbs_tool::OrientedPatch;
 use crate::surface::{Derivs, NurbsSurface};
-use plugins_api::Vec3;
+use plugins_api::{FlatRegion, Vec3};
 
 /// Control points within this fraction of the net's bounding-box diagonal of
 /// one plane make a planar patch.
@@ -170,5 +170,117 @@ pub fn warm(
         v,
         dist: height.abs(),
         error,
+    })
+}
+
+/// Segments per knot span along each edge of a planar patch's [`Outline`].
+pub const OUTLINE_SEGMENTS: usize = 16;
+
+/// A flat region ([`FlatRegion`]) is offered only around parameters at least
+/// this fraction of the patch's parameter widths from its edges (closer, a
+/// node would leave a small disc within a few steps, and the warm projection
+/// is cheaper than finding a new one every time).
+pub const REGION_PARAM_MARGIN: f64 = 0.01;
+
+/// A flat region's radius, as a fraction of the distance from its centre to
+/// the patch's outline: a node moving straight out crosses the disc's edge
+/// half way to the patch's, so the next region is half as large, and nodes
+/// find a new region a few times on their way to an edge, not every step.
+pub const REGION_FRACTION: f64 = 0.5;
+
+/// The edges of a planar patch as a polyline (local frame), with a bound on
+/// how far the true edges stray from it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outline {
+    segments: Vec<[Vec3; 2]>,
+    /// Twice the largest distance of an edge's mid-segment point from its
+    /// chord (mm): the chords' sagitta, with a factor two for safety.
+    sag: f64,
+}
+
+impl Outline {
+    /// The outline of `surf` over `dom`: [`OUTLINE_SEGMENTS`] chords per knot
+    /// span along each of the four edges.
+    pub fn of(surf: &NurbsSurface, dom: &ParamBox) -> Self {
+        let mut segments = Vec::new();
+        let mut sag = 0.0f64;
+        let mut edge = |at: &dyn Fn(f64) -> (f64, f64), spans: &[(f64, f64)]| {
+            for &(a, b) in spans {
+                for i in 0..OUTLINE_SEGMENTS {
+                    let t = |k: f64| a + (b - a) * k / OUTLINE_SEGMENTS as f64;
+                    let (t0, t1) = (t(i as f64), t(i as f64 + 1.0));
+                    let point = |t: f64| {
+                        let (u, v) = at(t);
+                        surf.point(u, v)
+                    };
+                    let (p0, p1) = (point(t0), point(t1));
+                    sag = sag.max(segment_distance(&point(0.5 * (t0 + t1)), &[p0, p1]));
+                    segments.push([p0, p1]);
+                }
+            }
+        };
+        let (su, sv) = (surf.spans_u(), surf.spans_v());
+        edge(&|t| (t, dom.v[0]), &su);
+        edge(&|t| (t, dom.v[1]), &su);
+        edge(&|t| (dom.u[0], t), &sv);
+        edge(&|t| (dom.u[1], t), &sv);
+        Self {
+            segments,
+            sag: 2.0 * sag,
+        }
+    }
+
+    /// A lower bound on the distance (mm) from `p` to the patch's edges.
+    pub fn clearance(&self, p: &Vec3) -> f64 {
+        let d = self
+            .segments
+            .iter()
+            .map(|s| segment_distance(p, s))
+            .fold(f64::INFINITY, f64::min);
+        d - self.sag
+    }
+}
+
+/// Distance (mm) from `p` to the segment `s`.
+fn segment_distance(p: &Vec3, s: &[Vec3; 2]) -> f64 {
+    let d = s[1] - s[0];
+    let len2 = d.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - s[0]).dot(&d) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (s[0] + d * t - p).norm()
+}
+
+/// The flat region around the point `(u, v)` of the planar patch `surf`
+/// (plane `plane`, outline `outline`, parameter box `dom`): a disc centred at
+/// the point, of radius [`REGION_FRACTION`] of its clearance from the
+/// outline; `None` within [`REGION_PARAM_MARGIN`] of an edge.
+pub fn region(
+    surf: &NurbsSurface,
+    dom: &ParamBox,
+    plane: &Plane,
+    outline: &Outline,
+    u: f64,
+    v: f64,
+) -> Option<FlatRegion> {
+    let (wu, wv) = (dom.u[1] - dom.u[0], dom.v[1] - dom.v[0]);
+    let margin = ((u - dom.u[0]) / wu)
+        .min((dom.u[1] - u) / wu)
+        .min((v - dom.v[0]) / wv)
+        .min((dom.v[1] - v) / wv);
+    // `!(… >= …)` also refuses a NaN.
+    if !(margin >= REGION_PARAM_MARGIN) {
+        return None;
+    }
+    let s = surf.point(u, v);
+    let centre = s - plane.normal * (s.dot(&plane.normal) - plane.offset);
+    let radius = REGION_FRACTION * outline.clearance(&centre);
+    (radius > 0.0).then_some(FlatRegion {
+        normal: plane.normal,
+        offset: plane.offset,
+        centre,
+        radius,
     })
 }

@@ -13,7 +13,8 @@ use crate::faceted::FacetedTool;
 use crate::mesh_io::read_mesh;
 use crate::nurbs_tool::NurbsTool;
 use plugins_api::{
-    Aabb, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface, Vec3,
+    Aabb, FlatRegion, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface,
+    Vec3,
 };
 use serde::de::DeserializeOwned;
 use std::path::Path;
@@ -62,6 +63,9 @@ impl ToolSurface for Tool {
         out: &mut [Projection],
     ) -> Result<(), ToolError> {
         each!(self, t => t.project_batch(points, hints, out))
+    }
+    fn flat_region(&self, hint: &ProjectionHint) -> Option<FlatRegion> {
+        each!(self, t => t.flat_region(hint))
     }
 }
 
