@@ -206,11 +206,12 @@ impl Batch {
         }
     }
 
-    /// Empty the batch, keeping its capacity.
+    /// Empty the batch, keeping its capacity. The inputs are kept: the
+    /// normal stage overwrites in each slot only what the law and formulation
+    /// read, and truncates them to the points it gathered.
     pub fn clear(&mut self) {
         self.points.clear();
         self.touch.clear();
-        self.inputs.clear();
         self.states.clear();
         self.outputs.clear();
     }

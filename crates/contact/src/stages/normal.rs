@@ -83,10 +83,15 @@ impl Normal<'_> {
             } else {
                 points.n_old[k]
             };
-            batch.inputs.push(self.input(i, n_old, pr.normal, &touch));
+            let j = batch.points.len();
+            if j == batch.inputs.len() {
+                batch.inputs.push(self.blank_input());
+            }
+            self.fill(&mut batch.inputs[j], i, n_old, pr.normal, &touch);
             batch.touch.push((touch.arm, touch.v_tool));
             batch.points.push(k as u32);
         }
+        batch.inputs.truncate(batch.points.len());
         sums
     }
 
@@ -135,28 +140,72 @@ impl Normal<'_> {
         })
     }
 
-    /// The return mapping's input at node `i`: pressure, slip increment and
-    /// the kinematics and flow stress the law and formulation declared.
+    /// A slot for a new point in the batch: every field the law and
+    /// formulation do not read at its value in a default [`StepInput`].
+    fn blank_input(&self) -> StepInput {
+        let n = Vec3::z();
+        StepInput::new(0.0, Vec3::zeros(), StepKinematics::simple(self.dt, n, n))
+    }
+
+    /// Write the return mapping's input at node `i` into `slot`: pressure,
+    /// slip increment and normals, and the kinematics and flow stress the
+    /// law and formulation declared. Fields not declared are left as they
+    /// are: at their default since the slot was made (they are never written).
     #[inline]
-    fn input(&self, i: usize, n_old: Vec3, n_new: Vec3, touch: &Touch) -> StepInput {
+    fn fill(&self, slot: &mut StepInput, i: usize, n_old: Vec3, n_new: Vec3, touch: &Touch) {
         let g = self.geometry;
-        let mut kin = StepKinematics::simple(self.dt, n_old, n_new);
-        kin.tool_rotation = self.tool.rotation;
-        if self.needs.contains(PointNeeds::SPIN)
-            || self.needs.contains(PointNeeds::VELOCITY_GRADIENT)
-        {
+        let needs = self.needs;
+        slot.p = touch.f_n / g.area[i];
+        slot.du = touch.v_rel * self.dt;
+        let kin = &mut slot.kin;
+        kin.dt = self.dt;
+        kin.n_old = n_old;
+        kin.n_new = n_new;
+        if needs.contains(PointNeeds::TOOL_ROTATION) {
+            kin.tool_rotation = self.tool.rotation;
+        }
+        if needs.contains(PointNeeds::SPIN) || needs.contains(PointNeeds::VELOCITY_GRADIENT) {
             kin.vel_grad = g.vel_grad[i];
         }
-        if self.needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
+        if needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
             kin.f_old = g.f_old[i];
             kin.f_new = g.f_new[i];
         }
-        let mut input = StepInput::new(touch.f_n / g.area[i], touch.v_rel * self.dt, kin);
-        if self.needs.contains(PointNeeds::FLOW_STRESS)
-            && let Some((top, bottom)) = self.blank.flow_stress
-        {
+        if needs.contains(PointNeeds::FLOW_STRESS) {
             // The tool normal points towards the blank: a tool on the +n_blank
             // side has n_tool·n_blank < 0 and touches the top fibre.
+            slot.flow_stress = match self.blank.flow_stress {
+                Some((top, _)) if n_new.dot(&g.normal[i]) < 0.0 => top[i],
+                Some((_, bottom)) => bottom[i],
+                None => f64::NAN,
+            };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::penalty::PenaltySettings;
+    use plugins_api::{Aabb, Mat3, PointState, ProjectionHint, RigidVelocity};
+
+    /// The input as the step built it before the stages: a whole
+    /// [`StepInput`] per point, undeclared fields at their defaults.
+    fn reference(n: &Normal<'_>, i: usize, n_old: Vec3, n_new: Vec3, t: &Touch) -> StepInput {
+        let g = n.geometry;
+        let mut kin = StepKinematics::simple(n.dt, n_old, n_new);
+        kin.tool_rotation = n.tool.rotation;
+        if n.needs.contains(PointNeeds::VELOCITY_GRADIENT) {
+            kin.vel_grad = g.vel_grad[i];
+        }
+        if n.needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
+            kin.f_old = g.f_old[i];
+            kin.f_new = g.f_new[i];
+        }
+        let mut input = StepInput::new(t.f_n / g.area[i], t.v_rel * n.dt, kin);
+        if n.needs.contains(PointNeeds::FLOW_STRESS)
+            && let Some((top, bottom)) = n.blank.flow_stress
+        {
             input.flow_stress = if n_new.dot(&g.normal[i]) < 0.0 {
                 top[i]
             } else {
@@ -164,5 +213,158 @@ impl Normal<'_> {
             };
         }
         input
+    }
+
+    /// Reused batch slots hold, after every step, exactly the input a fresh
+    /// one would (bit for bit, NaN included), whatever touched before:
+    /// declared fields renewed, the others at their defaults.
+    #[test]
+    fn reused_slots_equal_fresh_inputs() {
+        let all = PointNeeds::VELOCITY_GRADIENT
+            .union(PointNeeds::DEFORMATION_GRADIENT)
+            .union(PointNeeds::FLOW_STRESS)
+            .union(PointNeeds::TOOL_ROTATION);
+        for needs in [PointNeeds::NONE, PointNeeds::TOOL_ROTATION, all] {
+            check_reuse(needs);
+        }
+    }
+
+    fn check_reuse(needs: PointNeeds) {
+        let mesh = fem_core::rectangle(2.0, 2.0, 2, 2).unwrap();
+        let m = mesh.nodes.len();
+        let mut geometry = BlankGeometry::new(m, &mesh.quads).unwrap();
+        let settings = Settings {
+            penalty: PenaltySettings::default(),
+            search_margin: 1.0,
+            max_penetration: 3.0,
+            skip_far: true,
+        };
+        let rotation = Mat3::new(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0);
+        let tool = ToolStep {
+            bbox: Aabb {
+                min: Vec3::repeat(-9.0),
+                max: Vec3::repeat(9.0),
+            },
+            origin: Vec3::new(0.1, 0.2, -1.0),
+            to_local: Mat3::identity(),
+            velocity: RigidVelocity {
+                linear: Vec3::new(3.0, 0.0, -1.0),
+                angular: Vec3::new(0.0, 0.5, 0.0),
+            },
+            // As `ToolStep::new` makes it: the identity unless declared.
+            rotation: if needs.contains(PointNeeds::TOOL_ROTATION) {
+                rotation
+            } else {
+                Mat3::identity()
+            },
+        };
+        let nodes: Vec<u32> = (0..m as u32).collect();
+        let stiffness: Vec<f64> = (0..m).map(|k| 100.0 + k as f64).collect();
+        let (mut status, mut friction) =
+            (vec![PointStatus::Open; m], vec![PointState::default(); m]);
+        let (mut pressure, mut tau_c, mut slip) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+        let (mut traction, mut force) = (vec![Vec3::zeros(); m], vec![Vec3::zeros(); m]);
+        let mut n_old: Vec<Vec3> = (0..m)
+            .map(|k| Vec3::new(0.01 * k as f64, 0.0, 1.0).normalize())
+            .collect();
+        let mut last = LastProjection::new(m);
+        let mut batch = Batch::with_capacity(m);
+        // All touch, then a few (other ones stick), then all again.
+        let touching: [&[usize]; 3] = [
+            &[0, 1, 2, 3, 4, 5, 6, 7, 8],
+            &[2, 7],
+            &[0, 1, 2, 3, 4, 5, 6, 7, 8],
+        ];
+        for (step, touch) in touching.iter().enumerate() {
+            let s = step as f64;
+            let x: Vec<Vec3> = mesh
+                .nodes
+                .iter()
+                .enumerate()
+                .map(|(i, p)| p + Vec3::new(0.0, 0.0, 0.01 * (s + i as f64).sin()))
+                .collect();
+            let v: Vec<Vec3> = (0..m)
+                .map(|i| Vec3::new(1.0 + s, -(i as f64), 0.5))
+                .collect();
+            let (mass, thickness) = (vec![1e-6; m], vec![1.0; m]);
+            let top: Vec<f64> = (0..m).map(|i| 300.0 + i as f64 + s).collect();
+            let bottom: Vec<f64> = (0..m).map(|i| 200.0 + i as f64 + s).collect();
+            let blank = BlankView {
+                x0: &mesh.nodes,
+                x: &x,
+                v: &v,
+                mass: &mass,
+                thickness: &thickness,
+                flow_stress: Some((&top, &bottom)),
+            };
+            geometry.update(&blank, 1e-6, needs);
+            let sign = if step == 1 { -1.0 } else { 1.0 };
+            let cand = Candidates {
+                points: nodes.clone(),
+                near: (0..m)
+                    .map(|k| Near {
+                        normal: Vec3::new(0.0, 0.1 * s, sign).normalize(),
+                        distance: if touch.contains(&k) {
+                            0.45 - 0.01 * k as f64
+                        } else {
+                            0.7
+                        },
+                        hint: ProjectionHint {
+                            patch: 0,
+                            u: 0.0,
+                            v: 0.0,
+                        },
+                    })
+                    .collect(),
+            };
+            let normal = Normal {
+                settings: &settings,
+                tool: &tool,
+                needs,
+                geometry: &geometry,
+                blank: &blank,
+                dt: 1e-6,
+            };
+            let mut points = PointsMut {
+                status: &mut status,
+                friction: &mut friction,
+                pressure: &mut pressure,
+                traction: &mut traction,
+                tau_c: &mut tau_c,
+                slip: &mut slip,
+                n_old: &mut n_old,
+                force: &mut force,
+            };
+            normal.run(
+                &nodes,
+                &stiffness,
+                &cand,
+                &mut last,
+                &mut points,
+                &mut batch,
+            );
+            assert_eq!(batch.points.len(), touch.len());
+            assert_eq!(batch.inputs.len(), touch.len());
+            for (j, &k) in batch.points.iter().enumerate() {
+                let k = k as usize;
+                let pr = &cand.near[k];
+                let t = normal.touch(k, pr, stiffness[k]).unwrap();
+                let n_prev = if status[k] == PointStatus::Open {
+                    pr.normal
+                } else {
+                    n_old[k]
+                };
+                let want = reference(&normal, k, n_prev, pr.normal, &t);
+                assert_eq!(
+                    format!("{:?}", batch.inputs[j]),
+                    format!("{want:?}"),
+                    "step {step}, point {k}, needs {needs:?}"
+                );
+            }
+            // The next step sees these points stick.
+            for &k in *touch {
+                status[k] = PointStatus::Stick;
+            }
+        }
     }
 }
