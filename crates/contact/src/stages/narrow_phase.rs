@@ -32,6 +32,7 @@ impl Near {
         },
     };
 
+    /// What the step keeps of `pr`.
     fn of(pr: &Projection) -> Self {
         Self {
             normal: pr.normal,

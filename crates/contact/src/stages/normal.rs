@@ -54,8 +54,9 @@ struct Touch {
 impl Normal<'_> {
     /// Run the stage over `cand` (points `k`, blank nodes `nodes[k]`, penalty
     /// stiffness `stiffness[k]`): renew `last` for every candidate, gather
-    /// the touching ones into `batch` (cleared first) in candidate order, and
-    /// open the others in `points`.
+    /// the touching ones into `batch` (emptied first; its input slots are
+    /// reused, see [`Normal::fill`]) in candidate order, and open the others
+    /// in `points`.
     pub fn run(
         &self,
         nodes: &[u32],
@@ -229,18 +230,11 @@ mod tests {
         }
     }
 
-    fn check_reuse(needs: PointNeeds) {
-        let mesh = fem_core::rectangle(2.0, 2.0, 2, 2).unwrap();
-        let m = mesh.nodes.len();
-        let mut geometry = BlankGeometry::new(m, &mesh.quads).unwrap();
-        let settings = Settings {
-            penalty: PenaltySettings::default(),
-            search_margin: 1.0,
-            max_penetration: 3.0,
-            skip_far: true,
-        };
-        let rotation = Mat3::new(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0);
-        let tool = ToolStep {
+    /// A tool moving and turning, as `ToolStep::new` makes it: the step's
+    /// rotation is the identity unless declared.
+    fn tool_step(needs: PointNeeds) -> ToolStep {
+        let turn = Mat3::new(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0);
+        ToolStep {
             bbox: Aabb {
                 min: Vec3::repeat(-9.0),
                 max: Vec3::repeat(9.0),
@@ -251,42 +245,116 @@ mod tests {
                 linear: Vec3::new(3.0, 0.0, -1.0),
                 angular: Vec3::new(0.0, 0.5, 0.0),
             },
-            // As `ToolStep::new` makes it: the identity unless declared.
             rotation: if needs.contains(PointNeeds::TOOL_ROTATION) {
-                rotation
+                turn
             } else {
                 Mat3::identity()
             },
+        }
+    }
+
+    /// The blank's positions and velocities at step `s`.
+    fn blank_state(x0: &[Vec3], s: f64) -> [Vec<Vec3>; 2] {
+        let x = x0
+            .iter()
+            .enumerate()
+            .map(|(i, p)| p + Vec3::new(0.0, 0.0, 0.01 * (s + i as f64).sin()))
+            .collect();
+        let v = (0..x0.len())
+            .map(|i| Vec3::new(1.0 + s, -(i as f64), 0.5))
+            .collect();
+        [x, v]
+    }
+
+    /// Every point a candidate, the ones in `touch` within half the unit
+    /// thickness of the tool; the normal faces up, or down when `down`.
+    fn candidates(m: usize, touch: &[usize], s: f64, down: bool) -> Candidates {
+        let sign = if down { -1.0 } else { 1.0 };
+        let near = |k: usize| Near {
+            normal: Vec3::new(0.0, 0.1 * s, sign).normalize(),
+            distance: if touch.contains(&k) {
+                0.45 - 0.01 * k as f64
+            } else {
+                0.7
+            },
+            hint: ProjectionHint {
+                patch: 0,
+                u: 0.0,
+                v: 0.0,
+            },
         };
+        Candidates {
+            points: (0..m as u32).collect(),
+            near: (0..m).map(near).collect(),
+        }
+    }
+
+    /// The per-point arrays of a pair of `m` points, all open.
+    struct Arrays {
+        status: Vec<PointStatus>,
+        friction: Vec<PointState>,
+        pressure: Vec<f64>,
+        traction: Vec<Vec3>,
+        tau_c: Vec<f64>,
+        slip: Vec<f64>,
+        n_old: Vec<Vec3>,
+        force: Vec<Vec3>,
+    }
+
+    impl Arrays {
+        fn new(m: usize) -> Self {
+            Self {
+                status: vec![PointStatus::Open; m],
+                friction: vec![PointState::default(); m],
+                pressure: vec![0.0; m],
+                traction: vec![Vec3::zeros(); m],
+                tau_c: vec![0.0; m],
+                slip: vec![0.0; m],
+                n_old: (0..m)
+                    .map(|k| Vec3::new(0.01 * k as f64, 0.0, 1.0).normalize())
+                    .collect(),
+                force: vec![Vec3::zeros(); m],
+            }
+        }
+
+        fn points(&mut self) -> PointsMut<'_> {
+            PointsMut {
+                status: &mut self.status,
+                friction: &mut self.friction,
+                pressure: &mut self.pressure,
+                traction: &mut self.traction,
+                tau_c: &mut self.tau_c,
+                slip: &mut self.slip,
+                n_old: &mut self.n_old,
+                force: &mut self.force,
+            }
+        }
+    }
+
+    /// Three steps of a 2 × 2-quad blank with the needs `needs`: all nine
+    /// points touch, then two (which stuck before), then all again; after
+    /// each, every batch input is compared with [`reference`].
+    fn check_reuse(needs: PointNeeds) {
+        let mesh = fem_core::rectangle(2.0, 2.0, 2, 2).unwrap();
+        let m = mesh.nodes.len();
+        let mut geometry = BlankGeometry::new(m, &mesh.quads).unwrap();
+        let settings = Settings {
+            penalty: PenaltySettings::default(),
+            search_margin: 1.0,
+            max_penetration: 3.0,
+            skip_far: true,
+        };
+        let tool = tool_step(needs);
         let nodes: Vec<u32> = (0..m as u32).collect();
         let stiffness: Vec<f64> = (0..m).map(|k| 100.0 + k as f64).collect();
-        let (mut status, mut friction) =
-            (vec![PointStatus::Open; m], vec![PointState::default(); m]);
-        let (mut pressure, mut tau_c, mut slip) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
-        let (mut traction, mut force) = (vec![Vec3::zeros(); m], vec![Vec3::zeros(); m]);
-        let mut n_old: Vec<Vec3> = (0..m)
-            .map(|k| Vec3::new(0.01 * k as f64, 0.0, 1.0).normalize())
-            .collect();
+        let (mass, thickness) = (vec![1e-6; m], vec![1.0; m]);
+        let mut arrays = Arrays::new(m);
         let mut last = LastProjection::new(m);
         let mut batch = Batch::with_capacity(m);
-        // All touch, then a few (other ones stick), then all again.
-        let touching: [&[usize]; 3] = [
-            &[0, 1, 2, 3, 4, 5, 6, 7, 8],
-            &[2, 7],
-            &[0, 1, 2, 3, 4, 5, 6, 7, 8],
-        ];
-        for (step, touch) in touching.iter().enumerate() {
+        let all: Vec<usize> = (0..m).collect();
+        for (step, touch) in [&all[..], &[2, 7], &all[..]].into_iter().enumerate() {
             let s = step as f64;
-            let x: Vec<Vec3> = mesh
-                .nodes
-                .iter()
-                .enumerate()
-                .map(|(i, p)| p + Vec3::new(0.0, 0.0, 0.01 * (s + i as f64).sin()))
-                .collect();
-            let v: Vec<Vec3> = (0..m)
-                .map(|i| Vec3::new(1.0 + s, -(i as f64), 0.5))
-                .collect();
-            let (mass, thickness) = (vec![1e-6; m], vec![1.0; m]);
+            let [x, v] = blank_state(&mesh.nodes, s);
             let top: Vec<f64> = (0..m).map(|i| 300.0 + i as f64 + s).collect();
             let bottom: Vec<f64> = (0..m).map(|i| 200.0 + i as f64 + s).collect();
             let blank = BlankView {
@@ -298,25 +366,7 @@ mod tests {
                 flow_stress: Some((&top, &bottom)),
             };
             geometry.update(&blank, 1e-6, needs);
-            let sign = if step == 1 { -1.0 } else { 1.0 };
-            let cand = Candidates {
-                points: nodes.clone(),
-                near: (0..m)
-                    .map(|k| Near {
-                        normal: Vec3::new(0.0, 0.1 * s, sign).normalize(),
-                        distance: if touch.contains(&k) {
-                            0.45 - 0.01 * k as f64
-                        } else {
-                            0.7
-                        },
-                        hint: ProjectionHint {
-                            patch: 0,
-                            u: 0.0,
-                            v: 0.0,
-                        },
-                    })
-                    .collect(),
-            };
+            let cand = candidates(m, touch, s, step == 1);
             let normal = Normal {
                 settings: &settings,
                 tool: &tool,
@@ -325,16 +375,7 @@ mod tests {
                 blank: &blank,
                 dt: 1e-6,
             };
-            let mut points = PointsMut {
-                status: &mut status,
-                friction: &mut friction,
-                pressure: &mut pressure,
-                traction: &mut traction,
-                tau_c: &mut tau_c,
-                slip: &mut slip,
-                n_old: &mut n_old,
-                force: &mut force,
-            };
+            let mut points = arrays.points();
             normal.run(
                 &nodes,
                 &stiffness,
@@ -349,10 +390,10 @@ mod tests {
                 let k = k as usize;
                 let pr = &cand.near[k];
                 let t = normal.touch(k, pr, stiffness[k]).unwrap();
-                let n_prev = if status[k] == PointStatus::Open {
+                let n_prev = if arrays.status[k] == PointStatus::Open {
                     pr.normal
                 } else {
-                    n_old[k]
+                    arrays.n_old[k]
                 };
                 let want = reference(&normal, k, n_prev, pr.normal, &t);
                 assert_eq!(
@@ -362,8 +403,8 @@ mod tests {
                 );
             }
             // The next step sees these points stick.
-            for &k in *touch {
-                status[k] = PointStatus::Stick;
+            for &k in touch {
+                arrays.status[k] = PointStatus::Stick;
             }
         }
     }
