@@ -12,6 +12,10 @@
 //! reactions on each tool and keeps the pair's energies (frictional dissipation,
 //! stored penalty energy, the work the tools do).
 //!
+//! A pair's step is a pipeline of five stages, each in its own module under
+//! `stages/` (broad phase, narrow phase, normal, friction, scatter; the
+//! module's documentation says what each reads and writes).
+//!
 //! It owns the per-point contact state, laid out per pair as arrays over the
 //! pair's nodes, and the nodal geometry that the formulations read
 //! ([`BlankGeometry`]: areas, normals, velocity and deformation gradients),
@@ -28,6 +32,7 @@ mod effect;
 mod error;
 mod pair;
 pub mod penalty;
+mod stages;
 mod timing;
 mod tool_log;
 

@@ -2,15 +2,16 @@
 //! per-point state laid out for the step loop, penalty normal forces, friction
 //! through a [`PointIntegrator`], reactions on the tool and the pair's energies.
 
-use plugins_api::kinematics::cayley_rotate;
-use plugins_api::{
-    Mat3, PointIntegrator, PointNeeds, PointState, Projection, ProjectionHint, StepInput,
-    StepKinematics, StepOutput, ToolSurface, Vec3,
-};
-use rayon::prelude::*;
+use plugins_api::{PointIntegrator, PointNeeds, PointState, ToolSurface, Vec3};
 use std::time::Instant;
 
 use crate::penalty::{PenaltySettings, nodal_stiffness};
+use crate::stages::broad_phase::broad_phase;
+use crate::stages::friction::friction;
+use crate::stages::narrow_phase::narrow_phase;
+use crate::stages::normal::{Normal, NormalSums};
+use crate::stages::scatter::{Scatter, ScatterSums};
+use crate::stages::{Batch, Candidates, LastProjection, PointsMut, Settings, ToolStep};
 use crate::{BlankGeometry, BlankView, ContactError, ContactTiming};
 
 /// What a contact pair is built from.
@@ -55,52 +56,6 @@ impl PairSpec {
             search_margin: 1.0,
             max_penetration: 3.0,
             skip_far: true,
-        }
-    }
-}
-
-/// Candidate nodes per parallel task.
-const PARALLEL_CHUNK: usize = 64;
-
-/// Whether `n` points are worth a parallel loop: more than
-/// [`ContactPair::PARALLEL_MIN_CANDIDATES`] and more than one rayon thread
-/// (on one thread, handing the loop to the pool's worker only costs a
-/// wake-up and the data's trip to another core).
-fn parallel(n: usize) -> bool {
-    n > ContactPair::PARALLEL_MIN_CANDIDATES && rayon::current_num_threads() > 1
-}
-
-/// Contact points per parallel friction task.
-const FRICTION_CHUNK: usize = 256;
-
-/// Slack (mm) added to the reach of a skipped node, above the rounding of the
-/// local coordinates and of the projection's distance.
-const SKIP_TOL: f64 = 1e-9;
-
-/// What step 1 keeps of a projection.
-#[derive(Clone, Copy, Debug)]
-struct Near {
-    normal: Vec3,
-    distance: f64,
-    hint: ProjectionHint,
-}
-
-impl Near {
-    const NONE: Near = Near {
-        normal: Vec3::new(0.0, 0.0, 0.0),
-        distance: f64::NAN,
-        hint: ProjectionHint {
-            patch: 0,
-            u: f64::NAN,
-            v: f64::NAN,
-        },
-    };
-
-    fn of(pr: &Projection) -> Self {
-        Self {
-            normal: pr.normal,
-            distance: pr.distance,
-            hint: pr.hint(),
         }
     }
 }
@@ -156,21 +111,39 @@ impl ContactEnergy {
     }
 }
 
+/// The per-point state and results a step updates, as a [`PointsMut`]
+/// borrowing the pair's arrays field by field (so that its other fields stay
+/// free for the stages).
+macro_rules! points_mut {
+    ($pair:expr) => {
+        PointsMut {
+            status: &mut $pair.status,
+            friction: &mut $pair.friction,
+            pressure: &mut $pair.pressure,
+            traction: &mut $pair.traction,
+            tau_c: &mut $pair.tau_c,
+            slip: &mut $pair.slip,
+            n_old: &mut $pair.n_old,
+            force: &mut $pair.force,
+        }
+    };
+}
+
 /// A rigid tool against the blank: state per blank node of the pair.
 pub struct ContactPair {
     name: String,
     tool: usize,
     integrator: Box<dyn PointIntegrator>,
     needs: PointNeeds,
-    penalty: PenaltySettings,
-    search_margin: f64,
-    max_penetration: f64,
-    skip_far: bool,
+    settings: Settings,
     /// Blank node of each pair point.
     nodes: Vec<u32>,
     /// Penalty stiffness per pair point (N/mm).
     stiffness: Vec<f64>,
-    hint: Vec<Option<ProjectionHint>>,
+    /// Per pair point: the warm start and the `skip_far` record.
+    last: LastProjection,
+    /// Per pair point: the friction history, the normal of the last contact
+    /// and the last contact force (N).
     friction: Vec<PointState>,
     n_old: Vec<Vec3>,
     force: Vec<Vec3>,
@@ -203,22 +176,10 @@ pub struct ContactPair {
     /// Seconds spent in the stages of this pair's steps so far (`press` and
     /// `geometry` stay 0: they belong to [`crate::ContactEffect`]).
     pub timing: ContactTiming,
-    /// Per pair point: the unsigned distance from the tool at its last
-    /// projection (mm; `-∞` before the first) and its position then, in the
-    /// tool's local frame (mm).
-    far_dist: Vec<f64>,
-    far_local: Vec<Vec3>,
     /// Scratch: the points to project this step and their answers.
-    cand: Vec<u32>,
-    near: Vec<Near>,
-    // Scratch for the gathered friction batch (capacity = node count; no allocation per step).
-    active: Vec<u32>,
-    /// Per gathered point: lever arm of the contact point about the tool origin
-    /// (mm) and the tool's velocity there (mm/s).
-    touch: Vec<(Vec3, Vec3)>,
-    inputs: Vec<StepInput>,
-    states: Vec<PointState>,
-    outputs: Vec<StepOutput>,
+    cand: Candidates,
+    /// Scratch: the touching points gathered for friction.
+    batch: Batch,
 }
 
 impl std::fmt::Debug for ContactPair {
@@ -300,13 +261,15 @@ impl ContactPair {
             tool: spec.tool,
             needs,
             integrator,
-            penalty: spec.penalty,
-            search_margin: spec.search_margin,
-            max_penetration: spec.max_penetration,
-            skip_far: spec.skip_far,
+            settings: Settings {
+                penalty: spec.penalty,
+                search_margin: spec.search_margin,
+                max_penetration: spec.max_penetration,
+                skip_far: spec.skip_far,
+            },
             nodes,
             stiffness,
-            hint: vec![None; m],
+            last: LastProjection::new(m),
             friction: vec![PointState::default(); m],
             n_old: vec![Vec3::zeros(); m],
             force: vec![Vec3::zeros(); m],
@@ -322,15 +285,11 @@ impl ContactPair {
             projections: 0,
             skipped: 0,
             timing: ContactTiming::default(),
-            far_dist: vec![f64::NEG_INFINITY; m],
-            far_local: vec![Vec3::zeros(); m],
-            cand: Vec::with_capacity(m),
-            near: Vec::with_capacity(m),
-            active: Vec::with_capacity(m),
-            touch: Vec::with_capacity(m),
-            inputs: Vec::with_capacity(m),
-            states: Vec::with_capacity(m),
-            outputs: Vec::with_capacity(m),
+            cand: Candidates {
+                points: Vec::with_capacity(m),
+                near: Vec::with_capacity(m),
+            },
+            batch: Batch::with_capacity(m),
         })
     }
 
@@ -382,267 +341,72 @@ impl ContactPair {
         dt: f64,
         forces: &mut [Vec3],
     ) -> Result<(), ContactError> {
-        let t_start = Instant::now();
-        let bbox = tool.bounding_box();
-        let pose = tool.pose();
-        let origin = pose.translation;
-        let to_local = pose.rotation.transpose();
-        let tool_vel = tool.velocity();
-        let tool_rotation = if self.needs.contains(PointNeeds::TOOL_ROTATION) {
-            // The rigid rotation of the step (Hughes–Winget / Cayley of Δt ω).
-            let a = tool_vel.angular * (0.5 * dt);
-            Mat3::from_columns(&[
-                cayley_rotate(&a, &Vec3::x()),
-                cayley_rotate(&a, &Vec3::y()),
-                cayley_rotate(&a, &Vec3::z()),
-            ])
-        } else {
-            Mat3::identity()
-        };
-        let want_l = self.needs.contains(PointNeeds::SPIN)
-            || self.needs.contains(PointNeeds::VELOCITY_GRADIENT);
-        let want_f = self.needs.contains(PointNeeds::DEFORMATION_GRADIENT);
-        let want_flow = self.needs.contains(PointNeeds::FLOW_STRESS);
-
-        self.active.clear();
-        self.touch.clear();
-        self.inputs.clear();
+        let mut t = Instant::now();
         self.reaction = Reaction::default();
         self.clamped = false;
         self.penetration_max = 0.0;
-        let mut stored = 0.0;
+        let at = ToolStep::new(tool, self.needs, dt);
+        let (settings, needs, name) = (self.settings, self.needs, self.name.as_str());
         let k_t = self.integrator.stick_stiffness();
+        let (nodes, stiffness) = (&self.nodes, &self.stiffness);
+        let (last, cand, batch) = (&mut self.last, &mut self.cand, &mut self.batch);
+        let mut points = points_mut!(self);
 
-        // 1a. Candidates: inside the bounding-box margin, and not provably out
-        //     of reach since their last projection (`skip_far`).
-        self.cand.clear();
-        for k in 0..self.nodes.len() {
-            let i = self.nodes[k] as usize;
-            let x = blank.x[i];
-            let half = 0.5 * blank.thickness[i];
-            if bbox.distance(&x) > half + self.search_margin {
-                self.open(k);
-                continue;
-            }
-            if self.skip_far && self.status[k] == PointStatus::Open {
-                // The distance from a rigidly moving surface is 1-Lipschitz in
-                // the point's position in the surface's own frame, so
-                // |d_now| ≥ |d_then| − |x_local,now − x_local,then|.
-                let moved = (to_local * (x - origin) - self.far_local[k]).norm();
-                let reach = half.max(self.max_penetration * blank.thickness[i] - half);
-                if self.far_dist[k] - moved > reach + self.search_margin + SKIP_TOL {
-                    self.skipped += 1;
-                    continue;
-                }
-            }
-            self.cand.push(k as u32);
-        }
-        let t_broad = Instant::now();
-        self.timing.broad_phase += (t_broad - t_start).as_secs_f64();
-
-        // 1b. Project the candidates (in parallel for many: each answer lands
-        //     in its own slot, so the result does not depend on the threads).
-        self.project_candidates(tool, blank.x)?;
-        self.projections += self.cand.len() as u64;
-        let t_projection = Instant::now();
-        self.timing.projection += (t_projection - t_broad).as_secs_f64();
-
-        // 1c. Gap and pressure, in node order; gather the touching points.
-        for j in 0..self.cand.len() {
-            let k = self.cand[j] as usize;
-            let i = self.nodes[k] as usize;
-            let x = blank.x[i];
-            let half = 0.5 * blank.thickness[i];
-            let pr = self.near[j];
-            self.hint[k] = Some(pr.hint);
-            if self.skip_far {
-                self.far_dist[k] = pr.distance.abs();
-                self.far_local[k] = to_local * (x - origin);
-            }
-            let gap = pr.distance - half;
-            if gap >= 0.0 || -gap > self.max_penetration * blank.thickness[i] {
-                self.open(k);
-                continue;
-            }
-            let area = geometry.area[i];
-            if area.is_nan() || area <= 0.0 {
-                self.open(k);
-                continue;
-            }
-            let n_new = pr.normal;
-            let arm = x - n_new * half - origin;
-            let v_tool = tool_vel.linear + tool_vel.angular.cross(&arm);
-            let v_rel = blank.v[i] - v_tool;
-            let mut f_n = self.stiffness[k] * (-gap);
-            if self.penalty.damping > 0.0 {
-                let c = 2.0 * self.penalty.damping * (self.stiffness[k] * blank.mass[i]).sqrt();
-                // Approaching velocity is -v_rel·n > 0; damping resists it, never pulls.
-                f_n = (f_n - c * v_rel.dot(&n_new)).max(0.0);
-            }
-            stored += 0.5 * self.stiffness[k] * gap * gap;
-            self.penetration_max = self.penetration_max.max(-gap);
-            self.reaction.stiffness += self.stiffness[k];
-            let n_old = if self.status[k] == PointStatus::Open {
-                n_new
-            } else {
-                self.n_old[k]
-            };
-            let mut kin = StepKinematics::simple(dt, n_old, n_new);
-            kin.tool_rotation = tool_rotation;
-            if want_l {
-                kin.vel_grad = geometry.vel_grad[i];
-            }
-            if want_f {
-                kin.f_old = geometry.f_old[i];
-                kin.f_new = geometry.f_new[i];
-            }
-            let mut input = StepInput::new(f_n / area, v_rel * dt, kin);
-            if want_flow && let Some((top, bottom)) = blank.flow_stress {
-                // The tool normal points towards the blank: a tool on the +n_blank
-                // side has n_tool·n_blank < 0 and touches the top fibre.
-                input.flow_stress = if n_new.dot(&geometry.normal[i]) < 0.0 {
-                    top[i]
-                } else {
-                    bottom[i]
-                };
-            }
-            self.touch.push((arm, v_tool));
-            self.active.push(k as u32);
-            self.inputs.push(input);
-        }
-        let t_normal = Instant::now();
-        self.timing.normal += (t_normal - t_projection).as_secs_f64();
-
-        // 2. Friction for the gathered points: one batch, or chunks in
-        //    parallel for many (the points are independent, each lands in its
-        //    own slot).
-        self.states.clear();
-        self.states
-            .extend(self.active.iter().map(|&k| self.friction[k as usize]));
-        self.outputs.clear();
-        self.outputs
-            .resize(self.active.len(), StepOutput::default());
-        let integrator = self.integrator.as_ref();
-        let done = if parallel(self.active.len()) {
-            self.states
-                .par_chunks_mut(FRICTION_CHUNK)
-                .zip(self.inputs.par_chunks(FRICTION_CHUNK))
-                .zip(self.outputs.par_chunks_mut(FRICTION_CHUNK))
-                .try_for_each(|((s, i), o)| integrator.step_batch(s, i, o))
-        } else {
-            integrator.step_batch(&mut self.states, &self.inputs, &mut self.outputs)
+        // 1a. Broad phase: the candidates.
+        self.skipped += broad_phase(&settings, &at, blank, nodes, last, &mut points, cand);
+        lap(&mut t, &mut self.timing.broad_phase);
+        // 1b. Narrow phase: project them.
+        narrow_phase(tool, blank.x, nodes, &last.hint, cand, name)?;
+        self.projections += cand.points.len() as u64;
+        lap(&mut t, &mut self.timing.projection);
+        // 1c. Normal: gap and pressure; gather the touching points.
+        let normal = Normal {
+            settings: &settings,
+            tool: &at,
+            needs,
+            geometry,
+            blank,
+            dt,
         };
-        if let Err(batch) = done {
-            // Name the first point refused, with its own error: re-run point by point.
-            let mut first = (0, batch);
-            for (j, &k) in self.active.iter().enumerate() {
-                let mut s = self.friction[k as usize];
-                if let Err(e) = integrator.step(&mut s, &self.inputs[j]) {
-                    first = (self.nodes[k as usize] as usize, e);
-                    break;
-                }
-            }
-            return Err(ContactError::Friction {
-                pair: self.name.clone(),
-                node: first.0,
-                source: Box::new(first.1),
-            });
-        }
-
-        let t_friction = Instant::now();
-        self.timing.friction += (t_friction - t_normal).as_secs_f64();
-
+        let contact = normal.run(nodes, stiffness, cand, last, &mut points, batch);
+        lap(&mut t, &mut self.timing.normal);
+        // 2. Friction on the gathered points.
+        friction(
+            self.integrator.as_ref(),
+            points.friction,
+            nodes,
+            batch,
+            name,
+        )?;
+        lap(&mut t, &mut self.timing.friction);
         // 3. Scatter forces, reactions, energies.
-        let mut friction = 0.0;
-        let mut blank_work = 0.0;
-        let mut tool_work = 0.0;
-        for (j, &k) in self.active.iter().enumerate() {
-            let k = k as usize;
-            let i = self.nodes[k] as usize;
-            let out = &self.outputs[j];
-            let area = geometry.area[i];
-            let normal = self.inputs[j].kin.n_new;
-            let (arm, v_tool) = self.touch[j];
-            let p = self.inputs[j].p;
-            let f = (normal * p + out.t) * area;
-            forces[i] += f;
-            self.reaction.force -= f;
-            self.reaction.moment -= arm.cross(&f);
-            let f_mid = 0.5 * (f + self.force[k]);
-            blank_work += f_mid.dot(&(blank.v[i] * dt));
-            tool_work += f_mid.dot(&(v_tool * dt));
-            friction += out.dissipation * area;
-            if k_t > 0.0 {
-                stored += 0.5 * out.t.norm_squared() * area / k_t;
-            }
-            self.friction[k] = self.states[j];
-            self.n_old[k] = normal;
-            self.force[k] = f;
-            self.pressure[k] = p;
-            self.traction[k] = out.t;
-            self.tau_c[k] = out.tau_c;
-            self.slip[k] += out.dgamma;
-            self.status[k] = if out.stick {
-                PointStatus::Stick
-            } else {
-                PointStatus::Slip
-            };
-            self.clamped |= out.clamped;
-        }
-        // Points that opened this step still complete the work of their last force.
-        for k in 0..self.nodes.len() {
-            if self.status[k] == PointStatus::Open && self.force[k] != Vec3::zeros() {
-                let i = self.nodes[k] as usize;
-                let f_mid = 0.5 * self.force[k];
-                blank_work += f_mid.dot(&(blank.v[i] * dt));
-                tool_work += f_mid.dot(&(tool_vel.linear * dt));
-                self.force[k] = Vec3::zeros();
-            }
-        }
-        self.energy.friction += friction;
-        self.energy.blank_work += blank_work;
-        self.energy.tool_work += tool_work;
-        self.energy.stored = stored;
-        self.timing.scatter += t_friction.elapsed().as_secs_f64();
+        let scatter = Scatter {
+            geometry,
+            blank,
+            tool: &at,
+            dt,
+            k_t,
+        };
+        let sums = scatter.run(nodes, batch, &mut points, forces, contact.stored);
+        self.finish(&contact, &sums);
+        lap(&mut t, &mut self.timing.scatter);
         Ok(())
     }
 
-    /// Project the nodes of `self.cand` on `tool` into `self.near` (same
-    /// order), in parallel chunks when there are more than
-    /// [`ContactPair::PARALLEL_MIN_CANDIDATES`]. A failure names the first
-    /// failing node in candidate order, whatever the threads did.
-    fn project_candidates(
-        &mut self,
-        tool: &dyn ToolSurface,
-        x: &[Vec3],
-    ) -> Result<(), ContactError> {
-        let (nodes, hint, cand, near) = (&self.nodes, &self.hint, &self.cand, &mut self.near);
-        near.clear();
-        near.resize(cand.len(), Near::NONE);
-        let one = |k: u32| tool.project(&x[nodes[k as usize] as usize], hint[k as usize]);
-        if parallel(cand.len()) {
-            let done: Result<(), ()> = near
-                .par_chunks_mut(PARALLEL_CHUNK)
-                .zip(cand.par_chunks(PARALLEL_CHUNK))
-                .try_for_each(|(out, ks)| {
-                    for (o, &k) in out.iter_mut().zip(ks) {
-                        *o = Near::of(&one(k).map_err(|_| ())?);
-                    }
-                    Ok(())
-                });
-            if done.is_ok() {
-                return Ok(());
-            }
-        }
-        for (o, &k) in near.iter_mut().zip(cand.iter()) {
-            let pr = one(k).map_err(|source| ContactError::Tool {
-                pair: self.name.clone(),
-                node: nodes[k as usize] as usize,
-                source: Box::new(source),
-            })?;
-            *o = Near::of(&pr);
-        }
-        Ok(())
+    /// Keep the step's sums: the tool's reaction, the deepest penetration,
+    /// the clamp flag and the energies.
+    fn finish(&mut self, contact: &NormalSums, sums: &ScatterSums) {
+        self.reaction = Reaction {
+            force: sums.force,
+            moment: sums.moment,
+            stiffness: contact.stiffness,
+        };
+        self.clamped = sums.clamped;
+        self.penetration_max = contact.penetration_max;
+        self.energy.friction += sums.friction;
+        self.energy.blank_work += sums.blank_work;
+        self.energy.tool_work += sums.tool_work;
+        self.energy.stored = sums.stored;
     }
 
     /// The stable time step of the contact springs of the touching points:
@@ -706,23 +470,20 @@ impl ContactPair {
 
     /// Open every point (the pair is inactive in the current press step).
     pub fn release(&mut self) {
-        for k in 0..self.nodes.len() {
-            self.open(k);
-            self.force[k] = Vec3::zeros();
+        let mut points = points_mut!(self);
+        for k in 0..points.status.len() {
+            points.open(k);
+            points.force[k] = Vec3::zeros();
         }
         self.reaction = Reaction::default();
         self.penetration_max = 0.0;
         self.energy.stored = 0.0;
     }
+}
 
-    /// Mark pair point `k` open: no pressure, no traction, history cleared.
-    fn open(&mut self, k: usize) {
-        if self.status[k] != PointStatus::Open {
-            self.status[k] = PointStatus::Open;
-            self.friction[k] = PointState::default();
-            self.pressure[k] = 0.0;
-            self.traction[k] = Vec3::zeros();
-            self.tau_c[k] = 0.0;
-        }
-    }
+/// Add the time since `start` to `stage` (s) and restart the clock.
+fn lap(start: &mut Instant, stage: &mut f64) {
+    let now = Instant::now();
+    *stage += (now - *start).as_secs_f64();
+    *start = now;
 }

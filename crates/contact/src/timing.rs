@@ -12,15 +12,15 @@ pub struct ContactTiming {
     pub press: f64,
     /// The blank's nodal geometry update (areas, normals, gradients the laws read) (s).
     pub geometry: f64,
-    /// Candidate selection: bounding-box margin and far-node skipping (pair step 1a) (s).
+    /// Candidate selection: bounding-box margin and far-node skipping (pair step 1a, `stages::broad_phase`) (s).
     pub broad_phase: f64,
-    /// Projecting the candidates on the tool (pair step 1b) (s).
+    /// Projecting the candidates on the tool (pair step 1b, `stages::narrow_phase`) (s).
     pub projection: f64,
-    /// Gap, penalty pressure, gathering the touching points (pair step 1c) (s).
+    /// Gap, penalty pressure, gathering the touching points (pair step 1c, `stages::normal`) (s).
     pub normal: f64,
-    /// The friction law's batch return mapping (pair step 2) (s).
+    /// The friction law's batch return mapping (pair step 2, `stages::friction`) (s).
     pub friction: f64,
-    /// Scattering forces, reactions and energies (pair step 3) (s).
+    /// Scattering forces, reactions and energies (pair step 3, `stages::scatter`) (s).
     pub scatter: f64,
 }
 
