@@ -270,8 +270,7 @@ pub fn region(
         .min((dom.u[1] - u) / wu)
         .min((v - dom.v[0]) / wv)
         .min((dom.v[1] - v) / wv);
-    // `!(… >= …)` also refuses a NaN.
-    if !(margin >= REGION_PARAM_MARGIN) {
+    if margin.is_nan() || margin < REGION_PARAM_MARGIN {
         return None;
     }
     let s = surf.point(u, v);
