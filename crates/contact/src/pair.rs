@@ -356,7 +356,8 @@ impl ContactPair {
         self.skipped += broad_phase(&settings, &at, blank, nodes, last, &mut points, cand);
         lap(&mut t, &mut self.timing.broad_phase);
         // 1b. Narrow phase: project them.
-        narrow_phase(tool, blank.x, nodes, &last.hint, cand, name)?;
+        let warm = (&last.hint[..], &last.region[..]);
+        narrow_phase(tool, &at, blank.x, nodes, warm, cand, name)?;
         self.projections += cand.points.len() as u64;
         lap(&mut t, &mut self.timing.projection);
         // 1c. Normal: gap and pressure; gather the touching points.

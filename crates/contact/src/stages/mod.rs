@@ -26,8 +26,8 @@ pub(crate) mod scatter;
 
 use plugins_api::kinematics::cayley_rotate;
 use plugins_api::{
-    Aabb, Mat3, PointNeeds, PointState, ProjectionHint, RigidVelocity, StepInput, StepOutput,
-    ToolSurface, Vec3,
+    Aabb, FlatRegion, Mat3, PointNeeds, PointState, ProjectionHint, RigidVelocity, StepInput,
+    StepOutput, ToolSurface, Vec3,
 };
 
 use crate::PointStatus;
@@ -151,6 +151,9 @@ impl PointsMut<'_> {
 pub(crate) struct LastProjection {
     /// Warm start on the tool; `None` before the first projection.
     pub hint: Vec<Option<ProjectionHint>>,
+    /// The tool's flat region around the last answer, if any
+    /// ([`ToolSurface::flat_region`]).
+    pub region: Vec<Option<FlatRegion>>,
     /// Unsigned distance from the tool (mm; `-∞` before the first).
     pub dist: Vec<f64>,
     /// Position in the tool's local frame then (mm).
@@ -162,6 +165,7 @@ impl LastProjection {
     pub fn new(m: usize) -> Self {
         Self {
             hint: vec![None; m],
+            region: vec![None; m],
             dist: vec![f64::NEG_INFINITY; m],
             local: vec![Vec3::zeros(); m],
         }

@@ -101,6 +101,7 @@ impl Normal<'_> {
     #[inline]
     fn remember(&self, k: usize, i: usize, pr: &Near, last: &mut LastProjection) {
         last.hint[k] = Some(pr.hint);
+        last.region[k] = pr.region;
         if self.settings.skip_far {
             last.dist[k] = pr.distance.abs();
             last.local[k] = self.tool.local(&self.blank.x[i]);
@@ -282,6 +283,7 @@ mod tests {
                 u: 0.0,
                 v: 0.0,
             },
+            region: None,
         };
         Candidates {
             points: (0..m as u32).collect(),
