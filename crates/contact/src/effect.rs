@@ -8,6 +8,7 @@ use fem_core::{
 };
 use plugins_api::{PointNeeds, ToolSurface, Vec3};
 
+use rayon::prelude::*;
 use std::time::Instant;
 
 use crate::tool_log::{ToolSample, ToolStepLog, record};
@@ -68,6 +69,11 @@ pub struct ContactEffect {
     tool_log: Vec<Vec<ToolStepLog>>,
     /// Work of each tool through contact in the current explicit step (N·mm).
     tool_work_step: Vec<f64>,
+    /// Per pair, scratch of a step: whether it is active in the press step,
+    /// its energies before the step, and the error it met.
+    active: Vec<bool>,
+    before: Vec<ContactEnergy>,
+    outcome: Vec<Option<crate::ContactError>>,
     /// Seconds spent moving the tools and updating the nodal geometry (the
     /// pairs keep their own stages).
     timing: ContactTiming,
@@ -127,8 +133,12 @@ impl ContactEffect {
             || pairs
                 .iter()
                 .any(|p| p.nodes().len() > ContactPair::PARALLEL_MIN_CANDIDATES);
+        let m = pairs.len();
         Ok(Self {
             parallel,
+            active: vec![false; m],
+            before: vec![ContactEnergy::default(); m],
+            outcome: (0..m).map(|_| None).collect(),
             tool_log: vec![Vec::new(); tools.len()],
             tool_work_step: vec![0.0; tools.len()],
             reactions: vec![Vec3::zeros(); tools.len()],
@@ -270,16 +280,26 @@ impl ContactEffect {
         let mut tool_work = 0.0;
         let mut blank_work = 0.0;
         self.tool_work_step.iter_mut().for_each(|w| *w = 0.0);
+        for (k, (active, energy)) in self.active.iter_mut().zip(&mut self.before).enumerate() {
+            *active = self.press.as_ref().is_none_or(|p| p.pair_active(k));
+            *energy = self.pairs[k].energy;
+        }
+        step_pairs(
+            PairsStep {
+                tools: &self.tools,
+                geometry: &self.geometry,
+                view: &view,
+                dt: ctx.dt,
+                parallel: self.parallel,
+            },
+            &mut self.pairs,
+            &self.active,
+            &mut self.outcome,
+        )?;
         for (k, pair) in self.pairs.iter_mut().enumerate() {
-            let active = self.press.as_ref().is_none_or(|p| p.pair_active(k));
-            let before = pair.energy;
+            let (active, before) = (self.active[k], self.before[k]);
             if active {
-                let tool = self.tools[pair.tool()].as_ref();
-                pair.step(tool, &self.geometry, &view, ctx.dt, &mut forces.f)
-                    .map_err(|e| FemError::Effect {
-                        effect: "contact".into(),
-                        message: e.to_string(),
-                    })?;
+                pair.add_forces(&mut forces.f);
                 self.reactions[pair.tool()] += pair.reaction.force;
                 let load = &mut self.loads[pair.tool()];
                 load.stiffness += pair.reaction.stiffness;
@@ -324,6 +344,61 @@ impl ContactEffect {
 }
 
 /// Copy `field` into `dst` when another effect writes it.
+/// What every pair of a step reads.
+struct PairsStep<'a> {
+    tools: &'a [Box<dyn ToolSurface>],
+    geometry: &'a BlankGeometry,
+    view: &'a BlankView<'a>,
+    dt: f64,
+    /// Whether the blank is large enough for parallel loops.
+    parallel: bool,
+}
+
+/// Step the `active` pairs ([`ContactPair::step_apart`]): at the same time
+/// on rayon's pool when the blank is large enough for parallel loops and
+/// more than one pair is active (each pair reads the shared tools, blank and
+/// geometry and writes only its own data), else one after the other. The
+/// first error in pair order is returned, whatever the threads did;
+/// `outcome` is per-pair scratch.
+fn step_pairs(
+    s: PairsStep<'_>,
+    pairs: &mut [ContactPair],
+    active: &[bool],
+    outcome: &mut [Option<crate::ContactError>],
+) -> Result<(), FemError> {
+    let one = |pair: &mut ContactPair, active: bool| {
+        if active {
+            let tool = s.tools[pair.tool()].as_ref();
+            pair.step_apart(tool, s.geometry, s.view, s.dt)
+        } else {
+            Ok(())
+        }
+    };
+    outcome.iter_mut().for_each(|o| *o = None);
+    let busy = active.iter().filter(|a| **a).count();
+    if s.parallel && busy > 1 && rayon::current_num_threads() > 1 {
+        outcome
+            .par_iter_mut()
+            .zip(pairs.par_iter_mut())
+            .zip(active.par_iter())
+            .for_each(|((o, pair), &active)| *o = one(pair, active).err());
+    } else {
+        for ((o, pair), &active) in outcome.iter_mut().zip(pairs).zip(active) {
+            *o = one(pair, active).err();
+            if o.is_some() {
+                break;
+            }
+        }
+    }
+    match outcome.iter_mut().find_map(Option::take) {
+        Some(e) => Err(FemError::Effect {
+            effect: "contact".into(),
+            message: e.to_string(),
+        }),
+        None => Ok(()),
+    }
+}
+
 fn copy_field(dst: &mut [f64], fields: &FieldAccess<'_>, field: NodalField) {
     if let Some(src) = fields.read(field) {
         let n = dst.len().min(src.len());

@@ -341,6 +341,26 @@ impl ContactPair {
         dt: f64,
         forces: &mut [Vec3],
     ) -> Result<(), ContactError> {
+        self.step_apart(tool, geometry, blank, dt)?;
+        self.add_forces(forces);
+        Ok(())
+    }
+
+    /// [`ContactPair::step`] but for adding the nodal forces, which stay with
+    /// the pair until [`ContactPair::add_forces`]: pairs can then step at
+    /// the same time (each touches only its own data) and add their forces
+    /// one after the other, in the same order, so the same bits, as
+    /// [`ContactPair::step`] one pair after the other.
+    ///
+    /// # Errors
+    /// As [`ContactPair::step`].
+    pub fn step_apart(
+        &mut self,
+        tool: &dyn ToolSurface,
+        geometry: &BlankGeometry,
+        blank: &BlankView<'_>,
+        dt: f64,
+    ) -> Result<(), ContactError> {
         let mut t = Instant::now();
         self.reaction = Reaction::default();
         self.clamped = false;
@@ -388,10 +408,19 @@ impl ContactPair {
             dt,
             k_t,
         };
-        let sums = scatter.run(nodes, batch, &mut points, forces, contact.stored);
+        let sums = scatter.run(nodes, batch, &mut points, contact.stored);
         self.finish(&contact, &sums);
         lap(&mut t, &mut self.timing.scatter);
         Ok(())
+    }
+
+    /// Add the nodal forces (N) of the touching points of the last
+    /// [`ContactPair::step_apart`] to `forces`, in the points' order.
+    pub fn add_forces(&self, forces: &mut [Vec3]) {
+        for &k in &self.batch.points {
+            let k = k as usize;
+            forces[self.nodes[k] as usize] += self.force[k];
+        }
     }
 
     /// Keep the step's sums: the tool's reaction, the deepest penetration,
@@ -471,6 +500,7 @@ impl ContactPair {
 
     /// Open every point (the pair is inactive in the current press step).
     pub fn release(&mut self) {
+        self.batch.points.clear();
         let mut points = points_mut!(self);
         for k in 0..points.status.len() {
             points.open(k);

@@ -44,22 +44,23 @@ pub(crate) struct ScatterSums {
 }
 
 impl Scatter<'_> {
-    /// Scatter `batch` (points `k`, blank nodes `nodes[k]`) into `forces`
-    /// (N, added) and `points`, then complete the work of the points that
-    /// opened; `stored` seeds [`ScatterSums::stored`].
+    /// Scatter `batch` (points `k`, blank nodes `nodes[k]`) into `points`
+    /// (each point's force `F` in `points.force`, which
+    /// [`crate::ContactPair::add_forces`] adds to the nodes), then complete
+    /// the work of the points that opened; `stored` seeds
+    /// [`ScatterSums::stored`].
     pub fn run(
         &self,
         nodes: &[u32],
         batch: &Batch,
         points: &mut PointsMut<'_>,
-        forces: &mut [Vec3],
         stored: f64,
     ) -> ScatterSums {
         let mut sums = ScatterSums {
             stored,
             ..ScatterSums::default()
         };
-        self.touching(nodes, batch, points, forces, &mut sums);
+        self.touching(nodes, batch, points, &mut sums);
         self.released(nodes, points, &mut sums);
         sums
     }
@@ -70,7 +71,6 @@ impl Scatter<'_> {
         nodes: &[u32],
         batch: &Batch,
         points: &mut PointsMut<'_>,
-        forces: &mut [Vec3],
         sums: &mut ScatterSums,
     ) {
         let dt = self.dt;
@@ -83,7 +83,6 @@ impl Scatter<'_> {
             let (arm, v_tool) = batch.touch[j];
             let p = batch.inputs[j].p;
             let f = (normal * p + out.t) * area;
-            forces[i] += f;
             sums.force -= f;
             sums.moment -= arm.cross(&f);
             let f_mid = 0.5 * (f + points.force[k]);
