@@ -222,10 +222,16 @@ fn main() {
     let c = &timed.inner;
     // Contact does nothing at the initial force computation, so every
     // projection belongs to one of the `steps` steps.
-    let per_pair: Vec<(f64, f64)> = c
+    let per_pair: Vec<(f64, f64, f64)> = c
         .pairs()
         .iter()
-        .map(|p| (p.projections as f64 / steps, p.skipped as f64 / steps))
+        .map(|p| {
+            (
+                p.projections as f64 / steps,
+                p.skipped as f64 / steps,
+                p.flat_answers as f64 / steps,
+            )
+        })
         .collect();
     let total: f64 = per_pair.iter().map(|p| p.0).sum();
     let press = c.press().unwrap();
@@ -252,7 +258,10 @@ fn main() {
         c.pairs()
             .iter()
             .zip(&per_pair)
-            .map(|(p, (done, skipped))| format!("{} {done:.0}, skipped {skipped:.0}", p.name()))
+            .map(|(p, (done, skipped, flat))| format!(
+                "{} {done:.0}, from flat regions {flat:.0}, skipped {skipped:.0}",
+                p.name()
+            ))
             .collect::<Vec<_>>()
             .join("; ")
     );

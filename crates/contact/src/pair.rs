@@ -170,6 +170,9 @@ pub struct ContactPair {
     pub penetration_max: f64,
     /// Projections on the tool so far (all steps).
     pub projections: u64,
+    /// Candidates answered from a flat region of the tool so far, without a
+    /// projection ([`plugins_api::ToolSurface::flat_region`]).
+    pub flat_answers: u64,
     /// Projections skipped so far because the node could not reach the tool
     /// ([`PairSpec::skip_far`]); nodes outside the bounding-box margin are not counted.
     pub skipped: u64,
@@ -283,6 +286,7 @@ impl ContactPair {
             clamped: false,
             penetration_max: 0.0,
             projections: 0,
+            flat_answers: 0,
             skipped: 0,
             timing: ContactTiming::default(),
             cand: Candidates {
@@ -378,7 +382,8 @@ impl ContactPair {
         // 1b. Narrow phase: project them.
         let warm = (&last.hint[..], &last.region[..]);
         narrow_phase(tool, &at, blank.x, nodes, warm, cand, name)?;
-        self.projections += cand.points.len() as u64;
+        self.projections += cand.near.iter().filter(|n| n.projected).count() as u64;
+        self.flat_answers += cand.near.iter().filter(|n| !n.projected).count() as u64;
         lap(&mut t, &mut self.timing.projection);
         // 1c. Normal: gap and pressure; gather the touching points.
         let normal = Normal {

@@ -27,6 +27,8 @@ pub(crate) struct Near {
     pub hint: ProjectionHint,
     /// The flat region the answer lies in, if the tool has one there.
     pub region: Option<FlatRegion>,
+    /// Whether the tool projected the point (else the flat region answered).
+    pub projected: bool,
 }
 
 impl Near {
@@ -40,6 +42,7 @@ impl Near {
             v: f64::NAN,
         },
         region: None,
+        projected: false,
     };
 
     /// What the step keeps of `pr`, and the flat region around it.
@@ -50,6 +53,7 @@ impl Near {
             distance: pr.distance,
             hint,
             region: tool.flat_region(&hint),
+            projected: true,
         }
     }
 
@@ -68,6 +72,7 @@ impl Near {
             distance,
             hint,
             region: Some(*region),
+            projected: false,
         })
     }
 }

@@ -284,6 +284,7 @@ mod tests {
                 v: 0.0,
             },
             region: None,
+            projected: true,
         };
         Candidates {
             points: (0..m as u32).collect(),
