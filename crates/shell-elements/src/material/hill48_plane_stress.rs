@@ -37,10 +37,12 @@
 //!
 //! ## Return mapping
 //! With `C` the isotropic plane-stress elasticity, the closest-point
-//! projection gives `(I + Δλ C P) σ = σ_trial` (a 3×3 solve), and `Δλ ≥ 0`
+//! projection gives `(I + Δλ C P) σ = σ_trial`, diagonal in the basis of
+//! `C P`'s eigenvectors (computed once per material, `Spectral`: Simo &
+//! Taylor's projected return generalised from von Mises' `P`), and `Δλ ≥ 0`
 //! solves `g(Δλ) = σ̄(σ(Δλ)) − σ_y(ε̄_n + Δλ σ̄) = 0` by Newton with its
-//! exact derivative (`dσ/dΔλ = −(I + Δλ C P)⁻¹ C P σ`), safeguarded by
-//! bisection inside a bracket, converged to [`HILL_RETURN_TOL`] relative.
+//! exact derivative, safeguarded by bisection inside a bracket, converged
+//! to [`HILL_RETURN_TOL`] relative.
 //! σ_zz = 0 by construction; the thickness strain increment is that of
 //! J2: `Δε_zz = −ν/(1−ν)(Δε_xx + Δε_yy − tr Δε^p) − tr Δε^p`, `tr Δε^p` the
 //! in-plane trace (plastic incompressibility). Dissipation `σ_y Δε̄`.
@@ -114,7 +116,9 @@ pub fn stress_rotation(theta: f64) -> [[f64; 3]; 3] {
 }
 
 /// Convergence tolerance of the return: `|g| ≤ HILL_RETURN_TOL σ_y` on
-/// `g = σ̄ − σ_y`, or a Newton step below it relative to Δλ.
+/// `g = σ̄ − σ_y`, or a Newton step below it relative to Δλ. The iteration
+/// reads Swift's curve by [`Hardening::eval_from`] (1e-12 relative), so the
+/// returned stress lies on the curve's surface to about 1e-12.
 pub const HILL_RETURN_TOL: f64 = 1e-14;
 
 /// Anisotropic (Hill'48) plane-stress plasticity with a [`Hardening`] curve.
@@ -134,6 +138,44 @@ pub struct Hill48PlaneStress {
     nu_ratio: f64,
     /// `P` in the element frame (`Tᵀ P T`).
     p: [[f64; 3]; 3],
+    /// The return's spectral basis (see [`Spectral`]).
+    spec: Spectral,
+}
+
+/// `C P = V Λ V⁻¹` with `V = C^½ Q`, `Q Λ Qᵀ = C^½ P C^½` (symmetric,
+/// eigenvalues λ_i ≥ 0), so that `VᵀPV = Λ`: with `y = V⁻¹ σ_trial`, the
+/// returned stress is `σ(Δλ) = V (y_i / (1 + Δλ λ_i))` and
+/// `σ̄² = Σ λ_i y_i² / (1 + Δλ λ_i)²` — J2's closed form (Simo & Taylor's
+/// `p`, `q` basis) for any `P`, computed once per material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Spectral {
+    v: [[f64; 3]; 3],
+    v_inv: [[f64; 3]; 3],
+    lam: [f64; 3],
+}
+
+impl Spectral {
+    fn new(c11: f64, c12: f64, shear: f64, p: &[[f64; 3]; 3]) -> Self {
+        // C^{±½}: the 2×2 block has eigenvectors (1, ±1)/√2.
+        let root = |e: f64| {
+            let (a, b) = ((c11 + c12).powf(e), (c11 - c12).powf(e));
+            let (d, o) = (0.5 * (a + b), 0.5 * (a - b));
+            [[d, o, 0.0], [o, d, 0.0], [0.0, 0.0, shear.powf(e)]]
+        };
+        let (half, inv_half) = (root(0.5), root(-0.5));
+        let sm = mat_mul(&mat_mul(&half, p), &half);
+        let eig = nalgebra::SymmetricEigen::new(nalgebra::Matrix3::from_fn(|i, j| {
+            0.5 * (sm[i][j] + sm[j][i])
+        }));
+        let q: [[f64; 3]; 3] =
+            std::array::from_fn(|i| std::array::from_fn(|j| eig.eigenvectors[(i, j)]));
+        let qt: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| q[j][i]));
+        Self {
+            v: mat_mul(&half, &q),
+            v_inv: mat_mul(&qt, &inv_half),
+            lam: std::array::from_fn(|i| eig.eigenvalues[i].max(0.0)),
+        }
+    }
 }
 
 /// History of one integration point of [`Hill48PlaneStress`].
@@ -176,6 +218,12 @@ impl Hill48PlaneStress {
             c12: poisson * c11,
             nu_ratio: poisson / (1.0 - poisson),
             p: coeffs.matrix(),
+            spec: Spectral::new(
+                c11,
+                poisson * c11,
+                young / (2.0 * (1.0 + poisson)),
+                &coeffs.matrix(),
+            ),
         })
     }
 
@@ -193,6 +241,7 @@ impl Hill48PlaneStress {
             })
         });
         self.angle = theta;
+        self.spec = Spectral::new(self.c11, self.c12, self.shear, &self.p);
         Ok(self)
     }
 
@@ -226,41 +275,35 @@ impl Hill48PlaneStress {
         ]
     }
 
-    /// `C P` (3×3).
-    fn cp(&self) -> [[f64; 3]; 3] {
-        let c = [
-            [self.c11, self.c12, 0.0],
-            [self.c12, self.c11, 0.0],
-            [0.0, 0.0, self.shear],
-        ];
-        mat_mul(&c, &self.p)
-    }
-
     /// Solve the return for a yielding trial stress `t` from history `h`:
-    /// `(Δλ, σ, ε̄ increment, σ_y at the new ε̄)`.
+    /// `(σ, Δλ, ε̄ increment, σ_y at the new ε̄)`.
     fn return_map(&self, t: [f64; 3], h: &Hill48History) -> ([f64; 3], f64, f64, f64) {
-        let cp = self.cp();
-        // σ, σ̄, dσ̄/dΔλ at Δλ.
+        let Spectral { v, v_inv, lam } = &self.spec;
+        let y = mat_vec(v_inv, &t);
+        let a: [f64; 3] = std::array::from_fn(|i| lam[i] * y[i] * y[i]);
+        // σ̄ and dσ̄/dΔλ at Δλ.
         let at = |dl: f64| {
-            let a: [[f64; 3]; 3] =
-                std::array::from_fn(|i| std::array::from_fn(|j| id(i, j) + dl * cp[i][j]));
-            let inv = inverse(&a);
-            let s = mat_vec(&inv, &t);
-            let phi = quad(&self.p, &s).sqrt();
-            let ds = mat_vec(&inv, &mat_vec(&cp, &s)).map(|x| -x);
-            let dphi = dot(&mat_vec(&self.p, &s), &ds) / phi;
-            (s, phi, dphi)
+            let f: [f64; 3] = std::array::from_fn(|i| 1.0 / (1.0 + dl * lam[i]));
+            let phi2 = (0..3).map(|i| a[i] * f[i] * f[i]).sum::<f64>();
+            let dphi2 = (0..3)
+                .map(|i| -2.0 * a[i] * lam[i] * f[i] * f[i] * f[i])
+                .sum::<f64>();
+            let phi = phi2.sqrt();
+            (phi, 0.5 * dphi2 / phi)
         };
+        let stress = |dl: f64| mat_vec(v, &std::array::from_fn(|i| y[i] / (1.0 + dl * lam[i])));
         let sy0 = h.sigma_y;
         let (mut lo, mut hi) = (0.0, f64::INFINITY);
         let mut dl = 0.0;
         for _ in 0..200 {
-            let (s, phi, dphi) = at(dl);
+            let (phi, dphi) = at(dl);
             let d = dl * phi;
-            let (sy, hm) = self.hardening.eval(h.eps_p + d);
+            // From the cached flow stress (Swift: no `powf` for small
+            // increments, 1e-12 relative); the curve itself at the end.
+            let (sy, hm) = self.hardening.eval_from(h.eps_p, sy0, d);
             let g = phi - sy;
             if g.abs() <= HILL_RETURN_TOL * sy0 {
-                return (s, dl, d, sy);
+                break;
             }
             if g > 0.0 {
                 lo = dl;
@@ -277,18 +320,13 @@ impl Hill48PlaneStress {
                 };
             }
             if (next - dl).abs() <= HILL_RETURN_TOL * next {
-                let (s, phi, _) = at(next);
-                return (
-                    s,
-                    next,
-                    next * phi,
-                    self.hardening.eval(h.eps_p + next * phi).0,
-                );
+                dl = next;
+                break;
             }
             dl = next;
         }
-        let (s, phi, _) = at(dl);
-        (s, dl, dl * phi, self.hardening.eval(h.eps_p + dl * phi).0)
+        let d = dl * at(dl).0;
+        (stress(dl), dl, d, self.hardening.eval(h.eps_p + d).0)
     }
 }
 
@@ -350,10 +388,6 @@ impl Material for Hill48PlaneStress {
     }
 }
 
-fn id(i: usize, j: usize) -> f64 {
-    if i == j { 1.0 } else { 0.0 }
-}
-
 fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -369,19 +403,6 @@ fn mat_mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
 /// `vᵀ M v`.
 fn quad(m: &[[f64; 3]; 3], v: &[f64; 3]) -> f64 {
     dot(v, &mat_vec(m, v))
-}
-
-/// Inverse of a 3×3 matrix by its adjugate (the return's `I + Δλ C P` has
-/// eigenvalues ≥ 1, so it is never singular).
-fn inverse(a: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let cof = |i: usize, j: usize| {
-        let (r0, r1) = ((i + 1) % 3, (i + 2) % 3);
-        let (c0, c1) = ((j + 1) % 3, (j + 2) % 3);
-        a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0]
-    };
-    let det = a[0][0] * cof(0, 0) + a[0][1] * cof(0, 1) + a[0][2] * cof(0, 2);
-    let inv_det = 1.0 / det;
-    std::array::from_fn(|i| std::array::from_fn(|j| cof(j, i) * inv_det))
 }
 
 #[cfg(test)]

@@ -204,7 +204,8 @@ fn plastic_steps_end_on_the_yield_surface_with_non_negative_dissipation() {
 /// J2PlaneStress's answer — stresses relative to σ_vm, ε_p, and the
 /// thickness strain increment and dissipation relative to the strain scale
 /// `|Δε| + σ_vm/E` (times σ_vm) — to [`J2_ACCURACY`], while Hill's own
-/// stress lies on its surface to 1e-13.
+/// stress lies on its surface to 1e-12 (the
+/// series of `Hardening::eval_from`).
 ///
 /// The brief asked 1e-10; J2's return is converged only to
 /// `|σ_vm/σ_y − 1| ≤ 5e-10` (`RETURN_CLOSE`'s documentation; 1.3e-10
@@ -248,7 +249,7 @@ fn isotropic_r_values_give_j2_plane_stress() {
             }
             if u.dissipation > 0.0 {
                 let own = (m.equivalent_stress(&s) / h.sigma_y - 1.0).abs();
-                assert!(own <= 1e-13, "Hill's own surface miss {own:e}");
+                assert!(own <= 1e-12, "Hill's own surface miss {own:e}");
             }
         }
         assert!(hj.eps_p > 0.01, "the path is plastic: {}", hj.eps_p);
