@@ -12,7 +12,8 @@ mod j2_plane_stress;
 
 pub use hardening::Hardening;
 pub use hill48_plane_stress::{
-    HILL_RETURN_TOL, Hill48History, Hill48PlaneStress, HillCoefficients, stress_rotation,
+    HILL_RETURN_CLOSE, HILL_RETURN_TOL, Hill48History, Hill48PlaneStress, HillCoefficients,
+    stress_rotation,
 };
 pub use j2_plane_stress::{J2History, J2PlaneStress, RETURN_CLOSE, RETURN_TOL};
 
