@@ -167,4 +167,88 @@ mod tests {
             }
         }
     }
+
+    /// The rolling angle carries the axes into the shells' frame with the
+    /// right sign: one Belytschko–Tsay element with Hill'48 (steel r-values,
+    /// RD = global x), square and aligned with x or turned by 30° (so its
+    /// e1 is at 30° and its rolling angle −30°), under the same homogeneous
+    /// in-plane velocity gradient (stretch along x, contraction and shear)
+    /// reaches the same stress in global axes, to 1e-9 of its size. With the
+    /// angle's sign reversed the turned element's axes would be at 60° from
+    /// x, and the stresses differ by percents (checked below).
+    #[test]
+    fn hill_shell_response_does_not_depend_on_the_elements_orientation() {
+        use fem_core::{Effect, FieldAccess, Forces, NodalState, StepContext};
+        use shell_elements::material::Hill48PlaneStress;
+        use shell_elements::{BelytschkoTsay, Hardening, Section, ShellSet};
+        let global_stress = |turn: f64, sign: f64| {
+            let (s, c) = turn.sin_cos();
+            let corners = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+            let nodes: Vec<Vec3> = corners
+                .iter()
+                .map(|p| Vec3::new(c * p[0] - s * p[1], s * p[0] + c * p[1], 0.0))
+                .collect();
+            let mesh = Mesh {
+                nodes: nodes.clone(),
+                quads: vec![[0, 1, 2, 3]],
+                ..rectangle(1.0, 1.0, 1, 1).unwrap()
+            };
+            let angle = rolling_angle(&mesh).unwrap();
+            let hardening = Hardening::swift(565.32, 0.007117, 0.2589).unwrap();
+            let mat = Hill48PlaneStress::new(206e3, 0.3, 7.85e-9, hardening, [1.79, 1.51, 2.27])
+                .and_then(|m| m.with_rolling_angle(sign * angle))
+                .unwrap();
+            let section = Section::new(0.78).unwrap();
+            let mut set = ShellSet::new(
+                "one",
+                &nodes,
+                &mesh.quads,
+                section,
+                BelytschkoTsay::default(),
+                mat,
+            )
+            .unwrap();
+            let mut state = NodalState::at_rest(&nodes);
+            for (v, p) in state.v.iter_mut().zip(&nodes) {
+                *v = Vec3::new(p.x + 0.2 * p.y, -0.4 * p.y, 0.0);
+            }
+            let mut forces = Forces::zeros(nodes.len());
+            let ctx = StepContext {
+                time: 0.0,
+                dt: 1e-4,
+                step: 1,
+            };
+            for _ in 0..200 {
+                forces.clear();
+                set.add_forces(&ctx, &state, &mut forces, &mut FieldAccess::none())
+                    .unwrap();
+            }
+            assert!(set.plastic_strain(0, 0, 2) > 0.005, "plastic");
+            let x = nodes.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>();
+            let [e1, e2, _] = corotational_basis(&[x[0], x[1], x[2], x[3]]);
+            let sl = set.stress(0, 0, 2);
+            // σ_global = R σ_local Rᵀ (in-plane 2×2), R's columns e1, e2.
+            let t = [[sl[0], sl[2]], [sl[2], sl[1]]];
+            let r = [[e1[0], e2[0]], [e1[1], e2[1]]];
+            let g = |i: usize, j: usize| -> f64 {
+                (0..2)
+                    .map(|a| (0..2).map(|b| r[i][a] * t[a][b] * r[j][b]).sum::<f64>())
+                    .sum()
+            };
+            [g(0, 0), g(1, 1), g(0, 1)]
+        };
+        let aligned = global_stress(0.0, 1.0);
+        let turned = global_stress(30f64.to_radians(), 1.0);
+        let size = aligned.iter().map(|c| c.abs()).fold(0.0, f64::max);
+        for c in 0..3 {
+            let miss = (aligned[c] - turned[c]).abs() / size;
+            assert!(miss <= 1e-9, "{aligned:?} vs {turned:?}");
+        }
+        let wrong = global_stress(30f64.to_radians(), -1.0);
+        let off = (0..3)
+            .map(|c| (aligned[c] - wrong[c]).abs())
+            .fold(0.0, f64::max)
+            / size;
+        assert!(off > 1e-3, "a reversed angle must show: {off:e}");
+    }
 }
