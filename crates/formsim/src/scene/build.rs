@@ -33,7 +33,9 @@ pub trait ShellView {
     fn outer_flow_stress(&self, e: usize) -> [f64; 2];
     /// Logarithmic membrane strain of element `e`.
     fn membrane_strain(&self, e: usize, state: &NodalState) -> LogStrain;
-    /// Largest von Mises stress over the element's integration points (MPa).
+    /// Largest von Mises stress over the element's integration points
+    /// (MPa); von Mises whatever the material (a Hill'48 blank's own
+    /// equivalent stress is not this field).
     fn von_mises_max(&self, e: usize) -> f64;
     /// Largest equivalent plastic strain over the element's integration points (-).
     fn plastic_strain_max(&self, e: usize) -> f64;
@@ -57,7 +59,7 @@ impl<E: ShellFormulation, M: Material> ShellView for ShellSet<E, M> {
         let mut m: f64 = 0.0;
         for p in 0..E::IN_PLANE_POINTS {
             for k in 0..n {
-                m = m.max(self.von_mises(e, p, k));
+                m = m.max(shell_elements::von_mises(&self.stress(e, p, k)));
             }
         }
         m
