@@ -13,8 +13,9 @@ use fem_core::{
     PressStep, Solver, SolverSettings, StepEnd, ToolMotion, Vec3,
 };
 use plugins_api::{Params, TangentMode, ToolSurface};
+use shell_elements::material::Hill48PlaneStress;
 use shell_elements::{
-    BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, LogStrain, Section,
+    BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, LogStrain, Material, Section,
     ShellFormulation, ShellSet,
 };
 
@@ -32,13 +33,15 @@ pub trait ShellView {
     fn outer_flow_stress(&self, e: usize) -> [f64; 2];
     /// Logarithmic membrane strain of element `e`.
     fn membrane_strain(&self, e: usize, state: &NodalState) -> LogStrain;
-    /// Largest von Mises stress over the element's integration points (MPa).
+    /// Largest von Mises stress over the element's integration points
+    /// (MPa); von Mises whatever the material (a Hill'48 blank's own
+    /// equivalent stress is not this field).
     fn von_mises_max(&self, e: usize) -> f64;
     /// Largest equivalent plastic strain over the element's integration points (-).
     fn plastic_strain_max(&self, e: usize) -> f64;
 }
 
-impl<E: ShellFormulation> ShellView for ShellSet<E, J2PlaneStress> {
+impl<E: ShellFormulation, M: Material> ShellView for ShellSet<E, M> {
     fn len(&self) -> usize {
         ShellSet::len(self)
     }
@@ -56,7 +59,7 @@ impl<E: ShellFormulation> ShellView for ShellSet<E, J2PlaneStress> {
         let mut m: f64 = 0.0;
         for p in 0..E::IN_PLANE_POINTS {
             for k in 0..n {
-                m = m.max(self.von_mises(e, p, k));
+                m = m.max(shell_elements::von_mises(&self.stress(e, p, k)));
             }
         }
         m
@@ -76,10 +79,14 @@ impl<E: ShellFormulation> ShellView for ShellSet<E, J2PlaneStress> {
 /// Which shell effect holds the blank.
 #[derive(Debug, Clone, Copy)]
 pub enum ShellHandle {
-    /// Belytschko–Tsay shells.
+    /// Belytschko–Tsay shells, J2.
     BelytschkoTsay(EffectId),
-    /// Fully integrated shells.
+    /// Fully integrated shells, J2.
     FullyIntegrated(EffectId),
+    /// Belytschko–Tsay shells, Hill'48.
+    BelytschkoTsayHill(EffectId),
+    /// Fully integrated shells, Hill'48.
+    FullyIntegratedHill(EffectId),
 }
 
 /// The tool whose travel is the stroke.
@@ -139,14 +146,103 @@ impl Model {
 
 /// The shell effect behind `handle`, read through [`ShellView`].
 fn shells_of(solver: &Solver, handle: ShellHandle) -> &dyn ShellView {
-    match handle {
-        ShellHandle::BelytschkoTsay(id) => solver
-            .effect::<ShellSet<BelytschkoTsay, J2PlaneStress>>(id)
-            .expect("the model's shell effect has this type"),
-        ShellHandle::FullyIntegrated(id) => solver
-            .effect::<ShellSet<FullyIntegrated, J2PlaneStress>>(id)
-            .expect("the model's shell effect has this type"),
+    fn get<E: ShellFormulation, M: Material>(solver: &Solver, id: EffectId) -> &dyn ShellView {
+        solver
+            .effect::<ShellSet<E, M>>(id)
+            .expect("the model's shell effect has this type")
     }
+    match handle {
+        ShellHandle::BelytschkoTsay(id) => get::<BelytschkoTsay, J2PlaneStress>(solver, id),
+        ShellHandle::FullyIntegrated(id) => get::<FullyIntegrated, J2PlaneStress>(solver, id),
+        ShellHandle::BelytschkoTsayHill(id) => get::<BelytschkoTsay, Hill48PlaneStress>(solver, id),
+        ShellHandle::FullyIntegratedHill(id) => {
+            get::<FullyIntegrated, Hill48PlaneStress>(solver, id)
+        }
+    }
+}
+
+/// The blank's material and shells, added to `solver`: J2, or Hill'48 when
+/// `blank.material.r_values` is given (see [`super::material`]).
+fn add_shells(
+    loaded: &LoadedScene,
+    solver: &mut Solver,
+    mesh: &Mesh,
+) -> Result<ShellHandle, SceneError> {
+    let s: &Scene = &loaded.scene;
+    let m = &s.blank.material;
+    let hardening = match &m.hardening {
+        HardeningSpec::Swift { k, eps0, n } => Hardening::swift(*k, *eps0, *n),
+        HardeningSpec::Table { eps_p, sigma_y } => Hardening::table(
+            &eps_p
+                .iter()
+                .zip(sigma_y)
+                .map(|(a, b)| (*a, *b))
+                .collect::<Vec<_>>(),
+        ),
+        HardeningSpec::Perfect { sigma_y } => Hardening::swift(*sigma_y, 1.0, 0.0),
+        HardeningSpec::Elastic => Hardening::swift(1e30, 1.0, 0.0),
+    }
+    .map_err(|e| loaded.key_error("blank.material.hardening", e.to_string()))?;
+    let section = Section::new(s.blank.thickness)
+        .and_then(|sec| sec.with_rule(shell_elements::RuleKind::Gauss, s.blank.integration_points))
+        .and_then(|sec| sec.with_hourglass(s.blank.hourglass))
+        .map_err(|e| loaded.key_error("blank", e.to_string()))?;
+    let bad_material =
+        |e: shell_elements::ShellError| loaded.key_error("blank.material", e.to_string());
+    let (young, nu, rho) = (m.youngs_modulus, m.poissons_ratio, m.density);
+    let Some(r) = m.r_values else {
+        let material = J2PlaneStress::new(young, nu, rho, hardening).map_err(bad_material)?;
+        return Ok(match add_set(loaded, solver, mesh, section, material)? {
+            (ElementKind::BelytschkoTsay, id) => ShellHandle::BelytschkoTsay(id),
+            (ElementKind::FullyIntegrated, id) => ShellHandle::FullyIntegrated(id),
+        });
+    };
+    let angle = super::material::rolling_angle(mesh)
+        .map_err(|e| loaded.key_error("blank.material.r_values", e))?;
+    let material = Hill48PlaneStress::new(young, nu, rho, hardening, r)
+        .and_then(|m| m.with_rolling_angle(angle))
+        .map_err(bad_material)?;
+    Ok(match add_set(loaded, solver, mesh, section, material)? {
+        (ElementKind::BelytschkoTsay, id) => ShellHandle::BelytschkoTsayHill(id),
+        (ElementKind::FullyIntegrated, id) => ShellHandle::FullyIntegratedHill(id),
+    })
+}
+
+/// The blank's shell set of the scene's element and `material`, added to `solver`.
+fn add_set<M: Material>(
+    loaded: &LoadedScene,
+    solver: &mut Solver,
+    mesh: &Mesh,
+    section: Section,
+    material: M,
+) -> Result<(ElementKind, EffectId), SceneError> {
+    let b = &loaded.scene.blank;
+    let bad = |key: &str, e: shell_elements::ShellError| loaded.key_error(key, e.to_string());
+    let id = match b.element {
+        ElementKind::BelytschkoTsay => {
+            let form = BelytschkoTsay {
+                warping_correction: b.warping_correction,
+                ..BelytschkoTsay::default()
+            }
+            .with_drilling(b.drilling)
+            .map_err(|e| bad("blank.drilling", e))?;
+            let set = ShellSet::new("blank", &mesh.nodes, &mesh.quads, section, form, material)
+                .map_err(|e| bad("blank", e))?;
+            solver.add_effect(set)
+        }
+        ElementKind::FullyIntegrated => {
+            let form = FullyIntegrated {
+                warping_correction: b.warping_correction,
+                ..FullyIntegrated::default()
+            }
+            .with_drilling(b.drilling)
+            .map_err(|e| bad("blank.drilling", e))?;
+            let set = ShellSet::new("blank", &mesh.nodes, &mesh.quads, section, form, material)
+                .map_err(|e| bad("blank", e))?;
+            solver.add_effect(set)
+        }
+    };
+    Ok((b.element, id))
 }
 
 /// Build the model of `loaded`.
@@ -171,64 +267,7 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
         Solver::new(&mesh, settings).map_err(|e| loaded.key_error("solver", e.to_string()))?;
 
     // Material and shells.
-    let m = &s.blank.material;
-    let hardening = match &m.hardening {
-        HardeningSpec::Swift { k, eps0, n } => Hardening::swift(*k, *eps0, *n),
-        HardeningSpec::Table { eps_p, sigma_y } => Hardening::table(
-            &eps_p
-                .iter()
-                .zip(sigma_y)
-                .map(|(a, b)| (*a, *b))
-                .collect::<Vec<_>>(),
-        ),
-        HardeningSpec::Perfect { sigma_y } => Hardening::swift(*sigma_y, 1.0, 0.0),
-        HardeningSpec::Elastic => Hardening::swift(1e30, 1.0, 0.0),
-    }
-    .map_err(|e| loaded.key_error("blank.material.hardening", e.to_string()))?;
-    let material = J2PlaneStress::new(m.youngs_modulus, m.poissons_ratio, m.density, hardening)
-        .map_err(|e| loaded.key_error("blank.material", e.to_string()))?;
-    let section = Section::new(s.blank.thickness)
-        .and_then(|sec| sec.with_rule(shell_elements::RuleKind::Gauss, s.blank.integration_points))
-        .and_then(|sec| sec.with_hourglass(s.blank.hourglass))
-        .map_err(|e| loaded.key_error("blank", e.to_string()))?;
-    let shells = match s.blank.element {
-        ElementKind::BelytschkoTsay => ShellHandle::BelytschkoTsay(
-            solver.add_effect(
-                ShellSet::new(
-                    "blank",
-                    &mesh.nodes,
-                    &mesh.quads,
-                    section,
-                    BelytschkoTsay {
-                        warping_correction: s.blank.warping_correction,
-                        ..BelytschkoTsay::default()
-                    }
-                    .with_drilling(s.blank.drilling)
-                    .map_err(|e| loaded.key_error("blank.drilling", e.to_string()))?,
-                    material,
-                )
-                .map_err(|e| loaded.key_error("blank", e.to_string()))?,
-            ),
-        ),
-        ElementKind::FullyIntegrated => ShellHandle::FullyIntegrated(
-            solver.add_effect(
-                ShellSet::new(
-                    "blank",
-                    &mesh.nodes,
-                    &mesh.quads,
-                    section,
-                    FullyIntegrated {
-                        warping_correction: s.blank.warping_correction,
-                        ..FullyIntegrated::default()
-                    }
-                    .with_drilling(s.blank.drilling)
-                    .map_err(|e| loaded.key_error("blank.drilling", e.to_string()))?,
-                    material,
-                )
-                .map_err(|e| loaded.key_error("blank", e.to_string()))?,
-            ),
-        ),
-    };
+    let shells = add_shells(loaded, &mut solver, &mesh)?;
 
     // Tools (in the table's key order).
     let mut tool_names = Vec::new();
@@ -343,6 +382,7 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     if !tools.is_empty() {
         let geometry = BlankGeometry::new(n_nodes, &mesh.quads)
             .map_err(|e| loaded.key_error("blank.mesh", e.to_string()))?;
+        let m = &s.blank.material;
         let bulk = m.youngs_modulus / (3.0 * (1.0 - 2.0 * m.poissons_ratio));
         let mut pairs = Vec::new();
         for (k, entry) in entries.iter().enumerate() {

@@ -53,6 +53,14 @@ pub const MICROSECONDS_PER_ELEMENT_CYCLE: f64 = 0.44;
 /// element cycles/s (contact and the nodal update are shared costs).
 pub const FULLY_INTEGRATED_COST: f64 = 1.2;
 
+/// Hill'48's (`blank.material.r_values`) cost per element cycle relative
+/// to J2's, everything included, measured on the square cup
+/// (`scenes/square-cup-hill.toml` against `scenes/square-cup.toml`, 2
+/// threads, one after the other, 2026-11-25): 1.049e6 against 1.633e6
+/// element cycles/s (the material's return runs lane by lane, about 9× J2's
+/// lane kernel; contact is shared).
+pub const HILL48_COST: f64 = 1.6;
+
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
 /// Memory of the program and the tools, whatever the mesh (bytes; the
@@ -287,6 +295,9 @@ pub fn estimate(scene: &Scene, mesh: MeshSize) -> Estimate {
     let cost = match scene.blank.element {
         ElementKind::BelytschkoTsay => 1.0,
         ElementKind::FullyIntegrated => FULLY_INTEGRATED_COST,
+    } * match scene.blank.material.r_values {
+        Some(_) => HILL48_COST,
+        None => 1.0,
     };
     Estimate {
         mesh,
@@ -555,6 +566,21 @@ mod tests {
     fn history_sample_size_is_the_documented_one() {
         assert_eq!(history_row_bytes(0), 208.0);
         assert_eq!(history_row_bytes(3), 208.0 + 3.0 * 40.0);
+    }
+
+    /// A Hill'48 blank's run time is estimated at [`HILL48_COST`] times
+    /// J2's, all else equal.
+    #[test]
+    fn hill_blanks_cost_more_per_element_cycle() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+        let iso = super::super::load(&root.join("square-cup.toml"), &[]).unwrap();
+        let hill = super::super::load(&root.join("square-cup-hill.toml"), &[]).unwrap();
+        let mesh = |l: &LoadedScene| MeshSize::of_spec(&l.scene).unwrap();
+        let (a, b) = (
+            estimate(&iso.scene, mesh(&iso)),
+            estimate(&hill.scene, mesh(&hill)),
+        );
+        assert!((b.run_time_s / a.run_time_s / HILL48_COST - 1.0).abs() < 1e-12);
     }
 
     #[test]

@@ -12,6 +12,7 @@ pub mod build;
 pub mod error;
 pub mod estimate;
 pub mod locate;
+pub mod material;
 pub mod overrides;
 pub mod resolved;
 pub mod schema;

@@ -213,7 +213,8 @@ impl Divisions {
     }
 }
 
-/// `[blank.material]`: isotropic elastic–plastic (plane-stress J2).
+/// `[blank.material]`: elastic–plastic under plane stress, isotropic (J2)
+/// or, with `r_values`, Hill'48 anisotropic.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Material {
@@ -223,8 +224,13 @@ pub struct Material {
     pub poissons_ratio: f64,
     /// Density (tonne/mm³).
     pub density: f64,
-    /// `[blank.material.hardening]`.
+    /// `[blank.material.hardening]` (along the rolling direction with `r_values`).
     pub hardening: HardeningSpec,
+    /// Hill'48 plane-stress anisotropy: Lankford coefficients `[r0, r45,
+    /// r90]` (-) at 0°, 45°, 90° to the rolling direction, which is global x
+    /// projected onto the blank. Absent: isotropic J2 (von Mises).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r_values: Option<[f64; 3]>,
 }
 
 /// Hardening curve `σ_y(ε_p)`.

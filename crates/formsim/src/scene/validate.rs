@@ -163,6 +163,16 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
         }
         HardeningSpec::Elastic => {}
     }
+    if let Some(r) = &m.r_values {
+        for ((i, v), name) in r.iter().enumerate().zip(["r0", "r45", "r90"]) {
+            if !(v.is_finite() && *v > 0.0) {
+                return err(
+                    &format!("blank.material.r_values[{i}]"),
+                    format!("{name} = {v} (-): must be finite and > 0"),
+                );
+            }
+        }
+    }
 
     // Tools and contact.
     let tool_exists = |name: &str| s.tools.contains_key(name);

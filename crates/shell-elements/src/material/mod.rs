@@ -1,4 +1,5 @@
-//! The `Material` trait (plane-stress update at one integration point) and the built-in materials.
+//! The `Material` trait (plane-stress update at one integration point) and the built-in materials
+//! ([`J2PlaneStress`], [`Hill48PlaneStress`]).
 //!
 //! A material is a parameter object shared by every point of a shell set; each
 //! point's state (stress in the element's co-rotational frame and the
@@ -6,9 +7,14 @@
 //! so the element loop stays monomorphised and allocation-free.
 
 mod hardening;
+mod hill48_plane_stress;
 mod j2_plane_stress;
 
 pub use hardening::Hardening;
+pub use hill48_plane_stress::{
+    HILL_RETURN_CLOSE, HILL_RETURN_TOL, Hill48History, Hill48PlaneStress, HillCoefficients,
+    stress_rotation,
+};
 pub use j2_plane_stress::{J2History, J2PlaneStress, RETURN_CLOSE, RETURN_TOL};
 
 use crate::lanes::Lanes4;
