@@ -195,10 +195,14 @@ impl BlankGeometry {
         self.update_nodes();
     }
 
-    /// Take the nodal areas (mm²) and unit normals of the coming
+    /// Take the nodal areas (mm²) and normals of the coming
     /// [`BlankGeometry::update`] from whoever computed them already (the
     /// blank's shells, through `fem-core`'s shared fields), so that the update
-    /// computes only what else the step needs. Lengths must be the node count.
+    /// computes only what else the step needs. `normal` holds the components
+    /// of a vector along the normal of any length (the shells give the
+    /// area-weighted sums of the element normals); it is normalised here, and
+    /// a zero vector keeps the node's previous normal. Lengths must be the
+    /// node count.
     pub fn set_nodal(&mut self, area: &[f64], normal: [&[f64]; 3]) {
         let [nx, ny, nz] = normal;
         let n = self.area.len();
@@ -208,8 +212,9 @@ impl BlankGeometry {
         self.area.copy_from_slice(area);
         for (i, o) in self.normal.iter_mut().enumerate() {
             let v = Vec3::new(nx[i], ny[i], nz[i]);
-            if v != Vec3::zeros() {
-                *o = v;
+            let len = v.norm();
+            if len > 0.0 {
+                *o = v / len;
             }
         }
         self.nodal_given = true;

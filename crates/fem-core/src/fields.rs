@@ -49,14 +49,15 @@ impl NodalField {
     /// element frames they build anyway; read by contact, which then does not
     /// compute the blank's quad geometry a second time.
     pub const AREA: NodalField = NodalField::new("area", "mm2");
-    /// `x` component of the nodal unit normal: the area-weighted mean of the
-    /// normals of the shells around the node (mm/mm). Written and read with
-    /// [`NodalField::AREA`].
-    pub const NORMAL_X: NodalField = NodalField::new("normal-x", "-");
-    /// `y` component of the nodal unit normal; as [`NodalField::NORMAL_X`].
-    pub const NORMAL_Y: NodalField = NodalField::new("normal-y", "-");
-    /// `z` component of the nodal unit normal; as [`NodalField::NORMAL_X`].
-    pub const NORMAL_Z: NodalField = NodalField::new("normal-z", "-");
+    /// `x` component of the nodal normal as the area-weighted sum of the
+    /// unit normals of the shells around the node, `Σ A_e n_e` (mm²; its
+    /// direction is the nodal normal, its length is not used). Written and
+    /// read with [`NodalField::AREA`].
+    pub const NORMAL_X: NodalField = NodalField::new("normal-x", "mm2");
+    /// `y` component of the nodal normal sum; as [`NodalField::NORMAL_X`].
+    pub const NORMAL_Y: NodalField = NodalField::new("normal-y", "mm2");
+    /// `z` component of the nodal normal sum; as [`NodalField::NORMAL_X`].
+    pub const NORMAL_Z: NodalField = NodalField::new("normal-z", "mm2");
 
     /// A field named `name` (kebab-case, unique) in `unit`.
     pub const fn new(name: &'static str, unit: &'static str) -> Self {

@@ -98,6 +98,46 @@ fn v3(p: &fem_core::Vec3) -> V3 {
 /// The serial part of a step: element results added to the nodal forces,
 /// energy increments summed (internal, hourglass, plastic, drilling) and the
 /// smallest stable time step kept.
+/// The nodal areas and area-weighted normals the shells write when another
+/// effect reads them ([`NodalField::AREA`], [`NodalField::NORMAL_X`], …),
+/// summed over the elements in the serial scatter.
+struct NodalFrames<'a> {
+    area: &'a mut [f64],
+    normal: [&'a mut [f64]; 3],
+}
+
+impl<'a> NodalFrames<'a> {
+    /// The four fields zeroed, when all four are written.
+    fn new(
+        area: Option<&'a mut [f64]>,
+        nx: Option<&'a mut [f64]>,
+        ny: Option<&'a mut [f64]>,
+        nz: Option<&'a mut [f64]>,
+    ) -> Option<Self> {
+        let (area, nx, ny, nz) = (area?, nx?, ny?, nz?);
+        for f in [&mut *area, &mut *nx, &mut *ny, &mut *nz] {
+            f.fill(0.0);
+        }
+        Some(Self {
+            area,
+            normal: [nx, ny, nz],
+        })
+    }
+
+    /// Element of nodes `q`, projected area `a` (mm²) and unit normal `n`:
+    /// a quarter of `a` to each node's area, `a n` to its normal sum.
+    #[inline(always)]
+    fn add(&mut self, q: &[u32; 4], a: f64, n: [f64; 3]) {
+        for &i in q {
+            let i = i as usize;
+            self.area[i] += 0.25 * a;
+            for c in 0..3 {
+                self.normal[c][i] += n[c] * a;
+            }
+        }
+    }
+}
+
 struct Scatter {
     best: StableDt,
     energy: [f64; 4],
@@ -440,11 +480,12 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
     }
 
     /// Write the shared nodal fields that another effect reads (no allocation).
-    fn write_fields(&self, fields: &mut FieldAccess<'_>) {
-        let [thickness, top, bottom, area, nx, ny, nz] = fields.write_each(WRITES);
-        if let (Some(area), Some(nx), Some(ny), Some(nz)) = (area, nx, ny, nz) {
-            self.write_area_and_normal(area, [nx, ny, nz]);
-        }
+    fn write_fields(
+        &self,
+        thickness: Option<&mut [f64]>,
+        top: Option<&mut [f64]>,
+        bottom: Option<&mut [f64]>,
+    ) {
         if let Some(out) = thickness {
             self.nodal_mean(out, self.section.thickness, |e| self.thickness[e]);
         }
@@ -460,45 +501,6 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             }
             self.scale_by_valence(top, 0.0);
             self.scale_by_valence(bottom, 0.0);
-        }
-    }
-
-    /// Nodal tributary areas (a quarter of each element's projected area)
-    /// and unit normals (area-weighted mean of the elements' frame normals)
-    /// from this step's element results, in element order; a node of no
-    /// element (or of degenerate ones only) gets area 0 and normal 0.
-    fn write_area_and_normal(&self, area: &mut [f64], normal: [&mut [f64]; 3]) {
-        area.fill(0.0);
-        let [nx, ny, nz] = normal;
-        for c in [&mut *nx, &mut *ny, &mut *nz] {
-            c.fill(0.0);
-        }
-        let mut add = |q: &[u32; 4], a: f64, n: [f64; 3]| {
-            for &i in q {
-                let i = i as usize;
-                area[i] += 0.25 * a;
-                nx[i] += n[0] * a;
-                ny[i] += n[1] * a;
-                nz[i] += n[2] * a;
-            }
-        };
-        let (blocks, rest) = self.conn.as_chunks::<4>();
-        for (qs, r) in blocks.iter().zip(&self.results_x4) {
-            for (l, q) in qs.iter().enumerate() {
-                let n = [r.normal[0].0[l], r.normal[1].0[l], r.normal[2].0[l]];
-                add(q, r.area.0[l], n);
-            }
-        }
-        for (q, r) in rest.iter().zip(&self.results) {
-            add(q, r.area, r.normal);
-        }
-        for i in 0..area.len() {
-            let len = (nx[i] * nx[i] + ny[i] * ny[i] + nz[i] * nz[i]).sqrt();
-            if len > 0.0 {
-                nx[i] /= len;
-                ny[i] /= len;
-                nz[i] /= len;
-            }
         }
     }
 
@@ -774,6 +776,8 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             energy: [0.0; 4],
         };
         let (ds, c) = (&self.density_scale, self.wave_speed);
+        let [thickness, top, bottom, area, nx, ny, nz] = fields.write_each(WRITES);
+        let mut frames = NodalFrames::new(area, nx, ny, nz);
         let mut bad = None;
         'blocks: for (b, (qs, r)) in conn_b.iter().zip(&self.results_x4).enumerate() {
             for l in 0..4 {
@@ -791,6 +795,10 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                     bad = Some((e, r.length.0[l]));
                     break 'blocks;
                 }
+                if let Some(g) = frames.as_mut() {
+                    let n = [r.normal[0].0[l], r.normal[1].0[l], r.normal[2].0[l]];
+                    g.add(&qs[l], r.area.0[l], n);
+                }
             }
         }
         if bad.is_none() {
@@ -802,6 +810,9 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                 }) {
                     bad = Some((e, r.length));
                     break;
+                }
+                if let Some(g) = frames.as_mut() {
+                    g.add(q, r.area, r.normal);
                 }
             }
         }
@@ -830,7 +841,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         } else {
             Some(best)
         };
-        self.write_fields(fields);
+        self.write_fields(thickness, top, bottom);
         Ok(())
     }
 
