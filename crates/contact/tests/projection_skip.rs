@@ -29,6 +29,7 @@ struct Record {
 /// The run's result and the pair's projection counters.
 struct Run {
     records: Vec<Record>,
+    /// Candidates so far: projected, or answered from a flat region.
     projections: Vec<u64>,
     skipped: Vec<u64>,
 }
@@ -179,7 +180,7 @@ fn run(skip_far: bool, tight: bool) -> Run {
             energy: pair.energy,
             reaction: pair.reaction.force,
         });
-        out.projections.push(pair.projections);
+        out.projections.push(pair.projections + pair.flat_answers);
         out.skipped.push(pair.skipped);
         x_prev = x;
         pose_prev = pose;

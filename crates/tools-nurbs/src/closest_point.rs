@@ -23,6 +23,10 @@ use plugins_api::Vec3;
 pub const STEP_TOL: f64 = 1e-11;
 const MAX_ITER: usize = 40;
 
+/// A tangential residual above this (relative to `1 + distance`, mm) at an
+/// interior answer means Newton stalled rather than converged.
+pub const STALL_TOL: f64 = 1e-7;
+
 /// A local closest point on one patch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PatchHit {
@@ -35,7 +39,11 @@ pub struct PatchHit {
     /// Squared distance (mm²) from the query point.
     pub dist2: f64,
     /// Whether the answer sits on the patch boundary with the distance still
-    /// decreasing outwards (the true closest point may be on a neighbour).
+    /// decreasing outwards (the true closest point may be on a neighbour), or
+    /// Newton stalled inside the patch where the distance still decreases
+    /// along the surface (on a knot where the parametrisation is only C⁰,
+    /// whose kink the line search cannot step over): either way the answer
+    /// is not a verified closest point and a search should follow.
     pub on_edge: bool,
 }
 
@@ -220,6 +228,16 @@ pub(crate) fn newton_in(
     }
     // Strictly inside the box no bound can push out: skip the gradient test.
     let at_bound = u <= dom.u[0] || u >= dom.u[1] || v <= dom.v[0] || v >= dom.v[1];
+    if !on_edge && !at_bound {
+        // A stall inside: the tangential residual |r · S_a| / |S_a| (mm) of
+        // a converged answer is at rounding level (Newton stopped at a step
+        // of STEP_TOL); on a kink it is a fraction of the distance.
+        let d = &*ds[k];
+        let tol = STALL_TOL * (1.0 + f.sqrt());
+        let gu = r.dot(&d.su) / d.su.norm();
+        let gv = r.dot(&d.sv) / d.sv.norm();
+        on_edge = gu.abs() > tol || gv.abs() > tol;
+    }
     if !on_edge && at_bound {
         // A point on the boundary whose gradient points out of the box.
         let d = &*ds[k];
