@@ -1,10 +1,10 @@
 //! # contact: blank nodes against rigid tools, with friction
 //!
-//! Place in the pipeline: step 3 of an explicit step (design.md). For every
+//! Place in the pipeline: step 3 of an explicit step (docs/architecture.md §3). For every
 //! contact pair (a rigid [`ToolSurface`](plugins_api::ToolSurface) against the
 //! blank), this crate projects the blank nodes on the tool (warm-started from the
 //! previous step), measures the gap of the blank face on the tool's side (the
-//! mid-surface node offset by half the current thickness, friction-math §1),
+//! mid-surface node offset by half the current thickness, docs/friction-math.md §1),
 //! turns penetration into a penalty pressure ([`penalty`]), the relative motion
 //! of blank and tool into a slip increment, and hands both to the pair's friction
 //! model through [`PointIntegrator`](plugins_api::PointIntegrator) (any law ×
@@ -19,7 +19,7 @@
 //! It owns the per-point contact state, laid out per pair as arrays over the
 //! pair's nodes, and the nodal geometry that the formulations read
 //! ([`BlankGeometry`]: areas, normals, velocity and deformation gradients),
-//! computed only when an active law or formulation declares it (friction-math §6).
+//! computed only when an active law or formulation declares it (docs/friction-math.md §6).
 //!
 //! It must not know about tool geometry (only the `ToolSurface` trait), about
 //! particular friction laws (only the plugins-api traits), about the shell

@@ -1,4 +1,4 @@
-//! Block on a plane (benchmarks.md §3): a stiff four-node block pressed on a
+//! Block on a plane (docs/benchmarks.md §3): a stiff four-node block pressed on a
 //! rigid plane by `N`, pulled by a slowly ramped tangential force `T`, starts to
 //! slip when `T = μ N`. Run through the explicit engine (fem-core) with the
 //! contact effect, for every formulation.
@@ -102,7 +102,7 @@ fn slip_force(law: &str, params: Params, formulation: &str, mu: f64) -> (f64, f6
 }
 
 /// Block on a plane, Amontons–Coulomb μ = 0.144: slip starts at `T = μ N`
-/// (benchmarks.md §3; tolerance 1 %, the issue's).
+/// (docs/benchmarks.md §3; tolerance 1 %, the issue's).
 #[test]
 fn block_on_plane_slips_at_mu_n() {
     for formulation in ["convective", "jaumann", "lagrangian", "updated-lagrangian"] {

@@ -1,4 +1,4 @@
-//! Capstan (benchmarks.md §3): a thin strip wrapped over a fixed rigid cylinder
+//! Capstan (docs/benchmarks.md §3): a thin strip wrapped over a fixed rigid cylinder
 //! through θ = π/2, one end held by a constant force, the other pulled slowly;
 //! steady sliding gives `T_pull / T_hold = e^{μθ}` (Euler–Eytelwein). Shell strip
 //! (Belytschko–Tsay, elastic), exact NURBS cylinder, contact with AC friction,
@@ -124,7 +124,7 @@ fn tension_ratio(formulation: &str, mu: f64) -> f64 {
     mean / t_hold
 }
 
-/// Euler–Eytelwein: `T_pull/T_hold = e^{μθ}`, θ = π/2, μ = 0.144 (benchmarks.md
+/// Euler–Eytelwein: `T_pull/T_hold = e^{μθ}`, θ = π/2, μ = 0.144 (docs/benchmarks.md
 /// §3; issue 5's tolerance 2 %), for the convective and Jaumann formulations.
 #[test]
 fn capstan_matches_euler_eytelwein() {

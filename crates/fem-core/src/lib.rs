@@ -1,6 +1,6 @@
 //! # fem-core: formsim's explicit engine
 //!
-//! Place in the pipeline: steps 4–6 of an explicit step (design.md) —
+//! Place in the pipeline: steps 4–6 of an explicit step (docs/architecture.md §3) —
 //! boundary conditions, central-difference update of the nodal state with
 //! the stable time step and mass scaling, and the energy ledger — plus the
 //! quad-shell [`Mesh`] the blank is built from. It owns the nodal state

@@ -306,7 +306,7 @@ pub fn wrapped_strip_segments(rm: f64, tail: f64, angle: f64, h: f64) -> (f64, f
 }
 
 /// A strip wrapped over a drum of axis `y` through the origin (the capstan,
-/// benchmarks.md §3): a horizontal tail of length `tail` on top of the drum
+/// docs/benchmarks.md §3): a horizontal tail of length `tail` on top of the drum
 /// from `x = tail` to the drum's top, an arc of `angle` (rad) in the x–z
 /// plane over the drum, a straight tail of length `tail` leaving it
 /// tangentially. Mid-surface radius `rm`; three nodes across `width`;

@@ -2,7 +2,7 @@
 //! by prescribed travel or velocity, by force control on their own rigid-body
 //! degree of freedom, or hold them, and that switch contact pairs on and off.
 //!
-//! Step 1 of an explicit step (design.md): [`Press::advance`] places every tool
+//! Step 1 of an explicit step (docs/architecture.md §3): [`Press::advance`] places every tool
 //! at `t_{n+1}` and gives its mid-step velocity `v_{n+1/2} = (x_{n+1} − x_n)/Δt`,
 //! the time level of the blank's velocities. The scheduler knows tools only as
 //! rigid bodies (pose and velocity); it does not know their geometry.

@@ -10,7 +10,7 @@ fn main() {
     let out = std::env::args()
         .nth(1)
         .unwrap_or_else(|| "scenes/point-histories/die-shoulder.csv".into());
-    let radius = 5.0; // die shoulder radius (mm), benchmarks.md §1
+    let radius = 5.0; // die shoulder radius (mm), docs/benchmarks.md §1
     let speed = 20.0; // draw-in speed (mm/s)
     let flat = 6.0; // flange length before the shoulder (mm)
     let arc = std::f64::consts::FRAC_PI_2 * radius;

@@ -151,7 +151,7 @@ struct LawsArgs {
 
 #[derive(Subcommand, Debug)]
 enum LawsAction {
-    /// Run the conformance suite (friction-math §5) on a law with every formulation.
+    /// Run the conformance suite (docs/friction-math.md §5) on a law with every formulation.
     Check {
         /// Law name (`formsim laws` lists them).
         name: String,

@@ -7,7 +7,7 @@ use common::{root, run_scene};
 use formsim::run::RunResult;
 use formsim::scene;
 
-/// Block on a plane (benchmarks.md §3): the friction force while sliding is
+/// Block on a plane (docs/benchmarks.md §3): the friction force while sliding is
 /// `μ N` = 0.2 × 100 N; issue 5's tolerance 1 %.
 #[test]
 fn block_on_plane_slides_at_mu_n() {

@@ -42,7 +42,7 @@ fn tools_export_writes_vtu_and_obj_for_every_tool() {
 }
 
 /// Points above the punch nose (facing down at z = 0.78) and beside the die
-/// shoulder: distances and curvature as drawn (benchmarks.md §1 sizes).
+/// shoulder: distances and curvature as drawn (docs/benchmarks.md §1 sizes).
 #[test]
 fn tools_project_writes_the_documented_columns() {
     let dir = tempfile::tempdir().unwrap();

@@ -3,7 +3,7 @@
 //! Place in the pipeline: step 3 of an explicit step (contact) calls a
 //! [`plugins_api::PointIntegrator`] per batch of contact points; this crate
 //! supplies the built-in ones. It owns the four isotropic laws of
-//! friction-math.md §3 ([`laws`]: `ac`, `wvs`, `wh`, `levanov`), the four
+//! docs/friction-math.md §3 ([`laws`]: `ac`, `wvs`, `wh`, `levanov`), the four
 //! kinematic formulations of §4 ([`formulations`]: `convective`, `jaumann`,
 //! `lagrangian`, `updated-lagrangian`), their registration in the
 //! `plugins-api` registry, and [`builtin`]: monomorphised pairings of any

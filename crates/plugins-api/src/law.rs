@@ -36,7 +36,7 @@ pub struct CriticalShear {
     pub clamped: bool,
 }
 
-/// An isotropic friction law (friction-math.md §3): slip function
+/// An isotropic friction law (docs/friction-math.md §3): slip function
 /// `Φ = |t| - τ_c(p, ω, ctx)`; the return mapping is shared (§2).
 ///
 /// Implementations are plain structs holding their parameters; they are

@@ -3,7 +3,7 @@
 //! Place in the pipeline: step 3 of an explicit step (contact) asks, for every
 //! contact point, for a friction traction. This crate owns *how that question is
 //! asked*: the [`FrictionLaw`] and [`KinematicFormulation`] traits
-//! (friction-math.md §2–§4), the point data a component may declare it needs
+//! (docs/friction-math.md §2–§4), the point data a component may declare it needs
 //! ([`PointNeeds`], §6), parameter schemas ([`ParamSpec`]), the one shared
 //! return mapping that serves every isotropic law ([`return_mapping`], §2),
 //! link-time registration ([`registry`]), loading of laws from shared libraries

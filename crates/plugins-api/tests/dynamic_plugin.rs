@@ -1,7 +1,7 @@
 //! Dynamic plugins end to end: build the example plugin `exp-decay` (and the
 //! misbehaving fixture `test-panicky`) as shared libraries, load them through
 //! `plugins_api::loader`, and drive the loaded laws through the shared return
-//! mapping (friction-math.md §2). Also: the loader's errors for files that are
+//! mapping (docs/friction-math.md §2). Also: the loader's errors for files that are
 //! not plugins, or plugins of another ABI version.
 
 use std::path::{Path, PathBuf};
@@ -219,7 +219,7 @@ fn exp_decay_critical_shear_matches_closed_form() {
     assert_eq!(stiff.stick_stiffness(), 2.5e4);
 }
 
-/// Source: friction-math.md §2 (radial return) with the exp-decay `τ_c`.
+/// Source: docs/friction-math.md §2 (radial return) with the exp-decay `τ_c`.
 /// A point on a flat tool (n = e_z, p = 50 MPa) is dragged with a speed that
 /// ramps from 0 to 80 mm/s over a slowly turning direction. Checks per step,
 /// to 1e-12 relative (round-off of a handful of operations on O(10) MPa):

@@ -176,7 +176,7 @@ fn cantilever_end_moment_rolls_into_half_circle_fully_integrated() {
 
 /// Uniaxial tension of a strip (one element 1 × 1 × 1 mm, symmetry on two
 /// edges, the third pulled by a smooth-step displacement to ε = 0.2955,
-/// i.e. ln-strain 0.259 = n): the NUMISHEET'93 mild steel of benchmarks.md §1,
+/// i.e. ln-strain 0.259 = n): the NUMISHEET'93 mild steel of docs/benchmarks.md §1,
 /// Swift σ_y = 565.32 (ε_p + 0.007117)^0.2589. Checks (issue 4, 1 %):
 /// true stress σ_xx = K (ε0 + ε_p)^n with ε_p = ln(L/L0) − σ/E taken from
 /// the geometry, up to ε = n; thickness strain ln(t/t0) = −ε_p/2 − ν σ/E

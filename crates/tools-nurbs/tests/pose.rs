@@ -5,7 +5,7 @@ use tools_nurbs::builders::square_cup::{PunchParams, punch};
 use tools_nurbs::builders::{Model, Placement};
 use tools_nurbs::closest_point::STEP_TOL;
 
-/// Rigid-body invariance (design.md: the scheduler moves a tool only through
+/// Rigid-body invariance (docs/architecture.md §2: the scheduler moves a tool only through
 /// its pose): with a rotation and a translation, every projection equals the
 /// local-frame projection of the pulled-back point mapped forward — point
 /// `R p + t`, normal `R n`, curvature `R K Rᵀ`, same distance, principal

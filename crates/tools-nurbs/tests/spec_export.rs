@@ -11,7 +11,7 @@ fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/tools")
 }
 
-/// Both shipped specs build; the square-cup set has the benchmarks.md §1 placement.
+/// Both shipped specs build; the square-cup set has the docs/benchmarks.md §1 placement.
 #[test]
 fn shipped_square_cup_and_s_rail_specs_build() {
     let cup = load(&scenes().join("square-cup-tools.toml")).unwrap();

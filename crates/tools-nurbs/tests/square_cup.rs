@@ -1,4 +1,4 @@
-//! The square-cup tool set (benchmarks.md §1): global closest points on a million random points, seams, bad input.
+//! The square-cup tool set (docs/benchmarks.md §1): global closest points on a million random points, seams, bad input.
 
 use plugins_api::{Mat3, Projection, ProjectionHint, ToolSurface, Vec3};
 use rand::{Rng, SeedableRng};
@@ -280,7 +280,7 @@ fn mirror_of(tool: &NurbsTool, a: usize, b: usize) -> bool {
 }
 
 /// The holder and die face are flat: zero curvature; the punch fillet is a
-/// cylinder of the profile radius along the sides (benchmarks.md §1 sizes).
+/// cylinder of the profile radius along the sides (docs/benchmarks.md §1 sizes).
 #[test]
 fn square_cup_curvature_matches_the_drawing() {
     let set = tools(Model::Quarter);

@@ -1,6 +1,6 @@
 //! Building the model of a checked scene: mesh, shells, tools, press, contact
 //! pairs, boundary conditions and loads, assembled on one [`Solver`]. Only
-//! what the scene asks for is built (design.md: a scene pays for its effects).
+//! what the scene asks for is built (docs/architecture.md §5: a scene pays for its effects).
 
 use super::LoadedScene;
 use super::SceneError;

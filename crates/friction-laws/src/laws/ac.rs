@@ -26,7 +26,7 @@ impl Ac {
     /// Name, one-line summary and parameter schema.
     pub const DESCRIPTION: LawDescription = LawDescription {
         name: Self::NAME,
-        summary: "Amontons-Coulomb: τ_c = μ p (friction-math §3, eq. 2.13)",
+        summary: "Amontons-Coulomb: τ_c = μ p (docs/friction-math.md §3, eq. 2.13)",
         params: Self::PARAMS,
     };
 

@@ -58,7 +58,7 @@ impl Levanov {
     pub const DESCRIPTION: LawDescription = LawDescription {
         name: Self::NAME,
         summary: "Levanov: τ_c = m (σ_y/√3)(1 - exp(-c p/σ_y)), σ_y = blank flow stress \
-                  (friction-math §3)",
+                  (docs/friction-math.md §3)",
         params: Self::PARAMS,
     };
 

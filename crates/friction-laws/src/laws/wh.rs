@@ -109,7 +109,7 @@ impl Wh {
     pub const DESCRIPTION: LawDescription = LawDescription {
         name: Self::NAME,
         summary: "work hardening/softening: τ_c = max(Σ a_i ω^i, μ_min) p, ω = frictional work (N/mm) \
-                  (friction-math §3, eqs. 2.17-2.19)",
+                  (docs/friction-math.md §3, eqs. 2.17-2.19)",
         params: Self::PARAMS,
     };
 

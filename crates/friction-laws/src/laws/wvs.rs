@@ -86,7 +86,7 @@ impl Wvs {
     pub const DESCRIPTION: LawDescription = LawDescription {
         name: Self::NAME,
         summary: "Wriggers-van der Ven-Stein: τ_c = β p + α p^ν, C¹ quadratic below p0 when ν < 1 \
-                  (friction-math §3, eqs. 2.15-2.16)",
+                  (docs/friction-math.md §3, eqs. 2.15-2.16)",
         params: Self::PARAMS,
     };
 

@@ -144,7 +144,11 @@ impl fmt::Display for Report {
     /// One line per check × formulation (`PASS`/`FAIL`, check, formulation,
     /// detail), then `N passed, M failed`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "conformance of `{}` (friction-math §5)", self.subject)?;
+        writeln!(
+            f,
+            "conformance of `{}` (docs/friction-math.md §5)",
+            self.subject
+        )?;
         let width = self
             .results
             .iter()

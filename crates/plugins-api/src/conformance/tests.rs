@@ -1,6 +1,6 @@
 //! Tests of the conformance suite with laws and formulations defined here (no built-ins).
 //!
-//! Source of every property: friction-math.md §2 (return mapping), §4
+//! Source of every property: docs/friction-math.md §2 (return mapping), §4
 //! (formulations, objectivity) and §5 (the suite). The good laws must pass every
 //! check under both test formulations; each broken law must fail the checks that
 //! its defect concerns, with a readable detail, and the suite must never panic.

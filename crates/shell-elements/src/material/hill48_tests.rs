@@ -8,7 +8,7 @@ use crate::lanes::F4;
 use crate::material::{J2PlaneStress, von_mises};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 
-/// The square cup's steel (benchmarks.md §1): Swift hardening.
+/// The square cup's steel (docs/benchmarks.md §1): Swift hardening.
 fn swift() -> Hardening {
     Hardening::swift(565.32, 0.007117, 0.2589).unwrap()
 }

@@ -1,4 +1,4 @@
-//! The S-rail tool set (benchmarks.md §2): a PARAMETRIC RECONSTRUCTION, not the NUMISHEET'96 surfaces.
+//! The S-rail tool set (docs/benchmarks.md §2): a PARAMETRIC RECONSTRUCTION, not the NUMISHEET'96 surfaces.
 //!
 //! The original tool surfaces are not available; this builds a hat-channel
 //! set whose plan-view centre line is straight 1 — arc (left turn) — straight
@@ -34,7 +34,7 @@ use crate::error::NurbsError;
 use crate::nurbs_tool::NurbsTool;
 use std::f64::consts::FRAC_PI_2;
 
-/// S-rail parameters (mm, degrees); defaults from benchmarks.md §2 where given.
+/// S-rail parameters (mm, degrees); defaults from docs/benchmarks.md §2 where given.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SRailParams {

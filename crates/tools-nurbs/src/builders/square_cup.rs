@@ -1,4 +1,4 @@
-//! The rounded-rectangle punch, the die with a rounded-rectangle opening and the flat blankholder ring (benchmarks.md §1).
+//! The rounded-rectangle punch, the die with a rounded-rectangle opening and the flat blankholder ring (docs/benchmarks.md §1).
 //!
 //! Built in a local frame with the working face at z = 0 facing +z, the
 //! quadrant x ≥ 0, y ≥ 0 first (mirrored for the full model), then placed.
@@ -366,7 +366,7 @@ pub fn die(
     assemble(name, &symmetric(die_parts(name, p)?, model), place)
 }
 
-/// The benchmark's quarter die (benchmarks.md §1, default dimensions) with its
+/// The benchmark's quarter die (docs/benchmarks.md §1, default dimensions) with its
 /// face at z = 0 facing up: the fixture of the contact and projection tests.
 ///
 /// # Errors
