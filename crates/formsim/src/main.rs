@@ -18,6 +18,11 @@ use plugins_api::{FrictionLaw, KinematicFormulation, ParamSpec, Params, TangentM
 #[derive(Parser, Debug)]
 #[command(name = "formsim", version, about, long_about = None)]
 struct Cli {
+    /// Worker threads for the simulation's parallel loops (default: the
+    /// RAYON_NUM_THREADS environment variable, else one per core). Results
+    /// are the same bits on any number; `summary.json` records it.
+    #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
+    threads: Option<u16>,
     #[command(subcommand)]
     command: Command,
 }
@@ -214,6 +219,14 @@ fn to_params(list: &[(String, f64)]) -> Params {
 fn main() -> ExitCode {
     friction_laws::ensure_linked();
     let cli = Cli::parse();
+    if let Some(n) = cli.threads
+        && let Err(e) = rayon::ThreadPoolBuilder::new()
+            .num_threads(usize::from(n))
+            .build_global()
+    {
+        note!("error: --threads {n}: {e}");
+        return ExitCode::FAILURE;
+    }
     let result = match cli.command {
         Command::Laws(args) => laws(&args),
         Command::Plugin {

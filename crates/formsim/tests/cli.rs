@@ -476,3 +476,40 @@ fn a_closed_stdout_stops_quietly_without_a_panic() {
         }
     }
 }
+
+/// `--threads N` sets the simulation's worker threads (any command, before
+/// or after it), recorded in `summary.json`; 0 and a non-number are refused
+/// with one line naming the option.
+#[test]
+fn threads_option_sets_and_records_the_worker_threads() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/block-on-plane.toml");
+    for (before, n) in [(true, "1"), (false, "2")] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("run");
+        let mut args = vec![
+            "run",
+            scene.to_str().unwrap(),
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if before {
+            args.splice(0..0, ["--threads", n]);
+        } else {
+            args.extend(["--threads", n]);
+        }
+        let o = formsim(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        assert!(
+            summary.contains(&format!("\"threads\": {n}")),
+            "{n}: {summary}"
+        );
+    }
+    for bad in ["0", "two"] {
+        let o = formsim(&["--threads", bad, "laws"]);
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("--threads"), "{bad}: {err}");
+    }
+}
