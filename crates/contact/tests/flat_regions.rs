@@ -13,7 +13,9 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use contact::{BlankGeometry, BlankView, ContactPair, PairSpec};
+mod common;
+
+use contact::{BlankGeometry, ContactPair, PairSpec};
 use friction_laws::builtin;
 use plugins_api::{
     Aabb, FlatRegion, Params, Projection, ProjectionHint, RigidPose, RigidVelocity, TangentMode,
@@ -101,17 +103,13 @@ fn run(planar: bool) -> Run {
     for k in 1..=STEPS {
         let x = blank_at(&base, k);
         let v: Vec<Vec3> = x.iter().zip(&prev).map(|(a, b)| (a - b) / DT).collect();
-        let view = BlankView {
-            x0: &x0,
-            x: &x,
-            v: &v,
-            mass: &mass,
-            thickness: &thickness,
-            flow_stress: None,
-        };
-        geometry.update(&view, DT, pair.needs());
-        let mut f = vec![Vec3::zeros(); nn];
-        pair.step(&tool, &geometry, &view, DT, &mut f).unwrap();
+        let f = common::step_pair(
+            &mut pair,
+            &tool,
+            &mut geometry,
+            (&x0, &x, &v, &mass, &thickness),
+            DT,
+        );
         out.push((pair.status.clone(), f));
         prev = x;
     }

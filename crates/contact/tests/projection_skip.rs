@@ -8,6 +8,8 @@
 //! are compared at every step. A last case rises through the die face from
 //! its far side (contact within `max_penetration`).
 
+mod common;
+
 use contact::{BlankGeometry, BlankView, ContactEnergy, ContactPair, PairSpec, PointStatus};
 use friction_laws::builtin;
 use plugins_api::{Mat3, Params, RigidPose, RigidVelocity, TangentMode, ToolSurface, Vec3};
@@ -338,22 +340,13 @@ fn far_side_nodes_within_max_penetration_are_not_skipped() {
         let mut pair = ContactPair::new(&spec, integ, &g, &x0).unwrap();
         let mass = [1e-6; 4];
         let thickness = [T0; 4];
-        let v = vec![Vec3::new(0.0, 0.0, 0.25 / DT); 4];
+        let v = [Vec3::new(0.0, 0.0, 0.25 / DT); 4];
         let mut out = Vec::new();
         for k in 1..=40 {
             let z = -6.0 + 0.25 * k as f64;
             let x = at(z);
-            let view = BlankView {
-                x0: &x0,
-                x: &x,
-                v: &v,
-                mass: &mass,
-                thickness: &thickness,
-                flow_stress: None,
-            };
-            g.update(&view, DT, pair.needs());
-            let mut f = vec![Vec3::zeros(); 4];
-            pair.step(&tool, &g, &view, DT, &mut f).unwrap();
+            let blank = (&x0[..], &x[..], &v[..], &mass[..], &thickness[..]);
+            let f = common::step_pair(&mut pair, &tool, &mut g, blank, DT);
             out.push((z, pair.status.clone(), f));
         }
         (out, pair.skipped)

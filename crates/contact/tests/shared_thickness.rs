@@ -51,36 +51,15 @@ fn contact_on_plane(nodes: &[Vec3], quads: &[[u32; 4]], t0: f64) -> ContactEffec
     .unwrap()
 }
 
-/// `Σ_e∋n t_e / valence(n)` of the shells' current element thickness.
-fn nodal_thickness(shells: &Shells, nodes: usize) -> Vec<f64> {
-    let mut sum = vec![0.0; nodes];
-    let mut valence = vec![0usize; nodes];
-    for (e, q) in shells.quads().iter().enumerate() {
-        for &n in q {
-            sum[n as usize] += shells.thickness(e);
-            valence[n as usize] += 1;
-        }
-    }
-    sum.iter()
-        .zip(&valence)
-        .map(|(s, &v)| s * (1.0 / v as f64))
-        .collect()
-}
-
-/// A 3 × 2 plate of shells on the plane, stretched into plasticity so that
-/// it thins every step, with contact added before the shells. After every
-/// step the thickness contact read equals the shells' nodal thickness of
-/// that step (exactly) and differs from the previous step's.
-#[test]
-fn contact_reads_the_shells_thickness_of_the_same_step() {
-    let t0 = 1.0;
-    let mut mesh = rectangle(30.0, 20.0, 3, 2).unwrap();
-    mesh.nodes.iter_mut().for_each(|p| p.z = 0.5 * t0);
+/// A solver with contact on the plane (added first) and steel shells of
+/// thickness `t0` over `mesh`, pulled at x1 at 2 m/s with x0 and y0 held and
+/// out-of-plane motion fixed; returns it with the contact and shell ids.
+fn stretched_plate(mesh: &fem_core::Mesh, t0: f64) -> (Solver, EffectId, EffectId) {
     let settings = SolverSettings {
         mass_scaling_dt: Some(2e-7),
         ..SolverSettings::default()
     };
-    let mut solver = Solver::new(&mesh, settings).unwrap();
+    let mut solver = Solver::new(mesh, settings).unwrap();
     let cid = solver.add_effect(contact_on_plane(&mesh.nodes, &mesh.quads, t0));
     let steel = J2PlaneStress::new(
         2.06e5,
@@ -114,6 +93,35 @@ fn contact_reads_the_shells_thickness_of_the_same_step() {
             Amplitude::Constant,
         )
         .unwrap();
+    (solver, cid, sid)
+}
+
+/// `Σ_e∋n t_e / valence(n)` of the shells' current element thickness.
+fn nodal_thickness(shells: &Shells, nodes: usize) -> Vec<f64> {
+    let mut sum = vec![0.0; nodes];
+    let mut valence = vec![0usize; nodes];
+    for (e, q) in shells.quads().iter().enumerate() {
+        for &n in q {
+            sum[n as usize] += shells.thickness(e);
+            valence[n as usize] += 1;
+        }
+    }
+    sum.iter()
+        .zip(&valence)
+        .map(|(s, &v)| s * (1.0 / v as f64))
+        .collect()
+}
+
+/// A 3 × 2 plate of shells on the plane, stretched into plasticity so that
+/// it thins every step, with contact added before the shells. After every
+/// step the thickness contact read equals the shells' nodal thickness of
+/// that step (exactly) and differs from the previous step's.
+#[test]
+fn contact_reads_the_shells_thickness_of_the_same_step() {
+    let t0 = 1.0;
+    let mut mesh = rectangle(30.0, 20.0, 3, 2).unwrap();
+    mesh.nodes.iter_mut().for_each(|p| p.z = 0.5 * t0);
+    let (mut solver, cid, sid) = stretched_plate(&mesh, t0);
     solver.initialize().unwrap();
     assert_eq!(solver.effect_order(), &[sid.0, cid.0]);
     let n = mesh.nodes.len();
@@ -148,44 +156,7 @@ fn contact_reads_the_shells_nodal_area_and_normal_of_the_same_step() {
     mesh.nodes
         .iter_mut()
         .for_each(|p| p.z = 0.5 * t0 + 0.8 * (0.2 * p.x).sin() * (0.3 * p.y).cos());
-    let settings = SolverSettings {
-        mass_scaling_dt: Some(2e-7),
-        ..SolverSettings::default()
-    };
-    let mut solver = Solver::new(&mesh, settings).unwrap();
-    let cid = solver.add_effect(contact_on_plane(&mesh.nodes, &mesh.quads, t0));
-    let steel = J2PlaneStress::new(
-        2.06e5,
-        0.3,
-        7.85e-9,
-        Hardening::swift(565.32, 0.007117, 0.2589).unwrap(),
-    )
-    .unwrap();
-    solver.add_effect(
-        ShellSet::new(
-            "blank",
-            &mesh.nodes,
-            &mesh.quads,
-            Section::new(t0).unwrap(),
-            BelytschkoTsay::default(),
-            steel,
-        )
-        .unwrap(),
-    );
-    solver.fix("x0", Dofs::of(&[Dof::Ux])).unwrap();
-    solver.fix("y0", Dofs::of(&[Dof::Uy])).unwrap();
-    solver
-        .fix("all", Dofs::of(&[Dof::Uz, Dof::Rx, Dof::Ry]))
-        .unwrap();
-    solver
-        .prescribe(
-            "x1",
-            Dof::Ux,
-            MotionKind::Velocity,
-            2e3,
-            Amplitude::Constant,
-        )
-        .unwrap();
+    let (mut solver, cid, _) = stretched_plate(&mesh, t0);
     let mut own = BlankGeometry::new(mesh.nodes.len(), &mesh.quads).unwrap();
     let mut steps = 0;
     solver

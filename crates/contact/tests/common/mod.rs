@@ -1,10 +1,40 @@
 //! Test tools shared by the contact tests.
 
+use contact::{BlankGeometry, BlankView, ContactPair};
 use plugins_api::{
     Aabb, Mat3, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface, Vec3,
 };
 
+/// The blank of one contact step: initial positions, positions, velocities
+/// (mm, mm/s), nodal masses (tonne) and thicknesses (mm).
+pub type Blank<'a> = (&'a [Vec3], &'a [Vec3], &'a [Vec3], &'a [f64], &'a [f64]);
+
+/// One step of `pair` on `tool` for the blank `(x0, x, v, mass, thickness)`:
+/// `g` updated for the pair's needs, the nodal contact forces (N) returned.
+#[allow(dead_code)] // not every test binary steps a pair
+pub fn step_pair(
+    pair: &mut ContactPair,
+    tool: &dyn ToolSurface,
+    g: &mut BlankGeometry,
+    (x0, x, v, mass, thickness): Blank<'_>,
+    dt: f64,
+) -> Vec<Vec3> {
+    let view = BlankView {
+        x0,
+        x,
+        v,
+        mass,
+        thickness,
+        flow_stress: None,
+    };
+    g.update(&view, dt, pair.needs());
+    let mut f = vec![Vec3::zeros(); x.len()];
+    pair.step(tool, g, &view, dt, &mut f).unwrap();
+    f
+}
+
 /// The plane `z = pose.translation.z`, normal +z (the blank lies above it).
+#[allow(dead_code)] // not every test binary uses the plane
 pub struct Plane {
     /// Pose (only the z translation matters).
     pub pose: RigidPose,
