@@ -60,8 +60,8 @@ pub struct BlankGeometry {
     quad_area: Vec<f64>,
     quad_normal: Vec<Vec3>,
     quad_l: Vec<Mat3>,
-    quad_f_old: Vec<Mat3>,
-    quad_f_new: Vec<Mat3>,
+    /// Per quad: the deformation gradients at `n` and `n+1`.
+    quad_f: Vec<[Mat3; 2]>,
 }
 
 /// Shape-function derivatives of the bilinear quad at its centre: `∂N/∂ξ`, `∂N/∂η`.
@@ -116,6 +116,25 @@ fn surface_gradient(w: [Vec3; 4], f: &CentreFrame) -> Mat3 {
 /// Quads or nodes per parallel task in [`BlankGeometry::update_areas`].
 const PARALLEL_CHUNK: usize = 512;
 
+/// `value(quad, &mut out[e])` for every quad `e`, in parallel chunks for more
+/// than [`BlankGeometry::PARALLEL_MIN_QUADS`] quads when rayon's pool has
+/// more than one thread (each slot written alone: the same bits on any
+/// number of threads).
+fn per_quad<T: Send>(quads: &[[u32; 4]], out: &mut [T], value: impl Fn(&[u32; 4], &mut T) + Sync) {
+    if quads.len() > BlankGeometry::PARALLEL_MIN_QUADS && rayon::current_num_threads() > 1 {
+        quads
+            .par_iter()
+            .zip(out.par_iter_mut())
+            .with_min_len(PARALLEL_CHUNK)
+            .for_each(|(q, o)| value(q, o));
+    } else {
+        quads
+            .iter()
+            .zip(out.iter_mut())
+            .for_each(|(q, o)| value(q, o));
+    }
+}
+
 impl BlankGeometry {
     /// Blanks with more quads than this update their nodal areas and normals
     /// in parallel (when rayon's current pool has more than one thread).
@@ -166,8 +185,7 @@ impl BlankGeometry {
             quad_area: vec![0.0; nq],
             quad_normal: vec![Vec3::z(); nq],
             quad_l: Vec::new(),
-            quad_f_old: Vec::new(),
-            quad_f_new: Vec::new(),
+            quad_f: Vec::new(),
         })
     }
 
@@ -310,11 +328,11 @@ impl BlankGeometry {
                 self.quad_l = vec![Mat3::zeros(); nq];
                 self.vel_grad = vec![Mat3::zeros(); nn];
             }
-            for (e, q) in self.quads.iter().enumerate() {
+            per_quad(&self.quads, &mut self.quad_l, |q, l| {
                 // Geometry at mid-step x_{n+1/2} = x_{n+1} - ½Δt v_{n+1/2}.
                 let xm = q.map(|a| blank.x[a as usize] - blank.v[a as usize] * (0.5 * dt));
                 let vs = q.map(|a| blank.v[a as usize]);
-                self.quad_l[e] = match centre_frame(xm) {
+                *l = match centre_frame(xm) {
                     Some(f) => {
                         // L = G - (Gᵀn)⊗n: the in-plane gradient plus the rate of
                         // the material normal, ṅ = -Gᵀn (exact for rigid motion).
@@ -323,68 +341,67 @@ impl BlankGeometry {
                     }
                     None => Mat3::zeros(),
                 };
-            }
+            });
+            let quad_l = &self.quad_l;
             Self::average(
                 &self.offsets,
                 &self.around,
                 &self.quad_area,
-                &self.quad_l,
+                |e| quad_l[e],
                 &mut self.vel_grad,
             );
         }
         if needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
             self.def_grad_evaluations += 1;
-            if self.quad_f_new.len() != nq {
-                self.quad_f_old = vec![Mat3::identity(); nq];
-                self.quad_f_new = vec![Mat3::identity(); nq];
+            if self.quad_f.len() != nq {
+                self.quad_f = vec![[Mat3::identity(); 2]; nq];
                 self.f_old = vec![Mat3::identity(); nn];
                 self.f_new = vec![Mat3::identity(); nn];
             }
-            for (e, q) in self.quads.iter().enumerate() {
+            per_quad(&self.quads, &mut self.quad_f, |q, f| {
                 let x0 = q.map(|a| blank.x0[a as usize]);
                 let Some(f0) = centre_frame(x0) else {
-                    continue;
+                    return;
                 };
                 let xn = q.map(|a| blank.x[a as usize] - blank.v[a as usize] * dt);
                 let x1 = q.map(|a| blank.x[a as usize]);
-                self.quad_f_old[e] = deformation_gradient(xn, &f0);
-                self.quad_f_new[e] = deformation_gradient(x1, &f0);
-            }
-            Self::average(
-                &self.offsets,
-                &self.around,
-                &self.quad_area,
-                &self.quad_f_old,
-                &mut self.f_old,
-            );
-            Self::average(
-                &self.offsets,
-                &self.around,
-                &self.quad_area,
-                &self.quad_f_new,
-                &mut self.f_new,
-            );
+                *f = [deformation_gradient(xn, &f0), deformation_gradient(x1, &f0)];
+            });
+            let (offsets, around, area) = (&self.offsets, &self.around, &self.quad_area);
+            let quad_f = &self.quad_f;
+            Self::average(offsets, around, area, |e| quad_f[e][0], &mut self.f_old);
+            Self::average(offsets, around, area, |e| quad_f[e][1], &mut self.f_new);
         }
     }
 
+    /// `out[i]` = the mean of `quad(e)` over the quads `e` around node `i`,
+    /// weighted by `weight[e]` (in parallel for large blanks, each node alone).
     fn average(
         offsets: &[u32],
         around: &[u32],
         weight: &[f64],
-        per_quad: &[Mat3],
+        quad: impl Fn(usize) -> Mat3 + Sync,
         out: &mut [Mat3],
     ) {
-        for (i, o) in out.iter_mut().enumerate() {
+        let node = |i: usize, o: &mut Mat3| {
             let mut m = Mat3::zeros();
             let mut w = 0.0;
             for &e in &around[offsets[i] as usize..offsets[i + 1] as usize] {
                 let we = weight[e as usize];
-                m += per_quad[e as usize] * we;
+                m += quad(e as usize) * we;
                 w += we;
             }
             if w > 0.0 {
                 *o = m / w;
             }
+        };
+        if weight.len() > Self::PARALLEL_MIN_QUADS && rayon::current_num_threads() > 1 {
+            out.par_iter_mut()
+                .enumerate()
+                .with_min_len(PARALLEL_CHUNK)
+                .for_each(|(i, o)| node(i, o));
+        } else {
+            out.iter_mut().enumerate().for_each(|(i, o)| node(i, o));
         }
     }
 }
@@ -566,6 +583,34 @@ mod tests {
             assert_eq!(g.area, expect_area, "{threads} threads");
             assert_eq!(g.normal, expect_normal, "{threads} threads");
         }
+        // The gradients: the same bits on one and two threads.
+        let v: Vec<Vec3> = x
+            .iter()
+            .map(|p| Vec3::new(0.3 * p.y, -0.2 * p.x, 0.1 * p.x * p.y))
+            .collect();
+        let x0: Vec<Vec3> = x.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect();
+        let (mass, thickness) = (vec![1.0; x.len()], vec![1.0; x.len()]);
+        let view = BlankView {
+            x0: &x0,
+            x: &x,
+            v: &v,
+            mass: &mass,
+            thickness: &thickness,
+            flow_stress: None,
+        };
+        let all = PointNeeds::VELOCITY_GRADIENT | PointNeeds::DEFORMATION_GRADIENT;
+        let on = |threads: usize| {
+            let mut g = g0.clone();
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| g.update(&view, 1e-6, all));
+            (g.vel_grad, g.f_old, g.f_new)
+        };
+        let (one, two) = (on(1), on(2));
+        assert!(one.0.iter().any(|l| l.norm() > 0.1) && one.2.iter().any(|f| f[(2, 0)] != 0.0));
+        assert_eq!(one, two);
     }
 
     #[test]
