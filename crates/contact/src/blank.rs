@@ -62,6 +62,8 @@ pub struct BlankGeometry {
     quad_l: Vec<Mat3>,
     /// Per quad: the deformation gradients at `n` and `n+1`.
     quad_f: Vec<[Mat3; 2]>,
+    /// Per quad: the frame of the initial configuration.
+    quad_f0: Vec<Option<CentreFrame>>,
 }
 
 /// Shape-function derivatives of the bilinear quad at its centre: `∂N/∂ξ`, `∂N/∂η`.
@@ -116,22 +118,36 @@ fn surface_gradient(w: [Vec3; 4], f: &CentreFrame) -> Mat3 {
 /// Quads or nodes per parallel task in [`BlankGeometry::update_areas`].
 const PARALLEL_CHUNK: usize = 512;
 
-/// `value(quad, &mut out[e])` for every quad `e`, in parallel chunks for more
-/// than [`BlankGeometry::PARALLEL_MIN_QUADS`] quads when rayon's pool has
-/// more than one thread (each slot written alone: the same bits on any
-/// number of threads).
-fn per_quad<T: Send>(quads: &[[u32; 4]], out: &mut [T], value: impl Fn(&[u32; 4], &mut T) + Sync) {
-    if quads.len() > BlankGeometry::PARALLEL_MIN_QUADS && rayon::current_num_threads() > 1 {
+/// Blanks with more quads than this compute the velocity and deformation
+/// gradients in parallel (each quad costs about ten times its area and
+/// normal, so the loops pay for the hand-over sooner).
+const PARALLEL_MIN_GRADIENT_QUADS: usize = 256;
+
+/// Quads or nodes per parallel task of the gradients.
+const GRADIENT_CHUNK: usize = 64;
+
+/// `value(e, quad, &mut out[e])` for every quad `e`, in parallel chunks for
+/// more than [`PARALLEL_MIN_GRADIENT_QUADS`] quads when rayon's pool has more
+/// than one thread (each slot written alone: the same bits on any number of
+/// threads).
+fn per_quad<T: Send>(
+    quads: &[[u32; 4]],
+    out: &mut [T],
+    value: impl Fn(usize, &[u32; 4], &mut T) + Sync,
+) {
+    if quads.len() > PARALLEL_MIN_GRADIENT_QUADS && rayon::current_num_threads() > 1 {
         quads
             .par_iter()
             .zip(out.par_iter_mut())
-            .with_min_len(PARALLEL_CHUNK)
-            .for_each(|(q, o)| value(q, o));
+            .enumerate()
+            .with_min_len(GRADIENT_CHUNK)
+            .for_each(|(e, (q, o))| value(e, q, o));
     } else {
         quads
             .iter()
             .zip(out.iter_mut())
-            .for_each(|(q, o)| value(q, o));
+            .enumerate()
+            .for_each(|(e, (q, o))| value(e, q, o));
     }
 }
 
@@ -186,6 +202,7 @@ impl BlankGeometry {
             quad_normal: vec![Vec3::z(); nq],
             quad_l: Vec::new(),
             quad_f: Vec::new(),
+            quad_f0: Vec::new(),
         })
     }
 
@@ -328,7 +345,7 @@ impl BlankGeometry {
                 self.quad_l = vec![Mat3::zeros(); nq];
                 self.vel_grad = vec![Mat3::zeros(); nn];
             }
-            per_quad(&self.quads, &mut self.quad_l, |q, l| {
+            per_quad(&self.quads, &mut self.quad_l, |_, q, l| {
                 // Geometry at mid-step x_{n+1/2} = x_{n+1} - ½Δt v_{n+1/2}.
                 let xm = q.map(|a| blank.x[a as usize] - blank.v[a as usize] * (0.5 * dt));
                 let vs = q.map(|a| blank.v[a as usize]);
@@ -357,10 +374,16 @@ impl BlankGeometry {
                 self.quad_f = vec![[Mat3::identity(); 2]; nq];
                 self.f_old = vec![Mat3::identity(); nn];
                 self.f_new = vec![Mat3::identity(); nn];
+                // The initial configuration does not change: its frames once.
+                self.quad_f0 = self
+                    .quads
+                    .iter()
+                    .map(|q| centre_frame(q.map(|a| blank.x0[a as usize])))
+                    .collect();
             }
-            per_quad(&self.quads, &mut self.quad_f, |q, f| {
-                let x0 = q.map(|a| blank.x0[a as usize]);
-                let Some(f0) = centre_frame(x0) else {
+            let f0s = &self.quad_f0;
+            per_quad(&self.quads, &mut self.quad_f, |e, q, f| {
+                let Some(f0) = f0s[e] else {
                     return;
                 };
                 let xn = q.map(|a| blank.x[a as usize] - blank.v[a as usize] * dt);
@@ -395,10 +418,10 @@ impl BlankGeometry {
                 *o = m / w;
             }
         };
-        if weight.len() > Self::PARALLEL_MIN_QUADS && rayon::current_num_threads() > 1 {
+        if weight.len() > PARALLEL_MIN_GRADIENT_QUADS && rayon::current_num_threads() > 1 {
             out.par_iter_mut()
                 .enumerate()
-                .with_min_len(PARALLEL_CHUNK)
+                .with_min_len(GRADIENT_CHUNK)
                 .for_each(|(i, o)| node(i, o));
         } else {
             out.iter_mut().enumerate().for_each(|(i, o)| node(i, o));
