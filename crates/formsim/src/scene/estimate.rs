@@ -41,25 +41,27 @@ pub const MEMORY_FALLBACK: f64 = 8.0 * GIB;
 pub const FRAMES_DISK_CAP: f64 = 64.0 * GIB;
 
 /// Wall time of one element in one increment (µs), everything included
-/// (shells, contact, output), Belytschko–Tsay. Measured 2026-11-25 in this
-/// worktree with `formsim run scenes/square-cup.toml` (2 threads, a host
-/// shared with two builds, load about 4): 30,200 increments × 2,500
-/// elements in 33.3 s, `element_cycles_per_s` = 2.264e6.
-pub const MICROSECONDS_PER_ELEMENT_CYCLE: f64 = 0.44;
+/// (shells, contact, output), Belytschko–Tsay. Measured 2026-11-25 after the
+/// contact work of issue 15 with `formsim run scenes/square-cup.toml` (2
+/// threads, the host otherwise idle): 30,200 increments × 2,500 elements in
+/// 15.2 s, `element_cycles_per_s` = 4.954e6 (before that work: 0.44 µs,
+/// 2.264e6 on a loaded host).
+pub const MICROSECONDS_PER_ELEMENT_CYCLE: f64 = 0.20;
 
 /// The fully integrated shell's cost per element cycle relative to
 /// Belytschko–Tsay's, measured on the same cup (its first 3 ms, 6,000
-/// increments, `--set solver.end_time=3e-3`): 1.942e6 against 2.260e6
-/// element cycles/s (contact and the nodal update are shared costs).
-pub const FULLY_INTEGRATED_COST: f64 = 1.2;
+/// increments, `--set solver.end_time=3e-3`, 2 threads, after issue 15):
+/// 2.830e6 against 5.277e6 element cycles/s (the shells' share grew as
+/// contact got cheaper; 1.2 before).
+pub const FULLY_INTEGRATED_COST: f64 = 1.9;
 
 /// Hill'48's (`blank.material.r_values`) cost per element cycle relative
 /// to J2's, everything included, measured on the square cup
 /// (`scenes/square-cup-hill.toml` against `scenes/square-cup.toml`, 2
-/// threads, one after the other, 2026-11-25): 1.049e6 against 1.633e6
-/// element cycles/s (the material's return runs lane by lane, about 9× J2's
-/// lane kernel; contact is shared).
-pub const HILL48_COST: f64 = 1.6;
+/// threads, one after the other, 2026-11-25, after issue 15): 2.357e6
+/// against 4.954e6 element cycles/s (the material's return runs lane by
+/// lane, about 9× J2's lane kernel; contact is shared; 1.6 before).
+pub const HILL48_COST: f64 = 2.1;
 
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
