@@ -22,7 +22,6 @@ pub mod block_nodes;
 pub mod error;
 pub mod formulation;
 pub mod fully_integrated;
-mod gather;
 mod geometry;
 pub mod lanes;
 pub mod material;

@@ -23,7 +23,6 @@ use rayon::prelude::*;
 use crate::block_nodes::BlockNodes;
 use crate::error::ShellError;
 use crate::formulation::{ElementBlock, ElementResult, ElementState, ShellFormulation};
-use crate::gather::{self, NodeCorners, Results};
 use crate::geometry::{Frame, V3};
 use crate::lanes::F4;
 use crate::material::Material;
@@ -69,8 +68,6 @@ pub struct ShellSet<E: ShellFormulation, M: Material> {
     /// Per node (of the node list given to [`ShellSet::new`]): 1 / the number
     /// of elements around it (0 for a node of no element).
     inv_valence: Vec<f64>,
-    /// Per node, its element corners (for gathering the results).
-    corners: NodeCorners,
     thickness: Vec<f64>,
     stress: Vec<[f64; 3]>,
     history: Vec<M::History>,
@@ -101,26 +98,81 @@ fn v3(p: &fem_core::Vec3) -> V3 {
 /// The serial part of a step: element results added to the nodal forces,
 /// energy increments summed (internal, hourglass, plastic, drilling) and the
 /// smallest stable time step kept.
+/// The nodal areas and area-weighted normals the shells write when another
+/// effect reads them ([`NodalField::AREA`], [`NodalField::NORMAL_X`], …),
+/// summed over the elements in the serial scatter.
+struct NodalFrames<'a> {
+    area: &'a mut [f64],
+    normal: [&'a mut [f64]; 3],
+}
+
+impl<'a> NodalFrames<'a> {
+    /// The four fields zeroed, when all four are written.
+    fn new(
+        area: Option<&'a mut [f64]>,
+        nx: Option<&'a mut [f64]>,
+        ny: Option<&'a mut [f64]>,
+        nz: Option<&'a mut [f64]>,
+    ) -> Option<Self> {
+        let (area, nx, ny, nz) = (area?, nx?, ny?, nz?);
+        for f in [&mut *area, &mut *nx, &mut *ny, &mut *nz] {
+            f.fill(0.0);
+        }
+        Some(Self {
+            area,
+            normal: [nx, ny, nz],
+        })
+    }
+
+    /// Element of nodes `q`, projected area `a` (mm²) and unit normal `n`:
+    /// a quarter of `a` to each node's area, `a n` to its normal sum.
+    #[inline(always)]
+    fn add(&mut self, q: &[u32; 4], a: f64, n: [f64; 3]) {
+        for &i in q {
+            let i = i as usize;
+            self.area[i] += 0.25 * a;
+            for c in 0..3 {
+                self.normal[c][i] += n[c] * a;
+            }
+        }
+    }
+}
+
 struct Scatter {
     best: StableDt,
     energy: [f64; 4],
 }
 
 impl Scatter {
-    /// Element `e`: false (and nothing added) when its length says it
-    /// degenerated; else its energies and its stable step. (Its forces reach
-    /// the nodes in [`crate::gather::forces`].)
+    /// Element `e` with nodes `q`: false (and nothing added) when its
+    /// length says it degenerated. `fm(k, i)`: component `i` of node `k`'s
+    /// force and moment.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn element(
         &mut self,
+        forces: &mut Forces,
         e: usize,
+        q: &[u32; 4],
         length: f64,
         density_scale: f64,
         wave_speed: f64,
         energy: [f64; 4],
+        fm: impl Fn(usize, usize) -> (f64, f64),
     ) -> bool {
         if length.is_nan() || length <= 0.0 {
             return false;
+        }
+        for k in 0..4 {
+            let n = q[k] as usize;
+            let (f, m) = (&mut forces.f[n], &mut forces.m[n]);
+            let ((fx, mx), (fy, my), (fz, mz)) = (fm(k, 0), fm(k, 1), fm(k, 2));
+            f.x += fx;
+            f.y += fy;
+            f.z += fz;
+            m.x += mx;
+            m.y += my;
+            m.z += mz;
         }
         for (s, d) in self.energy.iter_mut().zip(energy) {
             *s += d;
@@ -208,7 +260,6 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
         Ok(Self {
             name: name.into(),
             inv_valence: inverse_valence(nodes.len(), quads),
-            corners: NodeCorners::new(nodes.len(), quads),
             thickness: vec![section.thickness; ne],
             stress: vec![[0.0; 3]; ne * ip * np],
             history: vec![material.initial_history(); ne * ip * np],
@@ -714,9 +765,8 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             .zip(dr_r.iter_mut())
             .zip(res_r.iter_mut())
             .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| kernel(q, t, s, h, sh, hg, dr, r));
-        // Energies and the stable time step, serially in element order; the
-        // blocks' results are read in their lanes. Then the forces (and the
-        // nodal frames, when read) are gathered node by node.
+        // Serial scatter, energies and the stable time step; the blocks'
+        // results are read in their lanes.
         let mut acc = Scatter {
             best: StableDt {
                 dt: f64::INFINITY,
@@ -726,8 +776,10 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             energy: [0.0; 4],
         };
         let (ds, c) = (&self.density_scale, self.wave_speed);
+        let [thickness, top, bottom, area, nx, ny, nz] = fields.write_each(WRITES);
+        let mut frames = NodalFrames::new(area, nx, ny, nz);
         let mut bad = None;
-        'blocks: for (b, r) in self.results_x4.iter().enumerate() {
+        'blocks: for (b, (qs, r)) in conn_b.iter().zip(&self.results_x4).enumerate() {
             for l in 0..4 {
                 let e = 4 * b + l;
                 let en = [
@@ -736,19 +788,31 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                     r.d_plastic.0[l],
                     r.d_drilling.0[l],
                 ];
-                if !acc.element(e, r.length.0[l], ds[e], c, en) {
+                let ok = acc.element(forces, e, &qs[l], r.length.0[l], ds[e], c, en, |k, i| {
+                    (r.f[k][i].0[l], r.m[k][i].0[l])
+                });
+                if !ok {
                     bad = Some((e, r.length.0[l]));
                     break 'blocks;
+                }
+                if let Some(g) = frames.as_mut() {
+                    let n = [r.normal[0].0[l], r.normal[1].0[l], r.normal[2].0[l]];
+                    g.add(&qs[l], r.area.0[l], n);
                 }
             }
         }
         if bad.is_none() {
-            for (j, r) in self.results.iter().enumerate() {
+            for (j, (q, r)) in conn_r.iter().zip(&self.results).enumerate() {
                 let e = 4 * nb + j;
                 let en = [r.d_internal, r.d_hourglass, r.d_plastic, r.d_drilling];
-                if !acc.element(e, r.length, ds[e], c, en) {
+                if !acc.element(forces, e, q, r.length, ds[e], c, en, |k, i| {
+                    (r.f[k][i], r.m[k][i])
+                }) {
                     bad = Some((e, r.length));
                     break;
+                }
+                if let Some(g) = frames.as_mut() {
+                    g.add(q, r.area, r.normal);
                 }
             }
         }
@@ -766,16 +830,6 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                     ctx.time
                 ),
             });
-        }
-        let results = Results {
-            blocks: &self.results_x4,
-            rest: &self.results,
-        };
-        let parallel = self.conn.len() >= self.parallel_min && rayon::current_num_threads() > 1;
-        gather::forces(&self.corners, results, forces, parallel);
-        let [thickness, top, bottom, area, nx, ny, nz] = fields.write_each(WRITES);
-        if let (Some(area), Some(nx), Some(ny), Some(nz)) = (area, nx, ny, nz) {
-            gather::frames(&self.corners, results, area, [nx, ny, nz], parallel);
         }
         let (best, [di, dh, dp, dd]) = (acc.best, acc.energy);
         self.energy.internal += di;
