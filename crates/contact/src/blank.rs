@@ -327,19 +327,19 @@ impl BlankGeometry {
     /// [`PointNeeds::VELOCITY_GRADIENT`]; the deformation gradients at `n`
     /// and `n+1` only for [`PointNeeds::DEFORMATION_GRADIENT`].
     pub fn update(&mut self, blank: &BlankView<'_>, dt: f64, needs: PointNeeds) {
-        let gradients = needs.contains(PointNeeds::SPIN)
-            || needs.contains(PointNeeds::VELOCITY_GRADIENT)
-            || needs.contains(PointNeeds::DEFORMATION_GRADIENT);
+        let want_l =
+            needs.contains(PointNeeds::SPIN) || needs.contains(PointNeeds::VELOCITY_GRADIENT);
+        let want_f = needs.contains(PointNeeds::DEFORMATION_GRADIENT);
         if !std::mem::take(&mut self.nodal_given) {
             self.nodal_evaluations += 1;
             self.update_areas(blank.x);
-        } else if gradients {
+        } else if want_l || want_f {
             // The gradients' nodal means weigh the quads by their areas.
             self.update_quads(blank.x);
         }
         let nq = self.quads.len();
         let nn = self.area.len();
-        if needs.contains(PointNeeds::SPIN) || needs.contains(PointNeeds::VELOCITY_GRADIENT) {
+        if want_l {
             self.vel_grad_evaluations += 1;
             if self.quad_l.len() != nq {
                 self.quad_l = vec![Mat3::zeros(); nq];
@@ -368,7 +368,7 @@ impl BlankGeometry {
                 &mut self.vel_grad,
             );
         }
-        if needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
+        if want_f {
             self.def_grad_evaluations += 1;
             if self.quad_f.len() != nq {
                 self.quad_f = vec![[Mat3::identity(); 2]; nq];

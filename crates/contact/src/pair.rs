@@ -382,8 +382,9 @@ impl ContactPair {
         // 1b. Narrow phase: project them.
         let warm = (&last.hint[..], &last.region[..]);
         narrow_phase(tool, &at, blank.x, nodes, warm, cand, name)?;
-        self.projections += cand.near.iter().filter(|n| n.projected).count() as u64;
-        self.flat_answers += cand.near.iter().filter(|n| !n.projected).count() as u64;
+        let projected = cand.near.iter().filter(|n| n.projected).count();
+        self.projections += projected as u64;
+        self.flat_answers += (cand.near.len() - projected) as u64;
         lap(&mut t, &mut self.timing.projection);
         // 1c. Normal: gap and pressure; gather the touching points.
         let normal = Normal {

@@ -121,10 +121,9 @@ pub fn warm(
 ) -> Option<PlanarHit> {
     let u0 = u0.clamp(dom.u[0], dom.u[1]);
     let v0 = v0.clamp(dom.v[0], dom.v[1]);
-    surf.eval_into(u0, v0, out);
     // The expansion holds within the hint's Bézier piece (the
     // parametrisation may be only C⁰ across the knots between pieces).
-    let [pu0, pu1, pv0, pv1] = surf.piece_box(u0, v0);
+    let [pu0, pu1, pv0, pv1] = surf.eval_boxed(u0, v0, out);
     // The height from the plane's own offset, not from the evaluated point:
     // the answer does not depend on the hint it was warm-started from.
     let height = x.dot(&plane.normal) - plane.offset;

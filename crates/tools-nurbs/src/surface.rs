@@ -514,6 +514,22 @@ impl NurbsSurface {
     #[inline(never)]
     pub(crate) fn eval_into(&self, u: f64, v: f64, out: &mut Derivs) -> Option<usize> {
         let (index, u, v) = self.locate(u, v);
+        self.eval_piece(index, u, v, out).then_some(index)
+    }
+
+    /// [`Self::eval_into`] that returns the parameter box `[u_0, u_1, v_0,
+    /// v_1]` of the evaluated piece (located once).
+    #[inline]
+    pub(crate) fn eval_boxed(&self, u: f64, v: f64, out: &mut Derivs) -> [f64; 4] {
+        let (index, u, v) = self.locate(u, v);
+        self.eval_piece(index, u, v, out);
+        self.pieces[index].bounds
+    }
+
+    /// Evaluate piece `index` at the (clamped, located) `(u, v)` into `out`;
+    /// true when the piece is affine.
+    #[inline(always)]
+    fn eval_piece(&self, index: usize, u: f64, v: f64, out: &mut Derivs) -> bool {
         let piece = &self.pieces[index];
         let (du, dv) = (u - piece.centre[0], v - piece.centre[1]);
         match piece.kind {
@@ -527,12 +543,12 @@ impl NurbsSurface {
                     suv: Vec3::zeros(),
                     svv: Vec3::zeros(),
                 };
-                return Some(index);
+                return true;
             }
             Kind::Poly => *out = polynomial(&self.homogeneous(piece.off, du, dv)),
             Kind::Rational => *out = rational(&self.homogeneous(piece.off, du, dv)),
         }
-        None
+        false
     }
 
     /// The parameter box `[u_0, u_1, v_0, v_1]` of the piece `index` (as

@@ -71,6 +71,8 @@ pub(crate) struct ToolStep {
     pub origin: Vec3,
     /// Global → tool frame rotation (the pose's rotation transposed).
     pub to_local: Mat3,
+    /// Tool → global frame rotation (the pose's rotation).
+    pub to_global: Mat3,
     /// The tool's rigid velocity.
     pub velocity: RigidVelocity,
     /// The rigid rotation of the step when the law reads it, else the identity.
@@ -98,6 +100,7 @@ impl ToolStep {
             bbox: tool.bounding_box(),
             origin: pose.translation,
             to_local: pose.rotation.transpose(),
+            to_global: pose.rotation,
             velocity,
             rotation,
         }

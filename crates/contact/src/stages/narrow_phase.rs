@@ -68,7 +68,7 @@ impl Near {
     ) -> Option<Self> {
         let (distance, _) = region.project_local(&at.local(x))?;
         Some(Self {
-            normal: at.to_local.transpose() * region.normal,
+            normal: at.to_global * region.normal,
             distance,
             hint,
             region: Some(*region),

@@ -242,6 +242,7 @@ mod tests {
             },
             origin: Vec3::new(0.1, 0.2, -1.0),
             to_local: Mat3::identity(),
+            to_global: Mat3::identity(),
             velocity: RigidVelocity {
                 linear: Vec3::new(3.0, 0.0, -1.0),
                 angular: Vec3::new(0.0, 0.5, 0.0),
