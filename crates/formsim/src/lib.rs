@@ -12,6 +12,7 @@
 pub mod compare;
 pub mod components;
 pub mod history;
+pub mod identify;
 pub mod output;
 pub mod plot;
 pub mod point_driver;

@@ -52,6 +52,73 @@ enum Command {
     Run(RunArgs),
     /// Run a scene for several laws and formulations and tabulate the differences.
     Compare(CompareArgs),
+    /// Fit scene values (friction parameters first) to measurements: optimiser, journal, uncertainty.
+    Identify(IdentifyArgs),
+    /// Normalised finite-difference sensitivities of the measured quantities to scene values.
+    Sensitivity(SensitivityArgs),
+}
+
+#[derive(Args, Debug)]
+struct IdentifyArgs {
+    /// Scene file (TOML; docs/scene-format.md).
+    scene: PathBuf,
+    /// Measurements: TOML data sets, or the CSV `stroke_mm,quantity,value_mm[,se_mm]` (docs/identification.md).
+    #[arg(long, value_name = "FILE")]
+    measurements: PathBuf,
+    /// A fitted scene value with its bounds and optional start, e.g.
+    /// `contact.params.ac.mu=0.05..0.3:0.162` (repeatable).
+    #[arg(long = "fit", value_name = "KEY=LO..HI[:START]", required = true)]
+    fit: Vec<String>,
+    /// Output directory: journal, runs, identification.json/.md, plots. A second
+    /// call with the same arguments resumes from its journal.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Objective: `mae` (the thesis's mean absolute error) or `wls` (weighted least squares; needs standard errors).
+    #[arg(long, default_value = "mae")]
+    objective: String,
+    /// Optimiser: `nelder-mead` (argmin) or `lm` (Levenberg–Marquardt on finite-difference Jacobians).
+    #[arg(long, default_value = "nelder-mead")]
+    method: String,
+    /// Stop after this many evaluations (one evaluation runs every data set once).
+    #[arg(long, default_value_t = 40)]
+    max_evaluations: usize,
+    /// Nelder–Mead: stop when the objective's standard deviation over the simplex is below this.
+    #[arg(long, default_value_t = 1e-4)]
+    tolerance: f64,
+    /// Finite-difference step of the Jacobians, as a fraction of each range.
+    #[arg(long, default_value_t = 0.02)]
+    fd_step: f64,
+    /// Override a scene value for every run (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args, Debug)]
+struct SensitivityArgs {
+    /// Scene file (TOML).
+    scene: PathBuf,
+    /// Measurements (as for identify).
+    #[arg(long, value_name = "FILE")]
+    measurements: PathBuf,
+    /// A scene value, its bounds (the steps stay inside) and the point, e.g.
+    /// `contact.params.ac.mu=0.05..0.3:0.162` (repeatable; without START, the scene's value).
+    #[arg(long = "param", value_name = "KEY=LO..HI[:AT]", required = true)]
+    param: Vec<String>,
+    /// The larger relative step h (the second is h/2).
+    #[arg(long, default_value_t = 0.05)]
+    step: f64,
+    /// Objective of the objective's row: `mae` or `wls`.
+    #[arg(long, default_value = "mae")]
+    objective: String,
+    /// Output directory (journal, runs, sensitivity.json/.md).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Override a scene value for every run (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -244,6 +311,8 @@ fn main() -> ExitCode {
         } => scene_check(&scene, &set, resolved),
         Command::Run(args) => run(&args),
         Command::Compare(args) => compare(&args),
+        Command::Identify(args) => identify(&args),
+        Command::Sensitivity(args) => sensitivity(&args),
     };
     match result {
         Ok(code) => code,
@@ -763,4 +832,114 @@ fn compare(args: &CompareArgs) -> Outcome {
     } else {
         ExitCode::FAILURE
     })
+}
+
+fn identify(args: &IdentifyArgs) -> Outcome {
+    use formsim::identify::{
+        self, Method, Options, measurements::Measurements, objective::Objective, params::FitParam,
+    };
+    let err = |e: identify::IdentifyError| Failure::Message(e.to_string());
+    let params = args
+        .fit
+        .iter()
+        .map(|f| FitParam::parse(f))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(err)?;
+    if !(args.fd_step > 0.0 && args.fd_step < 0.5) {
+        return Err(format!(
+            "--fd-step {}: must be in (0, 0.5) (a fraction of each range)",
+            args.fd_step
+        )
+        .into());
+    }
+    if !(args.tolerance >= 0.0 && args.tolerance.is_finite()) {
+        return Err(format!(
+            "--tolerance {}: must be a non-negative number",
+            args.tolerance
+        )
+        .into());
+    }
+    let options = Options {
+        scene: args.scene.clone(),
+        sets: args.set.clone(),
+        params,
+        objective: Objective::parse(&args.objective).map_err(err)?,
+        method: Method::parse(&args.method).map_err(err)?,
+        max_evaluations: args.max_evaluations,
+        tolerance: args.tolerance,
+        fd_step: args.fd_step,
+        out: args.out.clone(),
+        progress: !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()),
+    };
+    let data = Measurements::read(&args.measurements).map_err(err)?;
+    let report = identify::identify(&options, &data).map_err(err)?;
+    for p in &report.params {
+        let interval = report
+            .uncertainty
+            .as_ref()
+            .and_then(|u| {
+                u.interval95[report
+                    .params
+                    .iter()
+                    .position(|q| q.key == p.key)
+                    .unwrap_or(0)]
+            })
+            .map_or(String::new(), |[a, b]| {
+                format!(", 95 % interval {a:.6} .. {b:.6}")
+            });
+        say!("{} = {:.6} (start {}){interval}", p.key, p.end, p.start);
+    }
+    say!(
+        "objective {}: {} -> {:.6}; {} evaluations, {} runs made, {} from the journal, {:.1} s ({})",
+        report.objective,
+        report
+            .objective_start
+            .map_or("-".into(), |v| format!("{v:.6}")),
+        report.objective_end,
+        report.evaluations,
+        report.runs_made,
+        report.from_journal,
+        report.wall_s,
+        report.stop
+    );
+    if let Some(u) = &report.uncertainty {
+        for w in &u.warnings {
+            note!("warning: {w}");
+        }
+    }
+    say!(
+        "report: {}/identification.md, identification.json, objective.png, fit.png",
+        args.out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn sensitivity(args: &SensitivityArgs) -> Outcome {
+    use formsim::identify::{
+        self, SensitivityOptions, measurements::Measurements, objective::Objective,
+        params::FitParam,
+    };
+    let err = |e: identify::IdentifyError| Failure::Message(e.to_string());
+    let params = args
+        .param
+        .iter()
+        .map(|f| FitParam::parse(f))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| Failure::Message(e.to_string().replacen("--fit", "--param", 1)))?;
+    let options = SensitivityOptions {
+        scene: args.scene.clone(),
+        sets: args.set.clone(),
+        params,
+        objective: Objective::parse(&args.objective).map_err(err)?,
+        step: args.step,
+        out: args.out.clone(),
+    };
+    let data = Measurements::read(&args.measurements).map_err(err)?;
+    let table = identify::sensitivity(&options, &data).map_err(err)?;
+    say!(
+        "{} runs; table: {}/sensitivity.md, sensitivity.json",
+        table.runs,
+        args.out.display()
+    );
+    Ok(ExitCode::SUCCESS)
 }

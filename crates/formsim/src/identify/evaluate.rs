@@ -1,0 +1,368 @@
+//! Evaluations: the runs of every data set at a parameter point, their
+//! simulated values and the objective, taken from the journal when they are
+//! there and run in parallel when they are not.
+//!
+//! A batch of points is run as one parallel loop over its (point, data set)
+//! runs on the global thread pool: a batch of one run gets every thread for
+//! its own parallel loops, a batch of several runs shares them (results are
+//! the same bits either way).
+
+use super::IdentifyError;
+use super::journal::{Context, Entry, Journal};
+use super::measurements::Measurements;
+use super::objective::Objective;
+use super::observe::Observables;
+use super::params::{FitParam, assignment};
+use crate::run::summary::stroke_key;
+use crate::run::{Progress, RunOptions, run};
+use crate::scene;
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// One evaluated point.
+#[derive(Debug, Clone)]
+pub struct Evaluation {
+    /// Its journal number.
+    pub index: usize,
+    /// The fitted values.
+    pub values: Vec<f64>,
+    /// The simulated value of every measured point, per data set (`Err`: the
+    /// run or a lookup failed).
+    pub predictions: Vec<Result<Vec<f64>, String>>,
+    /// The objective (`+∞` when a prediction failed).
+    pub cost: f64,
+    /// Wall seconds of its runs.
+    pub wall_s: f64,
+    /// Whether an earlier call made it (read from the journal on resuming).
+    pub from_journal: bool,
+}
+
+impl Evaluation {
+    /// The first failure, if any.
+    pub fn failure(&self) -> Option<&str> {
+        self.predictions
+            .iter()
+            .find_map(|p| p.as_ref().err().map(String::as_str))
+    }
+}
+
+/// Runs the scene at parameter points (the objective's only way to the
+/// simulation).
+pub struct Evaluator<'a> {
+    scene_path: PathBuf,
+    overrides: Vec<String>,
+    data: &'a Measurements,
+    params: &'a [FitParam],
+    objective: Objective,
+    journal: Journal,
+    runs_dir: PathBuf,
+    /// Every evaluation asked for, in order (repeats included).
+    log: Mutex<Vec<Evaluation>>,
+    bar: Option<indicatif::ProgressBar>,
+    started: Instant,
+    /// Journal numbers below this were made by an earlier call.
+    first_new: usize,
+}
+
+impl std::fmt::Debug for Evaluator<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Evaluator")
+            .field("scene", &self.scene_path)
+            .field("journal", &self.journal)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The overrides identify adds to every run: no VTK frames or plots (they
+/// change no figure), and a report state at every stroke the measurements read.
+pub fn run_overrides(data: &Measurements, scene_strokes: &[f64]) -> Vec<String> {
+    let mut strokes: Vec<f64> = scene_strokes.to_vec();
+    for s in data.strokes() {
+        if !strokes.iter().any(|t| stroke_key(*t) == stroke_key(s)) {
+            strokes.push(s);
+        }
+    }
+    strokes.sort_by(f64::total_cmp);
+    let list: Vec<String> = strokes.iter().map(|s| format!("{s:?}")).collect();
+    vec![
+        "output.frames=0".into(),
+        "output.plots=false".into(),
+        format!("output.report_strokes=[{}]", list.join(", ")),
+    ]
+}
+
+impl<'a> Evaluator<'a> {
+    /// Set up the evaluations of `params` against `data` on the scene at
+    /// `scene_path` (with `sets`), journalled in `out`.
+    ///
+    /// # Errors
+    /// The scene does not load; the journal belongs to other arguments.
+    pub fn new(
+        scene_path: &Path,
+        sets: &[String],
+        data: &'a Measurements,
+        params: &'a [FitParam],
+        objective: Objective,
+        out: &Path,
+    ) -> Result<Self, IdentifyError> {
+        let loaded =
+            scene::load(scene_path, sets).map_err(|e| IdentifyError::Scene(e.to_string()))?;
+        let mut overrides = sets.to_vec();
+        overrides.extend(run_overrides(data, &loaded.scene.output.report_strokes));
+        let context = Context {
+            version: env!("CARGO_PKG_VERSION").into(),
+            scene_text: loaded.text.clone(),
+            overrides: overrides.clone(),
+            sets: data
+                .sets
+                .iter()
+                .map(|s| (s.name.clone(), s.overrides.clone()))
+                .collect(),
+            keys: params.iter().map(|p| p.key.clone()).collect(),
+        };
+        let journal = Journal::open(out, &context)?;
+        let first_new = journal.next();
+        Ok(Self {
+            scene_path: scene_path.to_path_buf(),
+            overrides,
+            data,
+            params,
+            objective,
+            journal,
+            runs_dir: out.join("runs"),
+            log: Mutex::new(Vec::new()),
+            bar: None,
+            started: Instant::now(),
+            first_new,
+        })
+    }
+
+    /// Show a progress bar of `limit` runs with the best objective so far.
+    pub fn with_progress(mut self, limit: usize) -> Self {
+        let style = indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:30}] {pos}/{len} evaluations  {msg}",
+        )
+        .map(|s| s.progress_chars("=> "));
+        if let Ok(style) = style {
+            let bar = indicatif::ProgressBar::new(limit as u64);
+            bar.set_style(style);
+            self.bar = Some(bar);
+        }
+        self
+    }
+
+    /// The scene overrides of every run, for a data set's run at `values`.
+    pub fn overrides_at(&self, set: usize, values: &[f64]) -> Vec<String> {
+        let mut all = self.overrides.clone();
+        all.extend(self.data.sets[set].overrides.iter().cloned());
+        all.extend(
+            self.params
+                .iter()
+                .zip(values)
+                .map(|(p, v)| assignment(p, *v)),
+        );
+        all
+    }
+
+    /// The measurements.
+    pub fn data(&self) -> &Measurements {
+        self.data
+    }
+
+    /// The fitted parameters.
+    pub fn params(&self) -> &[FitParam] {
+        self.params
+    }
+
+    /// The objective.
+    pub fn objective(&self) -> Objective {
+        self.objective
+    }
+
+    /// The journal entry (observables of every data set) at exactly `values`.
+    pub fn entry(&self, values: &[f64]) -> Option<Entry> {
+        self.journal.get(values)
+    }
+
+    /// Every evaluation asked for so far, in order.
+    pub fn log(&self) -> Vec<Evaluation> {
+        self.log.lock().map(|l| l.clone()).unwrap_or_default()
+    }
+
+    /// The number of runs made by this call (each distinct point it ran,
+    /// times the data sets).
+    pub fn runs_made(&self) -> usize {
+        (self.journal.next() - self.first_new) * self.data.sets.len()
+    }
+
+    /// The number of distinct points evaluated in this call, and how many of
+    /// them an earlier call had made.
+    pub fn distinct(&self) -> (usize, usize) {
+        let log = self.log();
+        let mut seen: Vec<usize> = log.iter().map(|e| e.index).collect();
+        seen.sort_unstable();
+        seen.dedup();
+        let earlier = seen.iter().filter(|i| **i < self.first_new).count();
+        (seen.len(), earlier)
+    }
+
+    /// Wall seconds since the evaluator was made.
+    pub fn elapsed_s(&self) -> f64 {
+        self.started.elapsed().as_secs_f64()
+    }
+
+    /// Finish the progress bar.
+    pub fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish();
+        }
+    }
+
+    /// Evaluate one point.
+    ///
+    /// # Errors
+    /// The journal cannot be written.
+    pub fn evaluate(&self, values: &[f64]) -> Result<Evaluation, IdentifyError> {
+        Ok(self
+            .evaluate_batch(&[values.to_vec()])?
+            .pop()
+            .expect("one evaluation per point"))
+    }
+
+    /// Evaluate several points: those in the journal are read, the others
+    /// run in parallel and are journalled.
+    ///
+    /// # Errors
+    /// The journal cannot be written.
+    pub fn evaluate_batch(&self, points: &[Vec<f64>]) -> Result<Vec<Evaluation>, IdentifyError> {
+        let mut entries: Vec<Option<Entry>> = points.iter().map(|p| self.journal.get(p)).collect();
+        // Each missing point once, even if the batch repeats it.
+        let mut missing: Vec<(usize, Vec<f64>)> = Vec::new();
+        for (i, p) in points.iter().enumerate() {
+            if entries[i].is_none() && !missing.iter().any(|(_, q)| q == p) {
+                missing.push((self.journal.next_index(), p.clone()));
+            }
+        }
+        let jobs: Vec<(usize, usize)> = (0..missing.len())
+            .flat_map(|m| (0..self.data.sets.len()).map(move |s| (m, s)))
+            .collect();
+        let results: Vec<(Result<Observables, String>, f64)> = jobs
+            .par_iter()
+            .map(|&(m, s)| self.run_one(missing[m].0, s, &missing[m].1))
+            .collect();
+        for (m, (index, values)) in missing.iter().enumerate() {
+            let mut sets = BTreeMap::new();
+            let mut wall_s = 0.0;
+            for (&(mm, s), (obs, wall)) in jobs.iter().zip(&results) {
+                if mm == m {
+                    sets.insert(self.data.sets[s].name.clone(), obs.clone());
+                    wall_s += wall;
+                }
+            }
+            let entry = Entry {
+                index: *index,
+                values: values.clone(),
+                wall_s,
+                sets,
+            };
+            self.journal.record(entry.clone())?;
+            for (i, p) in points.iter().enumerate() {
+                if entries[i].is_none() && p == values {
+                    entries[i] = Some(entry.clone());
+                }
+            }
+        }
+        let evaluations: Vec<Evaluation> = entries
+            .into_iter()
+            .map(|e| {
+                let entry = e.expect("every point evaluated");
+                self.score(&entry, entry.index < self.first_new)
+            })
+            .collect();
+        self.note(&evaluations);
+        Ok(evaluations)
+    }
+
+    /// One data set's run at `values`: its observables (or error) and wall seconds.
+    fn run_one(
+        &self,
+        index: usize,
+        set: usize,
+        values: &[f64],
+    ) -> (Result<Observables, String>, f64) {
+        let start = Instant::now();
+        let out = self
+            .runs_dir
+            .join(format!("eval-{index:04}"))
+            .join(&self.data.sets[set].name);
+        let result = scene::load(&self.scene_path, &self.overrides_at(set, values))
+            .map_err(|e| e.to_string())
+            .and_then(|loaded| {
+                run(
+                    &loaded,
+                    &RunOptions {
+                        out,
+                        progress: Progress::Hidden,
+                    },
+                )
+                .map_err(|e| e.to_string())
+            })
+            .and_then(|r| Observables::from_run(&r));
+        (result, start.elapsed().as_secs_f64())
+    }
+
+    /// Predictions and objective of a journal entry.
+    fn score(&self, entry: &Entry, from_journal: bool) -> Evaluation {
+        let predictions: Vec<Result<Vec<f64>, String>> = self
+            .data
+            .sets
+            .iter()
+            .map(|set| match entry.sets.get(&set.name) {
+                Some(Ok(obs)) => obs
+                    .predict(set)
+                    .map_err(|e| format!("set {}: {e}", set.name)),
+                Some(Err(e)) => Err(format!("set {}: {e}", set.name)),
+                None => Err(format!("set {}: not in the journal entry", set.name)),
+            })
+            .collect();
+        let cost = self.objective.cost(self.data, &predictions);
+        Evaluation {
+            index: entry.index,
+            values: entry.values.clone(),
+            predictions,
+            cost,
+            wall_s: entry.wall_s,
+            from_journal,
+        }
+    }
+
+    /// Log evaluations and move the bar.
+    fn note(&self, evaluations: &[Evaluation]) {
+        let Ok(mut log) = self.log.lock() else {
+            return;
+        };
+        log.extend(evaluations.iter().cloned());
+        if let Some(bar) = &self.bar {
+            let best = log.iter().map(|e| e.cost).fold(f64::INFINITY, f64::min);
+            bar.set_position(log.len() as u64);
+            let journal = log
+                .iter()
+                .filter(|e| e.from_journal)
+                .map(|e| e.index)
+                .collect::<std::collections::BTreeSet<_>>()
+                .len();
+            bar.set_message(format!(
+                "best {} = {best:.5}{}",
+                self.objective.name(),
+                if journal > 0 {
+                    format!(" ({journal} from an earlier call)")
+                } else {
+                    String::new()
+                }
+            ));
+        }
+    }
+}

@@ -1,0 +1,183 @@
+//! What a run leaves for the identification to read (its `summary.json`, its
+//! section curves at the report strokes, its punch force against stroke),
+//! kept in the journal, and the simulated value of each measured point.
+
+use super::measurements::{CurveColumn, DataSet, Quantity};
+use crate::run::RunResult;
+use crate::run::summary::stroke_key;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// The observable outputs of one run.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Observables {
+    /// `summary.json` as written.
+    pub summary: serde_json::Value,
+    /// Section curves at the report strokes, keyed `SECTION@STROKE`: rows of
+    /// `[distance, major, minor, thickness_strain, thinning]`.
+    pub curves: BTreeMap<String, Vec<[f64; 5]>>,
+    /// Punch force (full part, N) against stroke (mm): `[stroke, force]`.
+    pub force: Vec<[f64; 2]>,
+}
+
+impl Observables {
+    /// Take the observables of a finished run.
+    ///
+    /// # Errors
+    /// The summary does not serialise (cannot happen for finite figures).
+    pub fn from_run(result: &RunResult) -> Result<Self, String> {
+        let summary = serde_json::to_value(&result.summary).map_err(|e| e.to_string())?;
+        let mut curves = BTreeMap::new();
+        for (stroke, snapshot) in &result.states {
+            for (name, rows) in &snapshot.curves {
+                curves.insert(
+                    format!("{name}@{}", stroke_key(*stroke)),
+                    rows.iter()
+                        .map(|r| [r.distance, r.major, r.minor, r.thickness_strain, r.thinning])
+                        .collect(),
+                );
+            }
+        }
+        let force = result
+            .history
+            .iter()
+            .map(|h| [h.stroke, h.punch_force])
+            .collect();
+        Ok(Self {
+            summary,
+            curves,
+            force,
+        })
+    }
+
+    /// The simulated value of every point of `set`, in its order.
+    ///
+    /// # Errors
+    /// A key that `summary.json` does not have (or that is not a number), a
+    /// curve at a stroke or section the run did not report, a distance or
+    /// stroke outside the simulated range, a value that is not finite.
+    pub fn predict(&self, set: &DataSet) -> Result<Vec<f64>, String> {
+        set.points
+            .iter()
+            .map(|p| {
+                let v = match &p.quantity {
+                    Quantity::Scalar { key } => self.scalar(key),
+                    Quantity::Curve {
+                        section,
+                        stroke,
+                        column,
+                        distance,
+                    } => self.curve(section, *stroke, *column, *distance),
+                    Quantity::Force { stroke } => self.force_at(*stroke),
+                }?;
+                if v.is_finite() {
+                    Ok(v)
+                } else {
+                    Err(format!("{}: the simulated value is {v}", p.label()))
+                }
+            })
+            .collect()
+    }
+
+    /// A number of `summary.json` by its dotted key.
+    fn scalar(&self, key: &str) -> Result<f64, String> {
+        let parts: Vec<&str> = key.split('.').collect();
+        lookup(&self.summary, &parts)
+            .and_then(serde_json::Value::as_f64)
+            .ok_or_else(|| format!("summary.json has no number at `{key}`"))
+    }
+
+    fn curve(
+        &self,
+        section: &str,
+        stroke: f64,
+        column: CurveColumn,
+        distance: f64,
+    ) -> Result<f64, String> {
+        let name = format!("{section}@{}", stroke_key(stroke));
+        let rows = self
+            .curves
+            .get(&name)
+            .ok_or_else(|| format!("the run reported no section curve `{name}` (sections or report strokes of the scene)"))?;
+        let c = match column {
+            CurveColumn::Major => 1,
+            CurveColumn::Minor => 2,
+            CurveColumn::ThicknessStrain => 3,
+            CurveColumn::Thinning => 4,
+        };
+        let points: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[c])).collect();
+        interpolate(&points, distance).ok_or_else(|| {
+            format!(
+                "{name}: distance {distance} mm is outside the simulated curve ({:.3}..{:.3} mm)",
+                points.first().map_or(f64::NAN, |p| p.0),
+                points.last().map_or(f64::NAN, |p| p.0)
+            )
+        })
+    }
+
+    fn force_at(&self, stroke: f64) -> Result<f64, String> {
+        let points: Vec<(f64, f64)> = self.force.iter().map(|r| (r[0], r[1])).collect();
+        interpolate(&points, stroke)
+            .ok_or_else(|| format!("punch force: stroke {stroke} mm was not reached"))
+    }
+}
+
+/// Follow `parts` through JSON objects; a key may itself contain dots (a
+/// stroke such as `12.5`): at each level the shortest join of the next parts
+/// that names a key is taken.
+fn lookup<'a>(value: &'a serde_json::Value, parts: &[&str]) -> Option<&'a serde_json::Value> {
+    if parts.is_empty() {
+        return Some(value);
+    }
+    let object = value.as_object()?;
+    (1..=parts.len()).find_map(|n| {
+        object
+            .get(&parts[..n].join("."))
+            .and_then(|v| lookup(v, &parts[n..]))
+    })
+}
+
+/// Linear interpolation at `x` on the first segment of `points` that holds it
+/// (`points` in the order they were sampled; a stroke history may start with
+/// repeated zeros).
+fn interpolate(points: &[(f64, f64)], x: f64) -> Option<f64> {
+    points.windows(2).find_map(|w| {
+        let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+        let (lo, hi) = (x0.min(x1), x0.max(x1));
+        if !(lo..=hi).contains(&x) {
+            return None;
+        }
+        if hi - lo == 0.0 {
+            return Some(y0);
+        }
+        let t = (x - x0) / (x1 - x0);
+        Some(y0 + t * (y1 - y0))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lookup_takes_dotted_strokes() {
+        let v: serde_json::Value = serde_json::json!({
+            "states": {"12.5": {"draw_in": {"DX": 4.0}}, "40": {"draw_in": {"DX": 28.0}}},
+            "thinning_max": 0.2
+        });
+        let get = |k: &str| lookup(&v, &k.split('.').collect::<Vec<_>>()).and_then(|x| x.as_f64());
+        assert_eq!(get("states.12.5.draw_in.DX"), Some(4.0));
+        assert_eq!(get("states.40.draw_in.DX"), Some(28.0));
+        assert_eq!(get("thinning_max"), Some(0.2));
+        assert_eq!(get("states.41.draw_in.DX"), None);
+    }
+
+    #[test]
+    fn interpolation_is_linear_and_bounded() {
+        let p = [(0.0, 0.0), (0.0, 0.0), (1.0, 10.0), (3.0, 30.0)];
+        assert_eq!(interpolate(&p, 0.5), Some(5.0));
+        assert_eq!(interpolate(&p, 2.0), Some(20.0));
+        assert_eq!(interpolate(&p, 3.0), Some(30.0));
+        assert_eq!(interpolate(&p, 3.5), None);
+    }
+}

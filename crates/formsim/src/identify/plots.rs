@@ -1,0 +1,140 @@
+//! Plots of an identification: measured values with their error bars against
+//! the simulated ones at the start and at the end.
+
+use crate::plot::{Series, ensure_font};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// One panel: measured points (with optional standard errors) and simulated lines.
+#[derive(Debug, Clone)]
+pub struct MarkPanel {
+    /// Title.
+    pub title: String,
+    /// x-axis label with unit.
+    pub x_label: String,
+    /// y-axis label with unit.
+    pub y_label: String,
+    /// Measured `(x, value, se)`.
+    pub measured: Vec<(f64, f64, Option<f64>)>,
+    /// Simulated curves (start, end).
+    pub simulated: Vec<Series>,
+}
+
+fn range(panel: &MarkPanel) -> ((f64, f64), (f64, f64)) {
+    let mut xs: Vec<f64> = panel.measured.iter().map(|m| m.0).collect();
+    let mut ys: Vec<f64> = Vec::new();
+    for (_, y, se) in &panel.measured {
+        let e = se.unwrap_or(0.0);
+        ys.extend([y - 1.96 * e, y + 1.96 * e]);
+    }
+    for s in &panel.simulated {
+        xs.extend(s.points.iter().map(|p| p.0));
+        ys.extend(s.points.iter().map(|p| p.1));
+    }
+    let span = |v: &[f64]| {
+        let lo = v
+            .iter()
+            .copied()
+            .filter(|x| x.is_finite())
+            .fold(f64::MAX, f64::min);
+        let hi = v
+            .iter()
+            .copied()
+            .filter(|x| x.is_finite())
+            .fold(f64::MIN, f64::max);
+        if lo > hi {
+            return (0.0, 1.0);
+        }
+        let pad = if hi > lo {
+            0.08 * (hi - lo)
+        } else {
+            lo.abs().max(1.0) * 0.1
+        };
+        (lo - pad, hi + pad)
+    };
+    (span(&xs), span(&ys))
+}
+
+/// Draw the panels stacked into a PNG.
+///
+/// # Errors
+/// No font, or the file cannot be written.
+pub fn draw(path: &Path, panels: &[MarkPanel]) -> Result<(), String> {
+    ensure_font()?;
+    let fail = |e: &dyn std::fmt::Display| format!("{}: cannot draw plot: {e}", path.display());
+    let rows = u32::try_from(panels.len().max(1)).unwrap_or(1);
+    let root = BitMapBackend::new(path, (900, 340 * rows)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| fail(&e))?;
+    for (panel, area) in panels
+        .iter()
+        .zip(root.split_evenly((panels.len().max(1), 1)).iter())
+    {
+        let ((x0, x1), (y0, y1)) = range(panel);
+        let mut chart = ChartBuilder::on(area)
+            .caption(&panel.title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| fail(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc(panel.x_label.as_str())
+            .y_desc(panel.y_label.as_str())
+            .label_style(("sans-serif", 13))
+            .draw()
+            .map_err(|e| fail(&e))?;
+        for (i, s) in panel.simulated.iter().enumerate() {
+            let color = Palette99::pick(i + 1).to_rgba();
+            chart
+                .draw_series(LineSeries::new(
+                    s.points.iter().copied(),
+                    color.stroke_width(2),
+                ))
+                .map_err(|e| fail(&e))?
+                .label(s.label.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+                });
+            chart
+                .draw_series(
+                    s.points
+                        .iter()
+                        .map(|&(x, y)| Circle::new((x, y), 3, color.filled())),
+                )
+                .map_err(|e| fail(&e))?;
+        }
+        chart
+            .draw_series(panel.measured.iter().filter_map(|&(x, y, se)| {
+                se.map(|e| {
+                    ErrorBar::new_vertical(
+                        x,
+                        y - 1.96 * e,
+                        y,
+                        y + 1.96 * e,
+                        BLACK.stroke_width(1),
+                        8,
+                    )
+                })
+            }))
+            .map_err(|e| fail(&e))?;
+        chart
+            .draw_series(
+                panel
+                    .measured
+                    .iter()
+                    .map(|&(x, y, _)| Cross::new((x, y), 6, BLACK.stroke_width(2))),
+            )
+            .map_err(|e| fail(&e))?
+            .label("measured (95 % bars where se is given)")
+            .legend(|(x, y)| Cross::new((x + 9, y), 6, BLACK.stroke_width(2)));
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .draw()
+            .map_err(|e| fail(&e))?;
+    }
+    root.present().map_err(|e| fail(&e))
+}
