@@ -18,7 +18,12 @@ pub struct MarkPanel {
     pub measured: Vec<(f64, f64, Option<f64>)>,
     /// Simulated curves (start, end).
     pub simulated: Vec<Series>,
+    /// Join the simulated points by lines (curves); markers only for scalars.
+    pub lines: bool,
 }
+
+/// Colours of the simulated series: start, end.
+const COLOURS: [RGBColor; 2] = [RGBColor(70, 110, 200), RGBColor(210, 50, 40)];
 
 fn range(panel: &MarkPanel) -> ((f64, f64), (f64, f64)) {
     let mut xs: Vec<f64> = panel.measured.iter().map(|m| m.0).collect();
@@ -85,24 +90,24 @@ pub fn draw(path: &Path, panels: &[MarkPanel]) -> Result<(), String> {
             .draw()
             .map_err(|e| fail(&e))?;
         for (i, s) in panel.simulated.iter().enumerate() {
-            let color = Palette99::pick(i + 1).to_rgba();
-            chart
-                .draw_series(LineSeries::new(
-                    s.points.iter().copied(),
-                    color.stroke_width(2),
-                ))
-                .map_err(|e| fail(&e))?
-                .label(s.label.as_str())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-                });
+            let color = COLOURS[i % COLOURS.len()];
+            if panel.lines {
+                chart
+                    .draw_series(LineSeries::new(
+                        s.points.iter().copied(),
+                        color.stroke_width(2),
+                    ))
+                    .map_err(|e| fail(&e))?;
+            }
             chart
                 .draw_series(
                     s.points
                         .iter()
-                        .map(|&(x, y)| Circle::new((x, y), 3, color.filled())),
+                        .map(|&(x, y)| Circle::new((x, y), 5, color.filled())),
                 )
-                .map_err(|e| fail(&e))?;
+                .map_err(|e| fail(&e))?
+                .label(s.label.as_str())
+                .legend(move |(x, y)| Circle::new((x + 9, y), 5, color.filled()));
         }
         chart
             .draw_series(panel.measured.iter().filter_map(|&(x, y, se)| {
@@ -130,6 +135,7 @@ pub fn draw(path: &Path, panels: &[MarkPanel]) -> Result<(), String> {
             .legend(|(x, y)| Cross::new((x + 9, y), 6, BLACK.stroke_width(2)));
         chart
             .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font(("sans-serif", 13))

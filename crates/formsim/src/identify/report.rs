@@ -447,6 +447,7 @@ impl Report {
                 line("simulated at the start", |p| p.start),
                 line("simulated at the end", |p| p.end),
             ],
+            lines: group != "scalars",
         }
     }
 }
