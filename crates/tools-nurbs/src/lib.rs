@@ -49,6 +49,7 @@ pub mod bvh;
 pub mod closest_point;
 pub mod differential;
 pub mod error;
+pub mod free_edges;
 pub mod nurbs_tool;
 pub mod planar;
 pub mod surface;
