@@ -59,6 +59,7 @@ pub use nurbs_tool::{NurbsTool, OrientedPatch, TIE_TOL};
 pub use surface::{Derivs, NurbsSurface, PatchDef};
 pub mod export;
 pub mod faceted;
+pub mod faceted_edges;
 pub mod mesh_io;
 pub mod spec;
 

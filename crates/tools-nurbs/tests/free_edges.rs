@@ -162,3 +162,65 @@ fn the_s_rail_apron_covers_the_flange_edge() {
         "{p:?}"
     );
 }
+
+/// The same 20 × 10 sheet as two facets (counter-clockwise seen from +z).
+fn faceted_sheet() -> tools_nurbs::FacetedTool {
+    let mesh = tools_nurbs::mesh_io::TriMesh {
+        vertices: vec![
+            Vec3::new(-10.0, -5.0, 0.0),
+            Vec3::new(10.0, -5.0, 0.0),
+            Vec3::new(10.0, 5.0, 0.0),
+            Vec3::new(-10.0, 5.0, 0.0),
+        ],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+    };
+    tools_nurbs::FacetedTool::new("sheet", &mesh, false).unwrap()
+}
+
+/// A faceted sheet answers beyond its open edges as the NURBS one does:
+/// below the plane beyond the edge, over it, beyond a corner; inside, the
+/// face; the shared diagonal is not an edge of the boundary.
+#[test]
+fn a_faceted_sheet_follows_the_same_rule() {
+    let tool = faceted_sheet();
+    assert!(tool.is_open());
+    let p = tool.project(&Vec3::new(10.3, 1.0, -0.4), None).unwrap();
+    assert!((p.distance - 0.5).abs() < 1e-12, "{p:?}");
+    assert!(close(&p.normal, &Vec3::new(0.6, 0.0, -0.8)), "{p:?}");
+    assert_eq!(p.curvature, Mat3::zeros());
+    let p = tool.project(&Vec3::new(10.2, -2.0, 0.3), None).unwrap();
+    let r = Vec3::new(0.2, 0.0, 0.3);
+    assert!(
+        (p.distance - r.norm()).abs() < 1e-12 && close(&p.normal, &(r / r.norm())),
+        "{p:?}"
+    );
+    let p = tool.project(&Vec3::new(10.3, 5.4, 0.0), None).unwrap();
+    assert!(
+        (p.distance - 0.5).abs() < 1e-12 && close(&p.normal, &Vec3::new(0.6, 0.8, 0.0)),
+        "{p:?}"
+    );
+    for x in [Vec3::new(9.9, 1.0, -0.4), Vec3::new(0.0, 0.0, -0.4)] {
+        let p = tool.project(&x, None).unwrap();
+        assert!(
+            (p.distance + 0.4).abs() < 1e-12 && close(&p.normal, &Vec3::z()),
+            "{x}: {p:?}"
+        );
+    }
+}
+
+/// A closed mesh (a tetrahedron) has no open edge, so the rule never
+/// applies to it.
+#[test]
+fn a_closed_faceted_mesh_has_no_free_edge() {
+    let mesh = tools_nurbs::mesh_io::TriMesh {
+        vertices: vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(10.0, 0.0, 0.0),
+            Vec3::new(0.0, 10.0, 0.0),
+            Vec3::new(0.0, 0.0, 10.0),
+        ],
+        triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+    };
+    let tool = tools_nurbs::FacetedTool::new("tet", &mesh, false).unwrap();
+    assert!(!tool.is_open());
+}
