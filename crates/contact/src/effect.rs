@@ -160,6 +160,27 @@ impl ContactEffect {
         self.needs
     }
 
+    /// Make pair `pair` keep (`on`) or stop keeping a record of its friction
+    /// stage ([`ContactPair::record_friction`]), and compute the blank's
+    /// gradients the record needs.
+    ///
+    /// # Errors
+    /// No pair of that index.
+    pub fn record_friction(&mut self, pair: usize, on: bool) -> Result<(), crate::ContactError> {
+        let count = self.pairs.len();
+        let p = self.pairs.get_mut(pair).ok_or_else(|| {
+            crate::ContactError::Mesh(format!(
+                "record_friction: no contact pair {pair} (the effect has {count})"
+            ))
+        })?;
+        p.record_friction(on);
+        self.needs = self
+            .pairs
+            .iter()
+            .fold(PointNeeds::NONE, |a, p| a | p.needs());
+        Ok(())
+    }
+
     /// Nodal thickness (mm) the pairs read in the last force computation:
     /// the shared [`NodalField::THICKNESS`] of that step, or the initial
     /// thickness when no effect writes it.

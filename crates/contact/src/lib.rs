@@ -30,6 +30,7 @@
 mod blank;
 mod effect;
 mod error;
+mod friction_record;
 mod pair;
 pub mod penalty;
 mod stages;
@@ -39,6 +40,7 @@ mod tool_log;
 pub use blank::{BlankGeometry, BlankView};
 pub use effect::ContactEffect;
 pub use error::ContactError;
+pub use friction_record::{FrictionRecord, RECORD_NEEDS};
 pub use pair::{ContactEnergy, ContactPair, PairSpec, PointStatus, Reaction};
 pub use penalty::PenaltySettings;
 pub use timing::ContactTiming;

@@ -12,7 +12,7 @@ use crate::stages::narrow_phase::narrow_phase;
 use crate::stages::normal::{Normal, NormalSums};
 use crate::stages::scatter::{Scatter, ScatterSums};
 use crate::stages::{Batch, Candidates, LastProjection, PointsMut, Settings, ToolStep};
-use crate::{BlankGeometry, BlankView, ContactError, ContactTiming};
+use crate::{BlankGeometry, BlankView, ContactError, ContactTiming, FrictionRecord};
 
 /// What a contact pair is built from.
 #[derive(Clone, Debug, PartialEq)]
@@ -134,7 +134,12 @@ pub struct ContactPair {
     name: String,
     tool: usize,
     integrator: Box<dyn PointIntegrator>,
+    /// What the step computes: the integrator's needs, and
+    /// [`crate::RECORD_NEEDS`] while recording.
     needs: PointNeeds,
+    /// The friction stage's record of the last step, when asked for
+    /// ([`ContactPair::record_friction`]).
+    record: Option<Box<FrictionRecord>>,
     settings: Settings,
     /// Blank node of each pair point.
     nodes: Vec<u32>,
@@ -263,6 +268,7 @@ impl ContactPair {
             name: spec.name.clone(),
             tool: spec.tool,
             needs,
+            record: None,
             integrator,
             settings: Settings {
                 penalty: spec.penalty,
@@ -307,9 +313,34 @@ impl ContactPair {
         self.tool
     }
 
-    /// What the pair's law and formulation read (friction-math §6).
+    /// What the pair's steps compute for its points: what its law and
+    /// formulation read (friction-math §6), and [`crate::RECORD_NEEDS`]
+    /// while it records its friction stage.
     pub fn needs(&self) -> PointNeeds {
         self.needs
+    }
+
+    /// Keep (`on`) or stop keeping a [`FrictionRecord`] of every step's
+    /// friction stage. While recording the pair computes
+    /// [`crate::RECORD_NEEDS`] too; its law and formulation read only what
+    /// they declare, so the results do not change. A [`crate::ContactEffect`]
+    /// must learn of the change to compute the blank's gradients: use
+    /// [`crate::ContactEffect::record_friction`] on a pair it holds.
+    pub fn record_friction(&mut self, on: bool) {
+        let own = self.integrator.needs();
+        if on {
+            self.needs = own | crate::RECORD_NEEDS;
+            self.record.get_or_insert_with(Box::default);
+        } else {
+            self.needs = own;
+            self.record = None;
+        }
+    }
+
+    /// The friction stage of the last step, when recording
+    /// ([`ContactPair::record_friction`]).
+    pub fn friction_record(&self) -> Option<&FrictionRecord> {
+        self.record.as_deref()
     }
 
     /// Blank node of each pair point.
@@ -405,6 +436,9 @@ impl ContactPair {
             batch,
             name,
         )?;
+        if let Some(r) = self.record.as_deref_mut() {
+            r.capture(batch, points.friction);
+        }
         lap(&mut t, &mut self.timing.friction);
         // 3. Scatter forces, reactions, energies.
         let scatter = Scatter {

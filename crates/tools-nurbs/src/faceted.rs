@@ -8,11 +8,13 @@
 //! `P = I - n⊗n`: exact in the limit of fine meshes of smooth surfaces, zero on
 //! flat regions. Patch id = triangle index, `(u, v) = (b_1, b_2)`. The closest
 //! point itself lies on the flat facets; the signed distance takes its sign
-//! from the Phong normal. Winding defines the blank side (counter-clockwise
+//! from the Phong normal, except beyond an open edge of the mesh, where the
+//! sharp-edge rule answers ([`crate::faceted_edges`]). Winding defines the blank side (counter-clockwise
 //! seen from the blank); `flip_normals` reverses it.
 
 use crate::bvh::Bvh;
 use crate::error::NurbsError;
+use crate::faceted_edges::Boundary;
 use crate::mesh_io::TriMesh;
 use crate::nurbs_tool::{TIE_TOL, batch, posed_box};
 use plugins_api::{
@@ -29,6 +31,8 @@ pub struct FacetedTool {
     triangles: Vec<[u32; 3]>,
     /// Gradients of the barycentric coordinates over each facet.
     grads: Vec<[Vec3; 3]>,
+    /// The open boundary (edges of one triangle), for the sharp-edge rule.
+    boundary: Boundary,
     bvh: Bvh,
     local_box: Aabb,
     pose: RigidPose,
@@ -163,8 +167,10 @@ impl FacetedTool {
                 *n /= l;
             }
         }
+        let boundary = Boundary::of(&triangles, &grads);
         Ok(Self {
             name: name.to_string(),
+            boundary,
             bvh: Bvh::build(&boxes),
             local_box: bbox,
             vertices,
@@ -184,6 +190,12 @@ impl FacetedTool {
     /// Welded vertices (local frame) and triangles.
     pub fn mesh(&self) -> (&[Vec3], &[[u32; 3]]) {
         (&self.vertices, &self.triangles)
+    }
+
+    /// Whether the mesh has open (free) edges, answered by the sharp-edge
+    /// rule ([`crate::faceted_edges`]).
+    pub fn is_open(&self) -> bool {
+        self.boundary.is_open()
     }
 
     /// Vertex normals (angle-weighted, unit).
@@ -225,6 +237,22 @@ impl FacetedTool {
 
     fn answer(&self, x: &Vec3, ti: usize, p: Vec3, b: [f64; 3], d: f64) -> Projection {
         let t = &self.triangles[ti];
+        let r = x - p;
+        if self.boundary.is_open() && self.boundary.beyond(ti, t, &self.grads[ti], &b, &r) {
+            // The sharp-edge rule (crate::faceted_edges): a bare line.
+            let rot = &self.pose.rotation;
+            return Projection {
+                point: self.pose.to_global(&p),
+                normal: rot * (r / d),
+                distance: d,
+                curvature: Mat3::zeros(),
+                k1: 0.0,
+                k2: 0.0,
+                patch: ti as u32,
+                u: b[1],
+                v: b[2],
+            };
+        }
         let big_n: Vec3 = (0..3).map(|k| self.normals[t[k] as usize] * b[k]).sum();
         let ln = big_n.norm();
         let n = big_n / ln;

@@ -49,6 +49,7 @@ pub mod bvh;
 pub mod closest_point;
 pub mod differential;
 pub mod error;
+pub mod free_edges;
 pub mod nurbs_tool;
 pub mod planar;
 pub mod surface;
@@ -58,6 +59,7 @@ pub use nurbs_tool::{NurbsTool, OrientedPatch, TIE_TOL};
 pub use surface::{Derivs, NurbsSurface, PatchDef};
 pub mod export;
 pub mod faceted;
+pub mod faceted_edges;
 pub mod mesh_io;
 pub mod spec;
 

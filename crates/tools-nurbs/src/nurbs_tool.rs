@@ -19,6 +19,7 @@ use crate::bvh::Bvh;
 use crate::closest_point::{ParamBox, PatchHit, newton, newton_in};
 use crate::differential::local_geometry_rotated;
 use crate::error::NurbsError;
+use crate::free_edges::{self, FreeSides};
 use crate::planar::{self, Outline, Plane};
 use crate::surface::{Derivs, NurbsSurface, PatchDef};
 use plugins_api::{
@@ -64,6 +65,9 @@ pub struct NurbsTool {
     planes: Vec<Option<Plane>>,
     /// The outline of each planar patch, for its flat regions.
     outlines: Vec<Option<Outline>>,
+    /// The free sides of each patch ([`crate::free_edges`]): a point beyond
+    /// one is answered by the sharp-edge rule.
+    free: Vec<FreeSides>,
     /// Whether warm projections on planar patches take the plane's closed
     /// form ([`crate::planar`]); `true` unless switched off for comparison.
     planar_path: bool,
@@ -168,13 +172,14 @@ impl NurbsTool {
             .zip(&planes)
             .map(|((p, d), plane)| plane.map(|_| Outline::of(&p.surface, d)))
             .collect();
-        Ok(Self {
+        let mut tool = Self {
             name: name.to_string(),
             bvh: Bvh::build(&boxes),
             patches,
             domains,
             planes,
             outlines,
+            free: Vec::new(),
             planar_path: true,
             elements,
             seeds,
@@ -182,7 +187,23 @@ impl NurbsTool {
             pose: RigidPose::default(),
             rotated: false,
             velocity: RigidVelocity::default(),
-        })
+        };
+        let mut patch_boxes = vec![Aabb::empty(); tool.patches.len()];
+        for e in &tool.elements {
+            let b = &mut patch_boxes[e.patch as usize];
+            b.grow(&e.bbox.min);
+            b.grow(&e.bbox.max);
+        }
+        tool.free = free_edges::classify(&tool.patches, &tool.domains, &patch_boxes, |k, q| {
+            tool.best_on_patch(k, q).map_or(f64::INFINITY, |b| b.dist)
+        });
+        Ok(tool)
+    }
+
+    /// Which sides of patch `i` are free edges of the tool
+    /// ([`crate::free_edges`]), in the order `u_min`, `u_max`, `v_min`, `v_max`.
+    pub fn free_sides(&self, i: usize) -> [bool; 4] {
+        self.free.get(i).map_or([false; 4], |f| f.0)
     }
 
     /// Validate patch definitions (errors name the patch index and field) and
@@ -335,9 +356,9 @@ impl NurbsTool {
         Found::from_best(&self.search(x, None), ds)
     }
 
-    /// The closest point of one patch only (local frame), from the best seed of
-    /// its spans: for checks across seams and for tests.
-    pub fn project_on_patch(&self, patch: usize, x: &Vec3) -> Option<Projection> {
+    /// The closest point of patch `patch` to `x` (local frame) from the best
+    /// seed of each of its spans.
+    fn best_on_patch(&self, patch: usize, x: &Vec3) -> Option<Best> {
         let mut best: Option<Best> = None;
         for (ei, e) in self.elements.iter().enumerate() {
             if e.patch as usize != patch {
@@ -358,7 +379,13 @@ impl NurbsTool {
             );
             self.consider(&mut best, patch, hit);
         }
-        best.map(|b| {
+        best
+    }
+
+    /// The closest point of one patch only (local frame), from the best seed of
+    /// its spans: for checks across seams and for tests.
+    pub fn project_on_patch(&self, patch: usize, x: &Vec3) -> Option<Projection> {
+        self.best_on_patch(patch, x).map(|b| {
             let (mut d0, mut d1) = (Derivs::ZERO, Derivs::ZERO);
             let f = Found::from_best(&b, [&mut d0, &mut d1]);
             self.finish(x, &f, &d0, &RigidPose::default(), false)
@@ -387,6 +414,10 @@ impl NurbsTool {
         {
             return self.finish_planar(x_local, b, d, plane, pose, rotated);
         }
+        let free = self.free[b.patch];
+        if free.any() && free.beyond(&self.domains[b.patch], b.u, b.v, d, x_local) {
+            return Self::finish_beyond_edge(x_local, b, d, pose, rotated);
+        }
         let sign = self.patches[b.patch].sign;
         // The signed distance needs the local normal's side only: r · (S_u × S_v).
         let side = (x_local - d.s).dot(&d.su.cross(&d.sv)) * sign;
@@ -403,6 +434,39 @@ impl NurbsTool {
             curvature: g.curvature,
             k1: g.k1,
             k2: g.k2,
+            patch: b.patch as u32,
+            u: b.u,
+            v: b.v,
+        }
+    }
+
+    /// [`Self::finish`] for a point beyond a free edge (the sharp-edge rule
+    /// of [`crate::free_edges`]): distance `|x − p|`, positive, normal
+    /// `(x − p)/|x − p|`, zero curvature.
+    #[cold]
+    #[inline(never)]
+    fn finish_beyond_edge(
+        x_local: &Vec3,
+        b: &Found,
+        d: &Derivs,
+        pose: &RigidPose,
+        rotated: bool,
+    ) -> Projection {
+        let r = x_local - d.s;
+        let dist = r.norm();
+        let n = r / dist;
+        let (point, normal) = if rotated {
+            (pose.to_global(&d.s), pose.rotation * n)
+        } else {
+            (d.s + pose.translation, n)
+        };
+        Projection {
+            point,
+            normal,
+            distance: dist,
+            curvature: Mat3::zeros(),
+            k1: 0.0,
+            k2: 0.0,
             patch: b.patch as u32,
             u: b.u,
             v: b.v,
