@@ -114,6 +114,7 @@ impl<'a> Evaluator<'a> {
         overrides.extend(run_overrides(data, &loaded.scene.output.report_strokes));
         let context = Context {
             version: env!("CARGO_PKG_VERSION").into(),
+            build: super::journal::build_fingerprint(),
             scene_text: loaded.text.clone(),
             overrides: overrides.clone(),
             sets: data

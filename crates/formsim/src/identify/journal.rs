@@ -17,6 +17,11 @@ use std::sync::Mutex;
 pub struct Context {
     /// formsim's version.
     pub version: String,
+    /// A fingerprint of the running executable ([`build_fingerprint`]): a
+    /// rebuilt formsim may compute other results under the same version
+    /// (empty in journals written before it was recorded).
+    #[serde(default)]
+    pub build: String,
     /// The scene file's text.
     pub scene_text: String,
     /// Overrides of every run (the command's `--set` and identify's own).
@@ -160,6 +165,27 @@ impl Journal {
     }
 }
 
+/// A fingerprint of the running executable's bytes (the standard library's
+/// default hasher with its fixed keys, hex), or `unknown` when it cannot be read. Only compared between calls of
+/// the same machine, so the hash need not be stable across Rust versions.
+pub fn build_fingerprint() -> String {
+    use std::hash::Hasher;
+    static FINGERPRINT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    FINGERPRINT
+        .get_or_init(|| {
+            let Some(bytes) = std::env::current_exe()
+                .ok()
+                .and_then(|p| std::fs::read(p).ok())
+            else {
+                return "unknown".into();
+            };
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            h.write(&bytes);
+            format!("{:016x}", h.finish())
+        })
+        .clone()
+}
+
 /// Write `text` to `path` through a temporary file and a rename, so that a
 /// kill leaves either the whole file or none.
 fn write_atomic(path: &Path, text: &str) -> Result<(), IdentifyError> {
@@ -176,6 +202,9 @@ fn difference(old: &Context, new: &Context) -> String {
             "formsim {} there, {} here",
             old.version, new.version
         ));
+    }
+    if old.build != new.build {
+        what.push("another build of formsim (its runs may differ)".into());
     }
     if old.scene_text != new.scene_text {
         what.push("another scene text".into());
@@ -199,6 +228,7 @@ mod tests {
     fn context(keys: &[&str]) -> Context {
         Context {
             version: "0".into(),
+            build: "b".into(),
             scene_text: "x".into(),
             overrides: vec![],
             sets: vec![("m".into(), vec![])],

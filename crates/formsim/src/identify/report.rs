@@ -457,7 +457,7 @@ fn write(path: &Path, text: &str) -> Result<(), IdentifyError> {
         .map_err(|e| IdentifyError::Report(format!("{}: {e}", path.display())))
 }
 
-/// Write `sensitivity.json` and `sensitivity.md`.
+/// Write `DIR/sensitivity.json` and `DIR/sensitivity.md`.
 ///
 /// # Errors
 /// A file cannot be written.

@@ -30,6 +30,10 @@ pub const CORRELATION_LIMIT: f64 = 0.95;
 /// for a value at zero) is reported as not identifiable.
 pub const RELATIVE_HALF_WIDTH_LIMIT: f64 = 0.5;
 
+/// A direction whose singular value is below this fraction of the largest is
+/// reported as not seen by the data (whether or not an interval exists).
+pub const WEAK_DIRECTION: f64 = 1e-2;
+
 /// A value within this fraction of its range from a bound is reported as at the bound.
 pub const AT_BOUND: f64 = 1e-3;
 
@@ -198,6 +202,25 @@ fn warnings(params: &[FitParam], x: &[f64], u: &Uncertainty, unbounded: &[bool])
             }
         }
     }
+    let largest = u.singular_values.iter().copied().fold(0.0, f64::max);
+    let weak = u
+        .singular_values
+        .iter()
+        .filter(|s| **s < WEAK_DIRECTION * largest)
+        .count();
+    if weak > 0 {
+        out.push(format!(
+            "the data see only {} of the {} directions in which the values can move: {weak} singular value(s) of the range-scaled Jacobian are below {} of the largest ({})",
+            params.len() - weak,
+            params.len(),
+            WEAK_DIRECTION,
+            u.singular_values
+                .iter()
+                .map(|s| format!("{s:.3e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
     for a in 0..params.len() {
         for b in a + 1..params.len() {
             if let Some(rho) = u.correlation[a][b]
@@ -268,7 +291,8 @@ mod tests {
         let j = DMatrix::from_fn(3, 2, |i, _| 1.0 + i as f64);
         let u = uncertainty(&[p("a"), p("b")], &[1.0, 1.0], &j, &[0.0; 3], true, None);
         assert!(u.sigma.iter().all(Option::is_none));
-        assert_eq!(u.warnings.len(), 2, "{:?}", u.warnings);
+        assert_eq!(u.warnings.len(), 3, "{:?}", u.warnings);
+        assert!(u.warnings[2].contains("only 1 of the 2 directions"));
         assert!(u.warnings[0].contains("not identifiable"));
     }
 
