@@ -11,7 +11,7 @@
 //! - [`nelder_mead`] (argmin) and [`levenberg`] (Levenberg–Marquardt on
 //!   finite-difference Jacobians, [`jacobian`]).
 //! - [`uncertainty`]: the linearised covariance, intervals, correlations.
-//! - [`sensitivity`]: the normalised sensitivity table.
+//! - [`mod@sensitivity`]: the normalised sensitivity table ([`sensitivity()`] writes it).
 //! - [`report`]: `identification.json`, `identification.md` and the plots.
 
 pub mod evaluate;
