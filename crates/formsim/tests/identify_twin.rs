@@ -24,15 +24,23 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 const STROKES: [f64; 4] = [10.0, 20.0, 30.0, 40.0];
+/// The AC twins' mesh: 10 × 10 (9.4 mm shells), about 1.5 s a run.
+const COARSE: usize = 10;
+/// The WH twin's mesh: 25 × 25 (3 mm shells). On the 10 × 10 mesh the sum of
+/// squares is rough at the scale of the two correlated values' valley (σ_f =
+/// 0.46 against χ² ≈ 21): the fit failed twice on two builds there (true
+/// `a1` just outside the interval), see docs/identification.md.
+const SMOOTH: usize = 25;
 
 fn scene() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/square-cup-al.toml")
 }
 
-/// The coarse cup's overrides (every run of a test, truth and fits).
-fn coarse() -> Vec<String> {
+/// The cheap cup's overrides (every run of a test, truth and fits), with
+/// `divisions` elements along a quarter's side.
+fn cheap(divisions: usize) -> Vec<String> {
     vec![
-        "blank.mesh.divisions=10".into(),
+        format!("blank.mesh.divisions={divisions}"),
         "output.frames=0".into(),
         "output.plots=false".into(),
         "output.report_strokes=[10.0, 20.0, 30.0, 40.0]".into(),
@@ -40,8 +48,8 @@ fn coarse() -> Vec<String> {
 }
 
 /// Run the truth and return `summary.json`'s states.
-fn truth(sets: &[String], dir: &Path) -> serde_json::Value {
-    let mut all = coarse();
+fn truth(divisions: usize, sets: &[String], dir: &Path) -> serde_json::Value {
+    let mut all = cheap(divisions);
     all.extend(sets.iter().cloned());
     let loaded = formsim::scene::load(&scene(), &all).unwrap();
     let result = run(
@@ -95,13 +103,14 @@ fn measurements(
 }
 
 fn options(
+    divisions: usize,
     fits: &[&str],
     objective: Objective,
     method: Method,
     sets: &[String],
     out: &Path,
 ) -> Options {
-    let mut all = coarse();
+    let mut all = cheap(divisions);
     all.extend(sets.iter().cloned());
     Options {
         scene: scene(),
@@ -122,9 +131,10 @@ fn options(
 #[test]
 fn twin_ac_mu_recovered_within_one_percent_from_noise_free_draw_in() {
     let dir = tempfile::tempdir().unwrap();
-    let states = truth(&["contact.params.ac.mu=0.12".into()], dir.path());
+    let states = truth(COARSE, &["contact.params.ac.mu=0.12".into()], dir.path());
     let data = measurements(&states, None, None, 0, dir.path());
     let o = options(
+        COARSE,
         &["contact.params.ac.mu=0.05..0.3:0.2"],
         Objective::Mae,
         Method::NelderMead,
@@ -155,9 +165,10 @@ fn twin_ac_mu_recovered_within_one_percent_from_noise_free_draw_in() {
 #[test]
 fn twin_ac_mu_interval_contains_the_truth_with_noisy_draw_in() {
     let dir = tempfile::tempdir().unwrap();
-    let states = truth(&["contact.params.ac.mu=0.14".into()], dir.path());
+    let states = truth(COARSE, &["contact.params.ac.mu=0.14".into()], dir.path());
     let data = measurements(&states, Some(0.15), None, 7, dir.path());
     let o = options(
+        COARSE,
         &["contact.params.ac.mu=0.05..0.3:0.2"],
         Objective::Wls,
         Method::LevenbergMarquardt,
@@ -179,7 +190,9 @@ fn twin_ac_mu_interval_contains_the_truth_with_noisy_draw_in() {
 }
 
 /// WH `μ = a0 + a1 ω` with `a0 = 0.15`, `a1 = −2e-3 mm/N`; draw-in
-/// (se 0.1 mm) and punch force (se 300 N) at four strokes, noise seed 11.
+/// (se 0.1 mm) at four strokes, noise seed 11, on the 25 × 25 mesh. No punch
+/// force: its value at a stroke chatters by about 2 % (700 N) between runs
+/// whose `a1` differs by 1e-6, where the draw-in moves by 1e-3 mm.
 /// Both values inside their reported 95 % intervals.
 #[test]
 fn twin_wh_two_parameters_recovered_within_their_intervals() {
@@ -193,9 +206,10 @@ fn twin_wh_two_parameters_recovered_within_their_intervals() {
         "contact.params.wh.a0=0.15".to_string(),
         "contact.params.wh.a1=-2e-3".into(),
     ]);
-    let states = truth(&truth_sets, dir.path());
-    let data = measurements(&states, Some(0.1), Some(300.0), 11, dir.path());
+    let states = truth(SMOOTH, &truth_sets, dir.path());
+    let data = measurements(&states, Some(0.1), None, 11, dir.path());
     let o = options(
+        SMOOTH,
         &[
             "contact.params.wh.a0=0.08..0.25:0.12",
             "contact.params.wh.a1=-5e-3..0:-1e-3",
@@ -207,6 +221,15 @@ fn twin_wh_two_parameters_recovered_within_their_intervals() {
     );
     let report = identify(&o, &data).unwrap();
     let u = report.uncertainty.expect("an uncertainty");
+    eprintln!(
+        "WH twin: end {:?}, intervals {:?}, correlation {:?}, roughness {:?}, runs {}, stop: {}",
+        report.params.iter().map(|p| p.end).collect::<Vec<_>>(),
+        u.interval95,
+        u.correlation[0][1],
+        u.roughness_sd,
+        report.runs_made,
+        report.stop
+    );
     for (j, truth) in [0.15, -2e-3].into_iter().enumerate() {
         let [lo, hi] = u.interval95[j].expect("a bounded interval");
         assert!(
