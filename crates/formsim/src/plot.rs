@@ -82,6 +82,41 @@ fn bounds(panel: &Panel) -> ((f64, f64), (f64, f64)) {
     (if x1 > x0 { (x0, x1) } else { pad(x0, x1) }, pad(y0, y1))
 }
 
+/// A chart on `area` with its caption and labelled axes over `ranges`
+/// (`caption` in points; the axis labels two points smaller).
+///
+/// # Errors
+/// The drawing backend fails.
+pub(crate) fn axes<'a, 'b>(
+    area: &'a DrawingArea<BitMapBackend<'b>, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    ((x0, x1), (y0, y1)): ((f64, f64), (f64, f64)),
+    caption: u32,
+) -> Result<
+    ChartContext<
+        'a,
+        BitMapBackend<'b>,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    DrawingAreaErrorKind<<BitMapBackend<'b> as DrawingBackend>::ErrorType>,
+> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", caption))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .label_style(("sans-serif", caption - 6))
+        .draw()?;
+    Ok(chart)
+}
+
 /// Draw panels stacked vertically into a PNG of `width × (height_per_panel · n)` pixels.
 ///
 /// # Errors
@@ -102,21 +137,15 @@ pub fn draw_panels(
     root.fill(&WHITE).map_err(|e| fail(&e))?;
     let areas = root.split_evenly((panels.len().max(1), 1));
     for (panel, area) in panels.iter().zip(areas.iter()) {
-        let ((x0, x1), (y0, y1)) = bounds(panel);
-        let mut chart = ChartBuilder::on(area)
-            .caption(&panel.title, ("sans-serif", 20))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| fail(&e))?;
-        chart
-            .configure_mesh()
-            .x_desc(panel.x_label.as_str())
-            .y_desc(panel.y_label.as_str())
-            .label_style(("sans-serif", 14))
-            .draw()
-            .map_err(|e| fail(&e))?;
+        let mut chart = axes(
+            area,
+            &panel.title,
+            &panel.x_label,
+            &panel.y_label,
+            bounds(panel),
+            20,
+        )
+        .map_err(|e| fail(&e))?;
         for (i, s) in panel.series.iter().enumerate() {
             let color = Palette99::pick(i).to_rgba();
             chart

@@ -1,7 +1,7 @@
 //! Plots of an identification: measured values with their error bars against
 //! the simulated ones at the start and at the end.
 
-use crate::plot::{Series, ensure_font};
+use crate::plot::{Series, axes, ensure_font};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -74,21 +74,15 @@ pub fn draw(path: &Path, panels: &[MarkPanel]) -> Result<(), String> {
         .iter()
         .zip(root.split_evenly((panels.len().max(1), 1)).iter())
     {
-        let ((x0, x1), (y0, y1)) = range(panel);
-        let mut chart = ChartBuilder::on(area)
-            .caption(&panel.title, ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| fail(&e))?;
-        chart
-            .configure_mesh()
-            .x_desc(panel.x_label.as_str())
-            .y_desc(panel.y_label.as_str())
-            .label_style(("sans-serif", 13))
-            .draw()
-            .map_err(|e| fail(&e))?;
+        let mut chart = axes(
+            area,
+            &panel.title,
+            &panel.x_label,
+            &panel.y_label,
+            range(panel),
+            18,
+        )
+        .map_err(|e| fail(&e))?;
         for (i, s) in panel.simulated.iter().enumerate() {
             let color = COLOURS[i % COLOURS.len()];
             if panel.lines {
