@@ -82,6 +82,16 @@ fn bounds(panel: &Panel) -> ((f64, f64), (f64, f64)) {
     (if x1 > x0 { (x0, x1) } else { pad(x0, x1) }, pad(y0, y1))
 }
 
+/// A chart on a bitmap with f64 axes.
+pub(crate) type Chart<'a, 'b> = ChartContext<
+    'a,
+    BitMapBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+/// A drawing error of the bitmap backend.
+pub(crate) type DrawError<'b> =
+    DrawingAreaErrorKind<<BitMapBackend<'b> as DrawingBackend>::ErrorType>;
+
 /// A chart on `area` with its caption and labelled axes over `ranges`
 /// (`caption` in points; the axis labels two points smaller).
 ///
@@ -94,14 +104,7 @@ pub(crate) fn axes<'a, 'b>(
     y_label: &str,
     ((x0, x1), (y0, y1)): ((f64, f64), (f64, f64)),
     caption: u32,
-) -> Result<
-    ChartContext<
-        'a,
-        BitMapBackend<'b>,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
-    DrawingAreaErrorKind<<BitMapBackend<'b> as DrawingBackend>::ErrorType>,
-> {
+) -> Result<Chart<'a, 'b>, DrawError<'b>> {
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", caption))
         .margin(12)
