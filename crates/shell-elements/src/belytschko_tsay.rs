@@ -65,8 +65,8 @@ use crate::block_nodes::BlockNodes;
 use crate::error::ShellError;
 use crate::formulation::{
     DEFAULT_DRILLING, ElementBlock, ElementResult, ElementState, SectionResult, ShellFormulation,
-    check_drilling, compute_by_element, drilling_penalty, integrate_section, integrate_section_x4,
-    local_velocities, new_thickness,
+    check_drilling, compute_by_element, drilling_penalty, frame_turn, integrate_section,
+    integrate_section_x4, local_velocities, new_thickness, turn_tensor, turn_vector,
 };
 use crate::geometry::{Frame, H, ShearB, V3, assumed_shear};
 #[cfg(target_arch = "x86_64")]
@@ -148,7 +148,11 @@ impl ShellFormulation for BelytschkoTsay {
         let rt = self.rates(x, v, w, dt);
         if !rt.valid {
             return ElementResult {
-                length: rt.fr.area,
+                length: if rt.end.fr.area > 0.0 {
+                    rt.fr.area
+                } else {
+                    rt.end.fr.area
+                },
                 ..Default::default()
             };
         }
@@ -240,9 +244,21 @@ impl Moduli {
     }
 }
 
+/// The element's geometry at `t_{n+1}`, where its forces are assembled.
+struct EndGeometry<T: Real> {
+    fr: Frame<T>,
+    b1: [T; 4],
+    b2: [T; 4],
+    sb: ShearB<T>,
+    /// Twist of the warping correction (0 without it).
+    c: T,
+}
+
 /// What the first half of the kernel hands the second (see
-/// [`BelytschkoTsay::rates`]).
+/// [`BelytschkoTsay::rates`]): the rates in the midpoint configuration
+/// `x_{n+1/2}` and the geometry at `t_{n+1}`.
 struct Rates<T: Real> {
+    /// Frame of the midpoint configuration.
     fr: Frame<T>,
     valid: T::Mask,
     vl: [[T; 3]; 4],
@@ -254,13 +270,16 @@ struct Rates<T: Real> {
     /// Rigid rotation rate of the element about its local x and y axes.
     ox: T,
     oy: T,
-    sb: ShearB<T>,
     gxz: T,
     gyz: T,
     /// Membrane strain increments `[Δε_xx, Δε_yy, Δγ_xy]` (-).
     membrane: [T; 3],
     /// Curvature increments `[Δκ_xx, Δκ_yy, 2Δκ_xy]` (1/mm).
     bending: [T; 3],
+    /// Where the forces are assembled.
+    end: EndGeometry<T>,
+    /// `(cos, sin)` of the in-plane turn from the midpoint frame to the end's.
+    turn: (T, T),
 }
 
 /// The element state the kernel updates besides the section's points.
@@ -342,7 +361,10 @@ impl BelytschkoTsay {
         let rt = self.rates(x, v, w, dt);
         if !L::any(rt.valid) {
             *out = ElementResult {
-                length: F4(rt.fr.area.to_array()),
+                length: F4(
+                    L::select(rt.end.fr.area.gt(L::splat(0.0)), rt.fr.area, rt.end.fr.area)
+                        .to_array(),
+                ),
                 ..Default::default()
             };
             return;
@@ -461,11 +483,21 @@ impl BelytschkoTsay {
     }
 
     /// First half of the element kernel over [`Real`] (one element, `f64`,
-    /// or four in lanes, `F4`): frame, local velocities and the rates;
-    /// `valid` is false in the lanes that degenerated (area ≤ 0 or NaN),
-    /// whose rates are meaningless but computed without a branch; the caller
-    /// returns if no lane is valid. The caller updates the section's points with `rates.membrane`, `rates.bending`
-    /// and hands the result to [`Self::forces`].
+    /// or four in lanes, `F4`): frames, local velocities and the rates;
+    /// `valid` is false in the lanes that degenerated (area ≤ 0 or NaN at
+    /// `t_{n+1}` or at the midpoint), whose rates are meaningless but
+    /// computed without a branch; the caller returns if no lane is valid.
+    /// The caller updates the section's points with `rates.membrane`,
+    /// `rates.bending` and hands the result to [`Self::forces`].
+    ///
+    /// The rates (membrane, curvature, transverse shear, hourglass and
+    /// drilling) are read in the midpoint configuration
+    /// `x_{n+1/2} = x_{n+1} − ½Δt v_{n+1/2}`, the forces assembled at
+    /// `x_{n+1}` (after Hughes & Winget 1980): with the frame of `x_{n+1}`
+    /// a strain increment carries a bias of `+|Δu|²/L` per step (a rigid
+    /// rotation by `θ` strains a fibre by `θ²/2`), which a vibrating element
+    /// ratchets into strain energy from nothing (docs/shells.md, "Strain
+    /// increments at the midpoint").
     #[inline(always)]
     fn rates<T: Real>(
         &self,
@@ -475,8 +507,52 @@ impl BelytschkoTsay {
         dt: f64,
     ) -> Rates<T> {
         let fr = Frame::new(x);
+        let (b1, b2) = fr.mean_b();
+        let end = EndGeometry {
+            sb: self.shear_b(&fr, b1, b2),
+            c: if self.warping_correction {
+                fr.twist()
+            } else {
+                T::splat(0.0)
+            },
+            fr,
+            b1,
+            b2,
+        };
+        let h = T::splat(-0.5 * dt);
+        let xm: [[T; 3]; 4] =
+            std::array::from_fn(|i| std::array::from_fn(|k| h.madd(v[i][k], x[i][k])));
+        self.rates_at(&xm, v, w, dt, end)
+    }
+
+    /// Transverse shear coefficients `[w, θx, θy]` per node of frame `fr`.
+    #[inline(always)]
+    fn shear_b<T: Real>(&self, fr: &Frame<T>, b1: [T; 4], b2: [T; 4]) -> ShearB<T> {
+        if self.shear_projection {
+            assumed_shear(fr, 0.0, 0.0)
+        } else {
+            let zero = T::splat(0.0);
+            ShearB {
+                xz: [b1, [zero; 4], [T::splat(0.25); 4]],
+                yz: [b2, [T::splat(-0.25); 4], [zero; 4]],
+            }
+        }
+    }
+
+    /// The rates in configuration `x` (the midpoint), with `end` the
+    /// geometry at `t_{n+1}`.
+    #[inline(always)]
+    fn rates_at<T: Real>(
+        &self,
+        x: &[[T; 3]; 4],
+        v: &[[T; 3]; 4],
+        w: &[[T; 3]; 4],
+        dt: f64,
+        end: EndGeometry<T>,
+    ) -> Rates<T> {
+        let fr = Frame::new(x);
         let zero = T::splat(0.0);
-        let valid = fr.area.gt(zero);
+        let valid = T::select(end.fr.area.gt(zero), fr.area, zero).gt(zero);
         let (vl, wl) = local_velocities(&fr, v, w);
         let (xl, yl) = (&fr.x, &fr.y);
         let (b1, b2) = fr.mean_b();
@@ -517,20 +593,16 @@ impl BelytschkoTsay {
             kyy = c.madd(vyx, kyy);
             kxy = c.madd(dxx + dyy, kxy);
         }
-        // Transverse shear coefficients: [w, θx, θy] per node.
-        let sb = if self.shear_projection {
-            assumed_shear(&fr, 0.0, 0.0)
-        } else {
-            ShearB {
-                xz: [b1, [zero; 4], [T::splat(0.25); 4]],
-                yz: [b2, [T::splat(-0.25); 4], [zero; 4]],
-            }
-        };
+        let sb = self.shear_b(&fr, b1, b2);
+        // The stresses are kept in the frame of t_{n+1}: every increment read
+        // here is turned into it.
+        let turn = frame_turn(&fr, &end.fr);
         let (mut gxz, mut gyz) = (zero, zero);
         for i in 0..4 {
             gxz += sb.xz[2][i].madd(wl[i][1], sb.xz[1][i].madd(wl[i][0], sb.xz[0][i] * vl[i][2]));
             gyz += sb.yz[2][i].madd(wl[i][1], sb.yz[1][i].madd(wl[i][0], sb.yz[0][i] * vl[i][2]));
         }
+        let [gxz, gyz] = turn_vector(turn, [gxz, gyz]);
 
         Rates {
             fr,
@@ -542,11 +614,12 @@ impl BelytschkoTsay {
             c,
             ox,
             oy,
-            sb,
             gxz,
             gyz,
-            membrane: [dxx * dt, dyy * dt, gxy * dt],
-            bending: [kxx * dt, kyy * dt, kxy * dt],
+            membrane: turn_tensor(turn, [dxx * dt, dyy * dt, gxy * dt]),
+            bending: turn_tensor(turn, [kxx * dt, kyy * dt, kxy * dt]),
+            end,
+            turn,
         }
     }
 
@@ -572,12 +645,16 @@ impl BelytschkoTsay {
             c,
             ox,
             oy,
-            sb,
             gxz,
             gyz,
+            end,
+            turn,
             ..
         } = rt;
         let (c, ox, oy, gxz, gyz) = (*c, *ox, *oy, *gxz, *gyz);
+        // The rates and the generalised stresses' updates in the midpoint
+        // frame (`a`, `xl`, `gam`, …); the nodal forces at t_{n+1} (`ae`,
+        // `exl`, `egam`, …).
         let a = fr.area;
         let zero = T::splat(0.0);
         let (xl, yl) = (&fr.x, &fr.y);
@@ -595,15 +672,18 @@ impl BelytschkoTsay {
         let (qx, qy) = (t * tau[0], t * tau[1]);
 
         // Hourglass control.
-        let (mut hx, mut hy) = (zero, zero);
-        for i in 0..4 {
-            hx = xl[i].madd(T::splat(H[i]), hx);
-            hy = yl[i].madd(T::splat(H[i]), hy);
-        }
-        let mut gam = [zero; 4];
-        for i in 0..4 {
-            gam[i] = (-hy).madd(b2[i], (-hx).madd(b1[i], T::splat(H[i]))) * 0.5;
-        }
+        let gam = hourglass_vectors(xl, yl, b1, b2);
+        let (ae, ce, exl, eyl, eb1, eb2, esb) = (
+            end.fr.area,
+            end.c,
+            &end.fr.x,
+            &end.fr.y,
+            &end.b1,
+            &end.b2,
+            &end.sb,
+        );
+        let egam = hourglass_vectors(exl, eyl, eb1, eb2);
+        let egz = end.fr.warp * 0.5;
         // Warped element: the rigid rotation about the in-plane axes moves
         // the nodes in-plane by (ω̄y ẑ_I, −ω̄x ẑ_I) and is removed from the
         // membrane hourglass rates (`formulation::remove_warp_rotation`; the
@@ -619,6 +699,9 @@ impl BelytschkoTsay {
             let tilt = yl[i].madd(wl[i][0], -(xl[i] * wl[i][1]));
             q[4] = gam[i].madd((-tilt).madd(T::splat(0.5), vl[i][2]), q[4]);
         }
+        // Into the frame of t_{n+1}, where the hourglass forces are kept.
+        [q[0], q[1]] = turn_vector(*turn, [q[0], q[1]]);
+        [q[2], q[3]] = turn_vector(*turn, [q[2], q[3]]);
         let mut bb = zero;
         for i in 0..4 {
             bb += b2[i].madd(b2[i], b1[i] * b1[i]);
@@ -654,8 +737,8 @@ impl BelytschkoTsay {
             dt,
             st.drilling,
             tilt,
-            xl,
-            yl,
+            (xl, yl),
+            (exl, eyl),
         );
         let hmd = md_sum * 0.5;
 
@@ -665,56 +748,73 @@ impl BelytschkoTsay {
         out.d_drilling = d_drill;
         out.d_hourglass = d_hg;
         out.d_plastic = a * sr.dissipation;
-        out.length = T::select(*valid, fr.char_length(), a);
-        out.area = T::select(*valid, fr.area, zero);
+        out.length = T::select(*valid, end.fr.char_length(), ae);
+        out.area = T::select(*valid, ae, zero);
         for c in 0..3 {
-            out.normal[c] = T::select(*valid, fr.r[2][c], zero);
+            out.normal[c] = T::select(*valid, end.fr.r[2][c], zero);
         }
         // Transpose of the projection: f̂z_J += ½ h·ẑ (B1_J Q_x + B2_J Q_y).
         // The warping correction's membrane terms fold into the membrane
         // forces: f̂x = A((N_xx + c M_xy) B1 + (N_xy + c M_xx) B2), f̂y likewise;
         // its tilted drilling penalty adds c (S_y B2 − S_x B1).
-        let (hqx, hqy) = (gz.madd(qf[0], -(c * sx)), gz.madd(qf[1], c * sy));
-        let (nxx, nyy) = (a * c.madd(mr[2], nr[0]), a * c.madd(mr[2], nr[1]));
+        let (hqx, hqy) = (egz.madd(qf[0], -(ce * sx)), egz.madd(qf[1], ce * sy));
+        let (nxx, nyy) = (ae * ce.madd(mr[2], nr[0]), ae * ce.madd(mr[2], nr[1]));
         let (nxy_x, nxy_y) = (
-            a.madd(c.madd(mr[0], nr[2]), hmd),
-            a.madd(c.madd(mr[1], nr[2]), -hmd),
+            ae.madd(ce.madd(mr[0], nr[2]), hmd),
+            ae.madd(ce.madd(mr[1], nr[2]), -hmd),
         );
         for i in 0..4 {
-            let mxb = -a * mr[2].madd(b1[i], mr[1] * b2[i]);
-            let myb = a * mr[2].madd(b2[i], mr[0] * b1[i]);
-            let fx = gam[i].madd(qf[0], nxy_x.madd(b2[i], nxx * b1[i]));
-            let fy = gam[i].madd(qf[1], nxy_y.madd(b1[i], nyy * b2[i]));
-            let fz = b2[i].madd(
+            let mxb = -ae * mr[2].madd(eb1[i], mr[1] * eb2[i]);
+            let myb = ae * mr[2].madd(eb2[i], mr[0] * eb1[i]);
+            let fx = egam[i].madd(qf[0], nxy_x.madd(eb2[i], nxx * eb1[i]));
+            let fy = egam[i].madd(qf[1], nxy_y.madd(eb1[i], nyy * eb2[i]));
+            let fz = eb2[i].madd(
                 hqy,
-                b1[i].madd(
+                eb1[i].madd(
                     hqx,
-                    gam[i].madd(qf[4], a * qy.madd(sb.yz[0][i], qx * sb.xz[0][i])),
+                    egam[i].madd(qf[4], ae * qy.madd(esb.yz[0][i], qx * esb.xz[0][i])),
                 ),
             );
-            let mut mx = gam[i].madd(
-                (-(yl[i] * 0.5)).madd(qf[4], qf[2]),
-                a.madd(qy.madd(sb.yz[1][i], qx * sb.xz[1][i]), mxb),
+            let mut mx = egam[i].madd(
+                (-(eyl[i] * 0.5)).madd(qf[4], qf[2]),
+                ae.madd(qy.madd(esb.yz[1][i], qx * esb.xz[1][i]), mxb),
             );
-            let mut my = gam[i].madd(
-                (xl[i] * 0.5).madd(qf[4], qf[3]),
-                a.madd(qy.madd(sb.yz[2][i], qx * sb.xz[2][i]), myb),
+            let mut my = egam[i].madd(
+                (exl[i] * 0.5).madd(qf[4], qf[3]),
+                ae.madd(qy.madd(esb.yz[2][i], qx * esb.xz[2][i]), myb),
             );
             let mut mz = st.drilling[i];
             if self.warping_correction {
                 // Tilted fibres: the bending moments' share about the normal,
                 // and the drilling moment's share about the in-plane axes.
-                mz = c.madd(xl[i].madd(myb, yl[i] * mxb), mz);
-                mx = (-(c * yl[i])).madd(st.drilling[i], mx);
-                my = (-(c * xl[i])).madd(st.drilling[i], my);
+                mz = ce.madd(exl[i].madd(myb, eyl[i] * mxb), mz);
+                mx = (-(ce * eyl[i])).madd(st.drilling[i], mx);
+                my = (-(ce * exl[i])).madd(st.drilling[i], my);
             }
-            let fg = fr.global([fx, fy, fz]);
-            let mg = fr.global([mx, my, mz]);
+            let fg = end.fr.global([fx, fy, fz]);
+            let mg = end.fr.global([mx, my, mz]);
             out.f[i] = [-fg[0], -fg[1], -fg[2]];
             out.m[i] = [-mg[0], -mg[1], -mg[2]];
         }
         *st.thickness = new_thickness(t, sr.deps_zz);
     }
+}
+
+/// The hourglass vectors `γ_I = ½ (h_I − (h·x) B1_I − (h·y) B2_I)` of a
+/// frame's local coordinates `x`, `y` and mean B.
+#[inline(always)]
+fn hourglass_vectors<T: Real>(x: &[T; 4], y: &[T; 4], b1: &[T; 4], b2: &[T; 4]) -> [T; 4] {
+    let zero = T::splat(0.0);
+    let (mut hx, mut hy) = (zero, zero);
+    for i in 0..4 {
+        hx = x[i].madd(T::splat(H[i]), hx);
+        hy = y[i].madd(T::splat(H[i]), hy);
+    }
+    let mut gam = [zero; 4];
+    for i in 0..4 {
+        gam[i] = (-hy).madd(b2[i], (-hx).madd(b1[i], T::splat(H[i]))) * 0.5;
+    }
+    gam
 }
 
 #[cfg(test)]

@@ -590,6 +590,10 @@ pub(crate) fn warp_rotation_forces(z: &[f64; 4], b1: &[f64; 4], b2: &[f64; 4], f
 /// moments `−c ŷ_I m_I`, `−c x̂_I m_I` about x and y at node I and normal
 /// forces `c (S_y B2_J − S_x B1_J)`, `S_x = Σ x̂_I m_I`, `S_y = Σ ŷ_I m_I`,
 /// returned as the third and fourth values (0 without tilt).
+///
+/// `(x, y)` are the nodes' local coordinates where the rates are read (the
+/// midpoint configuration), `(xf, yf)` where the forces are assembled
+/// (`t_{n+1}`): the sums `S_x`, `S_y` take the latter.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn drilling_penalty<T: Real>(
@@ -601,8 +605,8 @@ pub(crate) fn drilling_penalty<T: Real>(
     dt: f64,
     m: &mut [T; 4],
     tilt: Option<(T, T, T)>,
-    x: &[T; 4],
-    y: &[T; 4],
+    (x, y): (&[T; 4], &[T; 4]),
+    (xf, yf): (&[T; 4], &[T; 4]),
 ) -> (T, T, T, T) {
     let zero = T::splat(0.0);
     let mut spin = zero;
@@ -631,11 +635,43 @@ pub(crate) fn drilling_penalty<T: Real>(
     let (mut sx, mut sy) = (zero, zero);
     if tilt.is_some() {
         for i in 0..4 {
-            sx = x[i].madd(m[i], sx);
-            sy = y[i].madd(m[i], sy);
+            sx = xf[i].madd(m[i], sx);
+            sy = yf[i].madd(m[i], sy);
         }
     }
     (sum, work * 0.5 * dt, sx, sy)
+}
+
+/// The in-plane turn from the frame `from` (the step's midpoint, where the
+/// rates are read) to the frame `to` (its end, where the stresses are kept):
+/// `(cos φ, sin φ)` of the angle of `to`'s e1 in `from`'s (e1, e2),
+/// normalised (the two frames' normals differ by O(Δt)).
+#[inline(always)]
+pub(crate) fn frame_turn<T: Real>(from: &Frame<T>, to: &Frame<T>) -> (T, T) {
+    let (e1, e2, f1) = (&from.r[0], &from.r[1], &to.r[0]);
+    let c = f1[2].madd(e1[2], f1[1].madd(e1[1], f1[0] * e1[0]));
+    let s = f1[2].madd(e2[2], f1[1].madd(e2[1], f1[0] * e2[0]));
+    let inv = T::splat(1.0) / s.madd(s, c * c).sqrt();
+    (c * inv, s * inv)
+}
+
+/// An in-plane tensor increment `[xx, yy, 2xy]` (engineering shear) turned
+/// by [`frame_turn`]'s `(c, s)` into the new frame's components.
+#[inline(always)]
+pub(crate) fn turn_tensor<T: Real>((c, s): (T, T), [a, b, g]: [T; 3]) -> [T; 3] {
+    let (cc, ss, cs) = (c * c, s * s, c * s);
+    [
+        cs.madd(g, cc.madd(a, ss * b)),
+        (-cs).madd(g, ss.madd(a, cc * b)),
+        (cc - ss).madd(g, (cs + cs) * (b - a)),
+    ]
+}
+
+/// An in-plane vector `[x, y]` turned by [`frame_turn`]'s `(c, s)` into the
+/// new frame's components.
+#[inline(always)]
+pub(crate) fn turn_vector<T: Real>((c, s): (T, T), [x, y]: [T; 2]) -> [T; 2] {
+    [s.madd(y, c * x), c.madd(y, -(s * x))]
 }
 
 /// Thickness after a thickness-strain increment (second-order exponential).

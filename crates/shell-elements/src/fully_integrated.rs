@@ -23,8 +23,8 @@
 use crate::error::ShellError;
 use crate::formulation::{
     DEFAULT_DRILLING, ElementResult, ElementState, ShellFormulation, check_drilling,
-    drilling_penalty, integrate_section, local_velocities, new_thickness, remove_warp_rotation,
-    warp_rotation_forces,
+    drilling_penalty, frame_turn, integrate_section, local_velocities, new_thickness,
+    remove_warp_rotation, turn_tensor, turn_vector, warp_rotation_forces,
 };
 use crate::geometry::{Frame, V3, assumed_shear, b_matrix};
 use crate::material::Material;
@@ -84,7 +84,20 @@ impl ShellFormulation for FullyIntegrated {
         dt: f64,
         st: ElementState<'_, M::History>,
     ) -> ElementResult {
-        let fr = Frame::new(x);
+        // Rates in the midpoint configuration x_{n+1/2} = x_{n+1} − ½Δt v
+        // (`fr`, `mb1`, `c`, …), forces at t_{n+1} (`fe`, `eb1`, `ce`, …), as
+        // in Belytschko–Tsay (docs/shells.md, "Strain increments at the
+        // midpoint").
+        let fe = Frame::new(x);
+        if fe.area.is_nan() || fe.area <= 0.0 {
+            return ElementResult {
+                length: fe.area,
+                ..Default::default()
+            };
+        }
+        let xm: [V3; 4] =
+            std::array::from_fn(|i| std::array::from_fn(|k| x[i][k] - 0.5 * dt * v[i][k]));
+        let fr = Frame::new(&xm);
         if fr.area.is_nan() || fr.area <= 0.0 {
             return ElementResult {
                 length: fr.area,
@@ -94,11 +107,13 @@ impl ShellFormulation for FullyIntegrated {
         let (mut vl, wl) = local_velocities(&fr, v, w);
         // Mean B: the element's rigid rotation (warped elements) and spin (drilling).
         let (mb1, mb2) = fr.mean_b();
+        let (eb1, eb2) = fe.mean_b();
         let (ox, oy) = remove_warp_rotation(&fr.z, &mb1, &mb2, &mut vl);
-        let c = if self.warping_correction {
-            fr.twist()
+        let turn = frame_turn(&fr, &fe);
+        let (c, ce) = if self.warping_correction {
+            (fr.twist(), fe.twist())
         } else {
-            0.0
+            (0.0, 0.0)
         };
         // Warping correction, fibres along the warped surface's normals at the nodes:
         // they turn at θ̂ + c θ̂z (ŷ_I, x̂_I) (the rates the curvature reads).
@@ -120,7 +135,8 @@ impl ShellFormulation for FullyIntegrated {
         let mut dzz = 0.0;
         for (p, &(xi, eta)) in GP.iter().enumerate() {
             let (b1, b2, det) = b_matrix(&fr, xi, eta);
-            if det.is_nan() || det <= 0.0 {
+            let (fb1, fb2, fdet) = b_matrix(&fe, xi, eta);
+            if det.is_nan() || det <= 0.0 || fdet.is_nan() || fdet <= 0.0 {
                 return ElementResult {
                     length: -1.0,
                     ..Default::default()
@@ -148,12 +164,14 @@ impl ShellFormulation for FullyIntegrated {
                 gxz += sb.xz[0][i] * vl[i][2] + sb.xz[1][i] * wl[i][0] + sb.xz[2][i] * wl[i][1];
                 gyz += sb.yz[0][i] * vl[i][2] + sb.yz[1][i] * wl[i][0] + sb.yz[2][i] * wl[i][1];
             }
+            // The stresses are kept in the frame of t_{n+1}.
+            let [gxz, gyz] = turn_vector(turn, [gxz, gyz]);
             let sr = integrate_section(
                 mat,
                 &sec.rule,
                 t,
-                [dxx * dt, dyy * dt, gxy * dt],
-                [kxx * dt, kyy * dt, kxy * dt],
+                turn_tensor(turn, [dxx * dt, dyy * dt, gxy * dt]),
+                turn_tensor(turn, [kxx * dt, kyy * dt, kxy * dt]),
                 &mut st.stress[p * np..(p + 1) * np],
                 &mut st.history[p * np..(p + 1) * np],
             );
@@ -170,8 +188,10 @@ impl ShellFormulation for FullyIntegrated {
             dzz += 0.25 * sr.deps_zz;
             let (nr, mr) = (sr.n, sr.m);
             let (qx, qy) = (t * tau[0], t * tau[1]);
-            // Membrane forces with the warping correction's terms folded in:
-            // f̂x = det((N_xx + c M_xy) B1 + (N_xy + c M_xx) B2), f̂y likewise.
+            // Forces at t_{n+1}: membrane with the warping correction's terms
+            // folded in, f̂x = det((N_xx + c M_xy) B1 + (N_xy + c M_xx) B2),
+            // f̂y likewise.
+            let (b1, b2, det, sb, c) = (fb1, fb2, fdet, assumed_shear(&fe, xi, eta), ce);
             let (nxx, nyy) = (det * (nr[0] + c * mr[2]), det * (nr[1] + c * mr[2]));
             let (nxy_x, nxy_y) = (det * (nr[2] + c * mr[0]), det * (nr[2] + c * mr[1]));
             for i in 0..4 {
@@ -180,7 +200,7 @@ impl ShellFormulation for FullyIntegrated {
                 fl[i][2] += det * (qx * sb.xz[0][i] + qy * sb.yz[0][i]);
                 let mxb = -det * (mr[1] * b2[i] + mr[2] * b1[i]);
                 let myb = det * (mr[0] * b1[i] + mr[2] * b2[i]);
-                mb[i] += fr.y[i] * mxb + fr.x[i] * myb;
+                mb[i] += fe.y[i] * mxb + fe.x[i] * myb;
                 ml[i][0] += mxb + det * (qx * sb.xz[1][i] + qy * sb.yz[1][i]);
                 ml[i][1] += myb + det * (qx * sb.xz[2][i] + qy * sb.yz[2][i]);
             }
@@ -201,30 +221,30 @@ impl ShellFormulation for FullyIntegrated {
             dt,
             st.drilling,
             tilt,
-            &fr.x,
-            &fr.y,
+            (&fr.x, &fr.y),
+            (&fe.x, &fe.y),
         );
         out.d_internal += d_drill;
         out.d_drilling = d_drill;
         let hmd = 0.5 * md;
         for i in 0..4 {
-            fl[i][0] += hmd * mb2[i];
-            fl[i][1] -= hmd * mb1[i];
-            fl[i][2] += c * (sy * mb2[i] - sx * mb1[i]);
-            ml[i][0] -= c * fr.y[i] * st.drilling[i];
-            ml[i][1] -= c * fr.x[i] * st.drilling[i];
+            fl[i][0] += hmd * eb2[i];
+            fl[i][1] -= hmd * eb1[i];
+            fl[i][2] += ce * (sy * eb2[i] - sx * eb1[i]);
+            ml[i][0] -= ce * fe.y[i] * st.drilling[i];
+            ml[i][1] -= ce * fe.x[i] * st.drilling[i];
         }
-        warp_rotation_forces(&fr.z, &mb1, &mb2, &mut fl);
+        warp_rotation_forces(&fe.z, &eb1, &eb2, &mut fl);
         for i in 0..4 {
-            let fg = fr.global(fl[i]);
+            let fg = fe.global(fl[i]);
             // Tilted fibres: the bending moments' share about the normal.
-            let mg = fr.global([ml[i][0], ml[i][1], st.drilling[i] + c * mb[i]]);
+            let mg = fe.global([ml[i][0], ml[i][1], st.drilling[i] + ce * mb[i]]);
             out.f[i] = [-fg[0], -fg[1], -fg[2]];
             out.m[i] = [-mg[0], -mg[1], -mg[2]];
         }
-        out.length = fr.char_length();
-        out.area = fr.area;
-        out.normal = fr.r[2];
+        out.length = fe.char_length();
+        out.area = fe.area;
+        out.normal = fe.r[2];
         *st.thickness = new_thickness(t, dzz);
         out
     }

@@ -1006,7 +1006,8 @@ mod tests {
         let fsum: Vec3 = f_ref.f.iter().sum();
         let scale = f_ref.f.iter().map(|v| v.norm()).fold(0.0, f64::max);
         assert!(scale > 0.0 && fsum.norm() < 1e-12 * scale);
-        // Rigid rotations (rates ω about axes through the node average) plus a translation.
+        // Rigid rotations (rates ω about axes through the node average of the
+        // step's midpoint configuration) plus a translation.
         let c: Vec3 = x0.iter().sum::<Vec3>() / 4.0;
         for axis in [
             normal,
@@ -1019,13 +1020,16 @@ mod tests {
                 .map(|p| om.cross(&(p - c)) + Vec3::new(0.1, -0.2, 0.3))
                 .collect();
             let w = vec![om; 4];
+            // The rates are read in the step's midpoint configuration: the
+            // motion is rigid about x0 there, so the step ends at x0 + ½Δt v.
+            let x1: Vec<Vec3> = x0.iter().zip(&v).map(|(p, u)| p + 0.5 * dt * u).collect();
             for (name, (f, m)) in [
                 ("BT", {
-                    let (f, s) = one_step(form, &x0, &v, &w, dt);
+                    let (f, s) = one_step(form, &x1, &v, &w, dt);
                     (f, s.drilling_moments(0))
                 }),
                 ("FI", {
-                    let (f, s) = one_step(fi, &x0, &v, &w, dt);
+                    let (f, s) = one_step(fi, &x1, &v, &w, dt);
                     (f, s.drilling_moments(0))
                 }),
             ] {

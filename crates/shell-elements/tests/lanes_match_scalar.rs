@@ -423,16 +423,20 @@ fn shell_set_accessors_read_lane_major_blocks() {
     )
     .unwrap();
     let mut state = NodalState::at_rest(&mesh.nodes);
+    let dt = 2e-5;
     for (i, p) in mesh.nodes.iter().enumerate() {
         // Uniform stretch, curvature and transverse shear: w = (x − 1.5)²/3
         // balances the bending rotation's share of γ_xz (the nodes stay put).
+        // The field is uniform in the flat configuration, where the rates are
+        // read: the step's midpoint, so its end lies ½Δt v beyond.
         state.v[i] = Vec3::new(p.x - 1.5, 0.5 * (p.y - 1.5), (p.x - 1.5).powi(2) / 3.0);
         state.w[i] = Vec3::new(0.3, -2.0 * (p.x - 1.5) / 3.0, 0.05);
+        state.x[i] = p + 0.5 * dt * state.v[i];
     }
     let mut forces = Forces::zeros(mesh.nodes.len());
     let ctx = StepContext {
         time: 0.0,
-        dt: 2e-5,
+        dt,
         step: 1,
     };
     for _ in 0..200 {
