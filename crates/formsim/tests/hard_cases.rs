@@ -713,3 +713,94 @@ fn no_holder_flange_wrinkles_and_bounces() {
     assert!(f.penetration < 0.1, "{f:?}");
     assert!(f.kinetic_max <= f.external_end.abs(), "{f:?}");
 }
+
+/// The loader-test plugin (`plugins/test-panicky`, `τ_c = μ p`), freshly
+/// built as a shared library (one `cargo build` per test binary): its path.
+fn panicky_plugin() -> &'static std::path::Path {
+    static BUILT: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+    BUILT.get_or_init(|| {
+        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        let out = std::process::Command::new(cargo)
+            .args(["build", "-p", "test-panicky"])
+            .current_dir(root())
+            .output()
+            .expect("run cargo build");
+        assert!(
+            out.status.success(),
+            "cargo build -p test-panicky failed:\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let target = std::env::var_os("CARGO_TARGET_DIR")
+            .map_or_else(|| root().join("target"), |d| root().join(d));
+        let path = target.join("debug").join(format!(
+            "{}test_panicky{}",
+            std::env::consts::DLL_PREFIX,
+            std::env::consts::DLL_SUFFIX
+        ));
+        assert!(
+            path.is_file(),
+            "built library not found: {}",
+            path.display()
+        );
+        path
+    })
+}
+
+/// A dynamic plugin law with extreme but finite values
+/// (`scenes/hard/plugin-extreme.toml`, the sticking block of
+/// `high-friction-stick` under the loader-test plugin):
+///
+/// - `τ_c = 1e300 p` (and `dτ_c/dp = 1e300`): the block sticks exactly as
+///   under any high friction: from the push on no point slips, no slip
+///   accumulates, nothing is dissipated, and `T/N` = 0.5 (the push over the
+///   load, 1 %);
+/// - `τ_c = 1e-300 p`, pushed with 0.01 N: the block slides as if
+///   frictionless, so it leaves with the push's impulse over its mass,
+///   `v = T (½ × 1 ms + 2 ms) / M` = 31.85 mm/s (1 %: the lumped mass is the
+///   plate's), and the friction energy stays below 1e-12 of the external work.
+///
+/// Both under the stepped-run checks (every value finite: nothing overflows).
+/// Bounds: balance ≤ 1 %; penetration ≤ 1 % of t (as the μ = 1 block);
+/// kinetic energy ≤ the external work.
+#[test]
+fn plugin_law_with_extreme_values() {
+    let name = "hard/plugin-extreme";
+    let plugin = format!("contact.plugin={}", panicky_plugin().display());
+    let sets = [plugin.as_str()];
+    let (wall, _) = completes(name, &sets);
+    let s = stick(name, &sets);
+    let f = &s.figures;
+    report("plugin-extreme 1e300", f, wall);
+    assert!(f.steps_touching > 0, "{f:?}");
+    assert!(!s.slipped && !s.slip_grew && !s.dissipated, "{f:?}");
+    assert!((s.ratio_max - 0.5).abs() < 0.005, "T/N max {}", s.ratio_max);
+    assert!(f.balance_max < 0.01, "{f:?}");
+    assert!(f.penetration < 0.01, "{f:?}");
+    assert!(f.kinetic_max <= f.external_end.abs(), "{f:?}");
+
+    let sets = [
+        plugin.as_str(),
+        "contact.params.plugin.mu=1e-300",
+        "loads[1].total=0.01",
+    ];
+    let (wall, _) = completes(name, &sets);
+    let mut vx = 0.0;
+    let f = stepped(name, &sets, |m| {
+        let v = &m.solver.state().v;
+        vx = v.iter().map(|u| u.x).sum::<f64>() / v.len() as f64;
+    });
+    report("plugin-extreme 1e-300", &f, wall);
+    let expected = 0.01 * (0.5e-3 + 2.0e-3) / (100.0 * 7.85e-9);
+    eprintln!("plugin-extreme 1e-300: block speed {vx:.4} mm/s (T t / M = {expected:.4})");
+    assert!(
+        (vx / expected - 1.0).abs() < 0.01,
+        "speed {vx} vs {expected} mm/s"
+    );
+    assert!(f.friction_end <= 1e-12 * f.external_end.abs(), "{f:?}");
+    assert!(f.balance_max < 0.01, "{f:?}");
+    assert!(f.penetration < 0.01, "{f:?}");
+    assert!(
+        f.kinetic_max <= f.external_end.abs() * (1.0 + 1e-9),
+        "{f:?}"
+    );
+}
