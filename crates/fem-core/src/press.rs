@@ -52,6 +52,16 @@ pub enum ToolMotion {
         /// Scale of the speed in step time; `None`: constant 1.
         amplitude: Option<Amplitude>,
     },
+    /// Turn about the unit `axis` through the tool's origin (its pose's
+    /// translation) at `rate · A(τ)` (rad/s), the translation held.
+    Spin {
+        /// Unit axis of the rotation (global frame).
+        axis: Vec3,
+        /// Rotation rate (rad/s), right-handed about `axis`.
+        rate: f64,
+        /// Scale of the rate in step time; `None`: constant 1.
+        amplitude: Option<Amplitude>,
+    },
     /// Force control: `F · A(τ)` (N) pushes the tool along the unit
     /// `direction`; its travel along `direction` is integrated with the contact
     /// reaction; the other degrees of freedom are held.
@@ -162,6 +172,11 @@ impl ToolMotion {
             }
             | ToolMotion::Velocity {
                 direction,
+                amplitude,
+                ..
+            }
+            | ToolMotion::Spin {
+                axis: direction,
                 amplitude,
                 ..
             }
@@ -338,6 +353,11 @@ impl Press {
                     ToolMotion::Velocity { speed, .. } => {
                         if !speed.is_finite() {
                             return Err(bad("speed", *speed, "mm/s", "finite"));
+                        }
+                    }
+                    ToolMotion::Spin { rate, .. } => {
+                        if !rate.is_finite() {
+                            return Err(bad("rate", *rate, "rad/s", "finite"));
                         }
                     }
                     ToolMotion::Force {
@@ -544,8 +564,22 @@ impl Press {
             }
             let old = self.poses[i].translation;
             let start = self.step_start_pose[i].translation;
+            let mut angular = Vec3::zeros();
             let new = match motion {
                 ToolMotion::Hold => old,
+                ToolMotion::Spin {
+                    axis,
+                    rate,
+                    amplitude,
+                } => {
+                    if dt > 0.0 {
+                        let a = amplitude.as_ref().map_or(1.0, |a| a.value(tau - 0.5 * dt));
+                        angular = axis * (rate * a);
+                        let turn = plugins_api::nalgebra::Rotation3::from_scaled_axis(angular * dt);
+                        self.poses[i].rotation = turn.matrix() * self.poses[i].rotation;
+                    }
+                    old
+                }
                 ToolMotion::Travel {
                     direction,
                     distance,
@@ -608,7 +642,7 @@ impl Press {
             if dt > 0.0 {
                 self.velocities[i] = RigidVelocity {
                     linear: (new - old) / dt,
-                    angular: Vec3::zeros(),
+                    angular,
                 };
             }
             self.poses[i].translation = new;
@@ -622,6 +656,52 @@ mod tests {
 
     fn names(n: usize) -> Vec<String> {
         (0..n).map(|i| format!("tool{i}")).collect()
+    }
+
+    /// A spin turns the tool about its axis through its origin by the rate's
+    /// integral (a constant rate for 90° over 1,000 steps: the pose's
+    /// rotation is the rotation by 90° about the axis to 1e-12; the
+    /// translation does not move), at the angular velocity `axis × rate`
+    /// while it turns and at rest after the programme.
+    #[test]
+    fn spin_turns_about_the_axis_by_the_rate_integral() {
+        let axis = Vec3::new(1.0, 2.0, 2.0) / 3.0;
+        let rate = std::f64::consts::FRAC_PI_2 / 0.01;
+        let steps = vec![PressStep {
+            name: "turn".into(),
+            end: StepEnd::Duration(0.01),
+            motions: vec![(
+                0,
+                ToolMotion::Spin {
+                    axis,
+                    rate,
+                    amplitude: None,
+                },
+            )],
+            active_pairs: None,
+        }];
+        let start = RigidPose {
+            translation: Vec3::new(5.0, -3.0, 1.0),
+            ..RigidPose::default()
+        };
+        let mut p = Press::new(&names(1), &[start], steps).unwrap();
+        let dt = 1e-5;
+        for n in 1..=1000 {
+            p.advance(n as f64 * dt, dt, &[ToolLoad::default()])
+                .unwrap();
+            if n == 500 {
+                let w = p.velocity(0).angular;
+                assert!((w - axis * rate).norm() < 1e-12 * rate, "{w:?}");
+            }
+        }
+        let expected =
+            plugins_api::nalgebra::Rotation3::from_scaled_axis(axis * std::f64::consts::FRAC_PI_2);
+        let pose = p.pose(0);
+        assert!(
+            (pose.rotation - expected.matrix()).norm() < 1e-12,
+            "{pose:?}"
+        );
+        assert_eq!(pose.translation, start.translation);
     }
 
     /// A smooth-step travel reaches its distance exactly, at rest (definition of

@@ -804,3 +804,91 @@ fn plugin_law_with_extreme_values() {
         "{f:?}"
     );
 }
+
+/// A plane turning 90° about its normal under a plate pressed onto it with
+/// μ = 0.5 (`scenes/hard/tool-spin.toml`), for each of the four
+/// formulations: the plate needs at most 0.02 MPa of circumferential and
+/// 0.015 MPa of centripetal traction, far below μp = 0.5 MPa, so it must
+/// stick and turn with the plane. Asserted for each: from the spin on no
+/// point slips and the friction energy does not grow; every node ends
+/// turned by the plane's 90° about the axis (1e-4 rad) at its radius
+/// (1e-5 mm); the stepped-run checks hold. And the four end within 1e-6 mm
+/// of each other: the stored stick traction turns with the contact points
+/// in each (convective with the tool's rotation, jaumann with the plate's
+/// spin, the Lagrangian two with its deformation gradient), so none leaves
+/// a traction behind that would slide the plate.
+///
+/// Bounds: balance error ≤ 1 %; penetration ≤ 1 % of t (as the sticking
+/// block); kinetic energy ≤ ½ I ω_max² × 1.01 with I = Σ (m_i r_i² + J_i)
+/// of the plate's lumped nodal masses and rotary inertias (the nodes turn
+/// with the plane, about z too; nothing else feeds it). Before the contact read the tool's velocity at the step's midpoint
+/// (`contact::stages::normal`), the stick springs drifted each point
+/// outward by ½Δt²ω²r a step: the corner slipped at 1.64 ms with
+/// |t| = τ_c = 0.64 MPa, 32 times the traction the spin needs.
+#[test]
+fn tool_spinning_under_a_sticking_plate() {
+    let name = "hard/tool-spin";
+    let rate = 523.598_775_598_298_9;
+    let mut ends: Vec<Vec<_>> = Vec::new();
+    for form in ["convective", "jaumann", "lagrangian", "updated-lagrangian"] {
+        let set = format!("contact.formulation={form}");
+        let sets = [set.as_str()];
+        let (wall, _) = completes(name, &sets);
+        let (mut slipped, mut friction0) = (false, None);
+        let (mut x0, mut x, mut inertia) = (Vec::new(), Vec::new(), 0.0f64);
+        let f = stepped(name, &sets, |m| {
+            let st = m.solver.state();
+            if x0.is_empty() {
+                x0 = st.x.clone();
+                inertia = (0..st.x.len())
+                    .map(|i| st.mass[i] * (st.x[i].x.powi(2) + st.x[i].y.powi(2)) + st.inertia[i])
+                    .sum();
+            }
+            x.clone_from(&st.x);
+            if m.solver.time() <= 1.0e-3 {
+                return;
+            }
+            let friction = m.solver.ledger().friction;
+            let f0 = *friction0.get_or_insert(friction);
+            slipped |= friction > f0;
+            let p = &m.contact().unwrap().pairs()[0];
+            slipped |= p.status.contains(&PointStatus::Slip);
+        });
+        report(&format!("tool-spin {form}"), &f, wall);
+        let (mut turn_err, mut radius_err) = (0.0f64, 0.0f64);
+        for (a, b) in x0.iter().zip(&x) {
+            let r = a.x.hypot(a.y);
+            if r < 1.0 {
+                continue;
+            }
+            let turned = (b.y.atan2(b.x) - a.y.atan2(a.x)).rem_euclid(std::f64::consts::TAU);
+            turn_err = turn_err.max((turned - std::f64::consts::FRAC_PI_2).abs());
+            radius_err = radius_err.max((b.x.hypot(b.y) - r).abs());
+        }
+        eprintln!(
+            "tool-spin {form}: turn error {turn_err:.3e} rad, radius error {radius_err:.3e} mm, slipped {slipped}"
+        );
+        assert!(!slipped, "{form}: the plate slipped on the turning plane");
+        assert!(
+            turn_err < 1e-4 && radius_err < 1e-5,
+            "{form}: turn {turn_err}, radius {radius_err}"
+        );
+        assert!(f.balance_max < 0.01, "{form}: {f:?}");
+        assert!(f.penetration < 0.01, "{form}: {f:?}");
+        let spin_energy = 0.5 * inertia * rate * rate;
+        assert!(
+            f.kinetic_max <= 1.01 * spin_energy,
+            "{form}: {f:?}, spin energy {spin_energy}"
+        );
+        ends.push(x);
+    }
+    for (k, x) in ends.iter().enumerate().skip(1) {
+        let d = x
+            .iter()
+            .zip(&ends[0])
+            .map(|(a, b)| (a - b).norm())
+            .fold(0.0, f64::max);
+        eprintln!("tool-spin: formulation {k} ends {d:.3e} mm from convective");
+        assert!(d < 1e-6, "formulation {k} ends {d} mm from convective");
+    }
+}

@@ -124,7 +124,13 @@ impl Normal<'_> {
             return None;
         }
         let arm = blank.x[i] - pr.normal * half - self.tool.origin;
-        let v_tool = self.tool.velocity.linear + self.tool.velocity.angular.cross(&arm);
+        // The tool's material point under the node moves at the rigid
+        // velocity of the step's midpoint, where the node's velocity is read:
+        // with the arm at t_{n+1} a turning tool would drift each point by
+        // ½Δt²ω²r a step, and the stick springs would ratchet it up.
+        let lin = self.tool.velocity.linear;
+        let arm_mid = arm - (blank.v[i] - lin) * (0.5 * self.dt);
+        let v_tool = lin + self.tool.velocity.angular.cross(&arm_mid);
         let v_rel = blank.v[i] - v_tool;
         let mut f_n = k_n * (-gap);
         let damping = self.settings.penalty.damping;

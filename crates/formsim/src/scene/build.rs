@@ -326,6 +326,16 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
                     speed: *speed,
                     amplitude: amp(amplitude),
                 },
+                Motion::Spin {
+                    axis,
+                    rate,
+                    amplitude,
+                    ..
+                } => ToolMotion::Spin {
+                    axis: unit(axis),
+                    rate: *rate,
+                    amplitude: amp(amplitude),
+                },
                 Motion::Force {
                     direction,
                     amplitude,

@@ -429,6 +429,18 @@ pub enum Motion {
         #[serde(default)]
         amplitude: Option<AmplitudeSpec>,
     },
+    /// Turn about an axis through the tool's origin at a rate.
+    Spin {
+        /// Tool name.
+        tool: String,
+        /// Axis of the rotation (normalised by formsim), right-handed.
+        axis: [f64; 3],
+        /// Rotation rate (rad/s).
+        rate: f64,
+        /// Scale of the rate; default `"constant"`.
+        #[serde(default)]
+        amplitude: Option<AmplitudeSpec>,
+    },
     /// Force control on the tool's own rigid-body DOF along `direction`.
     Force {
         /// Tool name.
@@ -515,6 +527,15 @@ impl Motion {
                 "{tool} moves at {speed} mm/s along {direction:?} ({})",
                 amp(amplitude, "constant")
             ),
+            Motion::Spin {
+                tool,
+                axis,
+                rate,
+                amplitude,
+            } => format!(
+                "{tool} turns at {rate} rad/s about {axis:?} ({})",
+                amp(amplitude, "constant")
+            ),
             Motion::Force {
                 tool,
                 direction,
@@ -544,6 +565,7 @@ impl Motion {
             Motion::Hold { tool }
             | Motion::Travel { tool, .. }
             | Motion::Velocity { tool, .. }
+            | Motion::Spin { tool, .. }
             | Motion::Force { tool, .. } => tool,
         }
     }

@@ -263,6 +263,25 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                     check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
                     Some(direction)
                 }
+                Motion::Spin {
+                    axis,
+                    rate,
+                    amplitude,
+                    ..
+                } => {
+                    if !rate.is_finite() {
+                        return err(&mkey("rate"), format!("{rate} rad/s: must be finite"));
+                    }
+                    check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
+                    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+                    if !(n.is_finite() && n > 1e-12) {
+                        return err(
+                            &mkey("axis"),
+                            format!("{axis:?}: must be a non-zero vector"),
+                        );
+                    }
+                    None
+                }
                 Motion::Force {
                     direction,
                     force,
