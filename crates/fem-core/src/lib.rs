@@ -51,6 +51,7 @@
 //! ```
 
 pub mod amplitude;
+pub mod anchor_springs;
 pub mod boundary;
 pub mod effect;
 pub mod energy;
@@ -65,6 +66,7 @@ pub mod springs;
 pub mod state;
 
 pub use amplitude::Amplitude;
+pub use anchor_springs::AnchorSprings;
 pub use boundary::{BoundaryCondition, Dof, Dofs, MotionKind, NodalLoad};
 pub use effect::{Effect, EnergyTally, StableDt};
 pub use energy::{EnergyLedger, History, HistoryRow};

@@ -535,6 +535,24 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
             })
             .map_err(|e| loaded.key_error(&key, e.to_string()))?;
     }
+    for (i, sp) in s.springs.iter().enumerate() {
+        let key = format!("springs[{i}]");
+        let nodes = mesh
+            .node_set(&sp.set)
+            .map_err(|e| loaded.key_error(&format!("{key}.set"), e.to_string()))?;
+        let axis = dof_from_name(&sp.dof).expect("validated") as usize;
+        let springs = fem_core::AnchorSprings::new(
+            &key,
+            &mesh.nodes,
+            nodes,
+            axis,
+            sp.stiffness,
+            sp.speed,
+            sp.amplitude.as_ref().map(|a| step_amplitude(a, 1.0)),
+        )
+        .map_err(|e| loaded.key_error(&key, e.to_string()))?;
+        solver.add_effect(springs);
+    }
 
     // Stroke tool: its first travel or velocity direction.
     let stroke = match &s.output.stroke_tool {

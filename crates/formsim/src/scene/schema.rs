@@ -31,6 +31,9 @@ pub struct Scene {
     /// `[[loads]]`: nodal forces on node sets.
     #[serde(default)]
     pub loads: Vec<Load>,
+    /// `[[springs]]`: springs from node sets to anchors dragged along an axis.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub springs: Vec<AnchorSpring>,
     /// `[output]`: what to write.
     #[serde(default)]
     pub output: Output,
@@ -653,6 +656,24 @@ pub struct Load {
     /// Total force (N) or moment (N·mm) over the set, shared equally by its nodes.
     pub total: f64,
     /// Time function over the run (absolute time); default `"constant"`.
+    #[serde(default)]
+    pub amplitude: Option<AmplitudeSpec>,
+}
+
+/// `[[springs]]`: springs along one axis from every node of a set to an
+/// anchor dragged at a speed (a mass on a spring pulled over a plane).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnchorSpring {
+    /// Node set.
+    pub set: String,
+    /// Axis: `ux`, `uy` or `uz`.
+    pub dof: String,
+    /// Total stiffness (N/mm), shared equally by the set's nodes.
+    pub stiffness: f64,
+    /// Anchor speed (mm/s) along the axis.
+    pub speed: f64,
+    /// Scale of the speed over the run (absolute time); default `"constant"`.
     #[serde(default)]
     pub amplitude: Option<AmplitudeSpec>,
 }

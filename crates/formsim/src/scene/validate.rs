@@ -423,6 +423,18 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
         )?;
     }
 
+    for (i, sp) in s.springs.iter().enumerate() {
+        let key = |k: &str| format!("springs[{i}].{k}");
+        if !matches!(sp.dof.as_str(), "ux" | "uy" | "uz") {
+            return err(&key("dof"), format!("\"{}\": must be ux, uy or uz", sp.dof));
+        }
+        positive(&key("stiffness"), sp.stiffness, "N/mm")?;
+        if !sp.speed.is_finite() {
+            return err(&key("speed"), format!("{} mm/s: must be finite", sp.speed));
+        }
+        check_amplitude(loaded, &key("amplitude"), sp.amplitude.as_ref(), false)?;
+    }
+
     // Outputs.
     let o = &s.output;
     if let Some(t) = &o.stroke_tool
