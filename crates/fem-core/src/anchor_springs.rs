@@ -1,5 +1,6 @@
 //! `AnchorSprings`: linear springs from nodes to an anchor driven at a prescribed speed along one axis (a mass on a spring dragged over a plane).
 
+use crate::springs::{scale_spring_mass, spring_dt};
 use crate::{Amplitude, Effect, EnergyTally, FemError, Forces, NodalState, StableDt, StepContext};
 
 /// Springs along one global axis from each node of a set to an anchor that
@@ -115,16 +116,14 @@ impl Effect for AnchorSprings {
     fn stable_dt(&self, state: &NodalState) -> Option<StableDt> {
         let mut best: Option<StableDt> = None;
         for (e, (&n, &k)) in self.nodes.iter().zip(&self.k).enumerate() {
-            let m = state.mass[n as usize];
-            if m > 0.0 {
-                let dt = (2.0 * m / k).sqrt();
-                if best.is_none_or(|b| dt.is_nan() || dt < b.dt) {
-                    best = Some(StableDt {
-                        dt,
-                        element: e,
-                        what: "anchor spring stiffness vs nodal mass (Gershgorin bound)",
-                    });
-                }
+            if let Some(dt) = spring_dt(state.mass[n as usize], k)
+                && best.is_none_or(|b| dt.is_nan() || dt < b.dt)
+            {
+                best = Some(StableDt {
+                    dt,
+                    element: e,
+                    what: "anchor spring stiffness vs nodal mass (Gershgorin bound)",
+                });
             }
         }
         best
@@ -137,16 +136,11 @@ impl Effect for AnchorSprings {
         mass: &mut [f64],
         _inertia: &mut [f64],
     ) -> f64 {
-        let mut added = 0.0;
-        for (&n, &k) in self.nodes.iter().zip(&self.k) {
-            let m = &mut mass[n as usize];
-            let needed = 0.5 * k * target_dt * target_dt;
-            if *m < needed {
-                added += needed - *m;
-                *m = needed;
-            }
-        }
-        added
+        self.nodes
+            .iter()
+            .zip(&self.k)
+            .map(|(&n, &k)| scale_spring_mass(&mut mass[n as usize], k, target_dt))
+            .sum()
     }
 
     fn add_forces(

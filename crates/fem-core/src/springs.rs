@@ -103,6 +103,26 @@ impl Springs {
     }
 }
 
+/// Gershgorin's stable step of a node of mass `m` held by springs of total
+/// stiffness `k`, `√(2 m / k)` (`None` for a massless node, which the solver
+/// does not move, or no spring).
+pub(crate) fn spring_dt(m: f64, k: f64) -> Option<f64> {
+    (k > 0.0 && m > 0.0).then(|| (2.0 * m / k).sqrt())
+}
+
+/// Raise `m` to the mass whose [`spring_dt`] is `target_dt` under springs of
+/// total stiffness `k`; returns the mass added (tonne).
+pub(crate) fn scale_spring_mass(m: &mut f64, k: f64, target_dt: f64) -> f64 {
+    let needed = 0.5 * k * target_dt * target_dt;
+    if k > 0.0 && *m < needed {
+        let added = needed - *m;
+        *m = needed;
+        added
+    } else {
+        0.0
+    }
+}
+
 impl Effect for Springs {
     fn name(&self) -> &str {
         &self.name
@@ -112,15 +132,14 @@ impl Effect for Springs {
         let mut best: Option<StableDt> = None;
         for (i, &k) in self.node_k.iter().enumerate() {
             // Massless nodes do not move (the solver skips them): no limit.
-            if k > 0.0 && state.mass[i] > 0.0 {
-                let dt = (2.0 * state.mass[i] / k).sqrt();
-                if best.is_none_or(|b| dt.is_nan() || dt < b.dt) {
-                    best = Some(StableDt {
-                        dt,
-                        element: self.node_spring[i] as usize,
-                        what: "spring stiffness vs nodal mass (Gershgorin bound)",
-                    });
-                }
+            if let Some(dt) = spring_dt(state.mass[i], k)
+                && best.is_none_or(|b| dt.is_nan() || dt < b.dt)
+            {
+                best = Some(StableDt {
+                    dt,
+                    element: self.node_spring[i] as usize,
+                    what: "spring stiffness vs nodal mass (Gershgorin bound)",
+                });
             }
         }
         best
@@ -133,15 +152,10 @@ impl Effect for Springs {
         mass: &mut [f64],
         _inertia: &mut [f64],
     ) -> f64 {
-        let mut added = 0.0;
-        for (m, &k) in mass.iter_mut().zip(&self.node_k) {
-            let needed = 0.5 * k * target_dt * target_dt;
-            if k > 0.0 && *m < needed {
-                added += needed - *m;
-                *m = needed;
-            }
-        }
-        added
+        mass.iter_mut()
+            .zip(&self.node_k)
+            .map(|(m, &k)| scale_spring_mass(m, k, target_dt))
+            .sum()
     }
 
     fn add_forces(

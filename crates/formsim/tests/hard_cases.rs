@@ -279,21 +279,30 @@ fn stick(name: &str, sets: &[&str]) -> Stick {
 /// energy ≤ the external work (nothing else can feed it).
 #[test]
 fn high_friction_sticks_under_half_mu_n() {
-    let name = "hard/high-friction-stick";
-    let (wall, _) = completes(name, &[]);
-    let s = stick(name, &[]);
+    sticks_under_half_mu_n("high-friction-stick", "hard/high-friction-stick", &[]);
+}
+
+/// Run the sticking block `name` with `sets` as `formsim run` does and
+/// stepped, and check what a sticking block must show (see
+/// `high_friction_sticks_under_half_mu_n`): contact, no slip, no slip growth
+/// and no dissipation from the push on, friction force / N = 0.5 (1 %),
+/// balance ≤ 1 %, penetration ≤ 1 % of t, kinetic energy ≤ the external work.
+fn sticks_under_half_mu_n(case: &str, name: &str, sets: &[&str]) {
+    let (wall, _) = completes(name, sets);
+    let s = stick(name, sets);
     let f = &s.figures;
-    report("high-friction-stick", f, wall);
-    eprintln!(
-        "high-friction-stick: friction force / N max {:.6}",
+    report(case, f, wall);
+    eprintln!("{case}: friction force / N max {:.6}", s.ratio_max);
+    assert!(f.steps_touching > 0, "{case}: {f:?}");
+    assert!(!s.slipped && !s.slip_grew && !s.dissipated, "{case}: {f:?}");
+    assert!(
+        (s.ratio_max - 0.5).abs() < 0.005,
+        "{case}: T/N max {}",
         s.ratio_max
     );
-    assert!(f.steps_touching > 0, "{f:?}");
-    assert!(!s.slipped && !s.slip_grew && !s.dissipated, "{f:?}");
-    assert!((s.ratio_max - 0.5).abs() < 0.005, "T/N max {}", s.ratio_max);
-    assert!(f.balance_max < 0.01, "{f:?}");
-    assert!(f.penetration < 0.01, "{f:?}");
-    assert!(f.kinetic_max <= f.external_end.abs(), "{f:?}");
+    assert!(f.balance_max < 0.01, "{case}: {f:?}");
+    assert!(f.penetration < 0.01, "{case}: {f:?}");
+    assert!(f.kinetic_max <= f.external_end.abs(), "{case}: {f:?}");
 }
 
 /// dt-limit, the stable side: the sticking block at 0.95 of the step that is
@@ -303,16 +312,7 @@ fn high_friction_sticks_under_half_mu_n() {
 /// `high_friction_sticks_under_half_mu_n`).
 #[test]
 fn dt_limit_at_095_of_the_combined_limit_runs_and_sticks() {
-    let name = "hard/dt-limit";
-    let (wall, _) = completes(name, &[]);
-    let s = stick(name, &[]);
-    let f = &s.figures;
-    report("dt-limit 0.95", f, wall);
-    assert!(!s.slipped && !s.slip_grew && !s.dissipated, "{f:?}");
-    assert!((s.ratio_max - 0.5).abs() < 0.005, "T/N max {}", s.ratio_max);
-    assert!(f.balance_max < 0.01, "{f:?}");
-    assert!(f.penetration < 0.01, "{f:?}");
-    assert!(f.kinetic_max <= f.external_end.abs(), "{f:?}");
+    sticks_under_half_mu_n("dt-limit 0.95", "hard/dt-limit", &[]);
 }
 
 /// dt-limit, the unstable side: at 1.05 of the combined limit (safety
@@ -770,17 +770,7 @@ fn plugins() -> &'static [std::path::PathBuf; 2] {
 fn plugin_law_with_extreme_values() {
     let name = "hard/plugin-extreme";
     let plugin = format!("contact.plugin={}", plugins()[0].display());
-    let sets = [plugin.as_str()];
-    let (wall, _) = completes(name, &sets);
-    let s = stick(name, &sets);
-    let f = &s.figures;
-    report("plugin-extreme 1e300", f, wall);
-    assert!(f.steps_touching > 0, "{f:?}");
-    assert!(!s.slipped && !s.slip_grew && !s.dissipated, "{f:?}");
-    assert!((s.ratio_max - 0.5).abs() < 0.005, "T/N max {}", s.ratio_max);
-    assert!(f.balance_max < 0.01, "{f:?}");
-    assert!(f.penetration < 0.01, "{f:?}");
-    assert!(f.kinetic_max <= f.external_end.abs(), "{f:?}");
+    sticks_under_half_mu_n("plugin-extreme 1e300", name, &[plugin.as_str()]);
 
     let sets = [
         plugin.as_str(),
