@@ -689,6 +689,12 @@ impl Solver {
         self.dt_next
     }
 
+    /// The nodal fields shared between effects: only those one effect
+    /// writes and another reads are allocated (and computed).
+    pub fn shared_fields(&self) -> &SharedFields {
+        &self.fields
+    }
+
     /// The latest energy ledger (at `t_n`, one step behind the state).
     pub fn ledger(&self) -> &EnergyLedger {
         &self.ledger

@@ -218,7 +218,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
                 break;
             }
         }
-        if time >= next_frame || time >= end {
+        if o.frames > 0 && (time >= next_frame || time >= end) {
             let name = format!("blank_{:04}.vtu", frames.len());
             write::frame(&vtk_dir.join(&name), &model, time, stroke)?;
             // Relative to blank.pvd, which sits beside vtk/.
