@@ -14,8 +14,11 @@
 //!
 //! It must not know about shells, materials, tools, contact or friction:
 //! those are effects defined in `shell-elements`, `contact` and friends. The
-//! only effect defined here is [`Springs`] (axial springs with point masses),
-//! used to verify the engine and for lumped-parameter models.
+//! only effects defined here are [`Springs`] (axial springs with point
+//! masses), used to verify the engine and for lumped-parameter models, and
+//! [`AnchorSprings`] (a node set dragged through a spring, a scene's
+//! `[[springs]]`). The press scheduler ([`Press`]) moves the rigid tools:
+//! travel, velocity, spin and force control.
 //!
 //! Data layout and cost: the nodal state is a structure of arrays
 //! ([`NodalState`]); one step makes one fused pass over the nodes (velocity
