@@ -66,7 +66,7 @@ use crate::error::ShellError;
 use crate::formulation::{
     DEFAULT_DRILLING, ElementBlock, ElementResult, ElementState, SectionResult, ShellFormulation,
     check_drilling, compute_by_element, drilling_penalty, frame_turn, integrate_section,
-    integrate_section_x4, local_velocities, new_thickness, turn_tensor, turn_vector,
+    integrate_section_x4, local_velocities, midpoint, new_thickness, turn_tensor, turn_vector,
 };
 use crate::geometry::{Frame, H, ShearB, V3, assumed_shear};
 #[cfg(target_arch = "x86_64")]
@@ -519,10 +519,7 @@ impl BelytschkoTsay {
             b1,
             b2,
         };
-        let h = T::splat(-0.5 * dt);
-        let xm: [[T; 3]; 4] =
-            std::array::from_fn(|i| std::array::from_fn(|k| h.madd(v[i][k], x[i][k])));
-        self.rates_at(&xm, v, w, dt, end)
+        self.rates_at(&midpoint(x, v, dt), v, w, dt, end)
     }
 
     /// Transverse shear coefficients `[w, θx, θy]` per node of frame `fr`.

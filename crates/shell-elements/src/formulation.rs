@@ -642,6 +642,15 @@ pub(crate) fn drilling_penalty<T: Real>(
     (sum, work * 0.5 * dt, sx, sy)
 }
 
+/// The step's midpoint configuration `x_{n+1/2} = x_{n+1} − ½Δt v_{n+1/2}`,
+/// where the elements read their rates (docs/shells.md, "Strain increments
+/// at the midpoint").
+#[inline(always)]
+pub(crate) fn midpoint<T: Real>(x: &[[T; 3]; 4], v: &[[T; 3]; 4], dt: f64) -> [[T; 3]; 4] {
+    let h = T::splat(-0.5 * dt);
+    std::array::from_fn(|i| std::array::from_fn(|k| h.madd(v[i][k], x[i][k])))
+}
+
 /// The in-plane turn from the frame `from` (the step's midpoint, where the
 /// rates are read) to the frame `to` (its end, where the stresses are kept):
 /// `(cos φ, sin φ)` of the angle of `to`'s e1 in `from`'s (e1, e2),

@@ -23,7 +23,7 @@
 use crate::error::ShellError;
 use crate::formulation::{
     DEFAULT_DRILLING, ElementResult, ElementState, ShellFormulation, check_drilling,
-    drilling_penalty, frame_turn, integrate_section, local_velocities, new_thickness,
+    drilling_penalty, frame_turn, integrate_section, local_velocities, midpoint, new_thickness,
     remove_warp_rotation, turn_tensor, turn_vector, warp_rotation_forces,
 };
 use crate::geometry::{Frame, V3, assumed_shear, b_matrix};
@@ -95,9 +95,7 @@ impl ShellFormulation for FullyIntegrated {
                 ..Default::default()
             };
         }
-        let xm: [V3; 4] =
-            std::array::from_fn(|i| std::array::from_fn(|k| x[i][k] - 0.5 * dt * v[i][k]));
-        let fr = Frame::new(&xm);
+        let fr = Frame::new(&midpoint(x, v, dt));
         if fr.area.is_nan() || fr.area <= 0.0 {
             return ElementResult {
                 length: fr.area,

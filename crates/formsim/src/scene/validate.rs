@@ -237,6 +237,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                     format!("\"{}\": no such tool", motion.tool()),
                 );
             }
+            // The vector the motion is along or about, and its key.
             let direction = match motion {
                 Motion::Hold { .. } => None,
                 Motion::Travel {
@@ -249,7 +250,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                         return err(&mkey("distance"), format!("{distance} mm: must be finite"));
                     }
                     check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-                    Some(direction)
+                    Some(("direction", direction))
                 }
                 Motion::Velocity {
                     direction,
@@ -261,7 +262,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                         return err(&mkey("speed"), format!("{speed} mm/s: must be finite"));
                     }
                     check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-                    Some(direction)
+                    Some(("direction", direction))
                 }
                 Motion::Spin {
                     axis,
@@ -273,14 +274,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                         return err(&mkey("rate"), format!("{rate} rad/s: must be finite"));
                     }
                     check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-                    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-                    if !(n.is_finite() && n > 1e-12) {
-                        return err(
-                            &mkey("axis"),
-                            format!("{axis:?}: must be a non-zero vector"),
-                        );
-                    }
-                    None
+                    Some(("axis", axis))
                 }
                 Motion::Force {
                     direction,
@@ -313,16 +307,13 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                         );
                     }
                     check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-                    Some(direction)
+                    Some(("direction", direction))
                 }
             };
-            if let Some(d) = direction {
+            if let Some((key, d)) = direction {
                 let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
                 if !(n.is_finite() && n > 1e-12) {
-                    return err(
-                        &mkey("direction"),
-                        format!("{d:?}: must be a non-zero vector"),
-                    );
+                    return err(&mkey(key), format!("{d:?}: must be a non-zero vector"));
                 }
             }
         }
