@@ -5,7 +5,7 @@
 //! into monomorphised point integrators ([`components`]), reading prescribed
 //! contact-point histories ([`history`]) and integrating them
 //! ([`point_driver`]), and plotting ([`plot`]), and the rigid-tool commands ([`tools_cli`]: export,
-//! projection of points). Scenes, forming runs and reports
+//! projection of points), and what accuracy costs in time ([`study`]). Scenes, forming runs and reports
 //! join as the engine crates arrive. It must not re-implement physics: every
 //! friction number comes from `plugins-api`'s return mapping and the laws.
 
@@ -18,4 +18,5 @@ pub mod plot;
 pub mod point_driver;
 pub mod run;
 pub mod scene;
+pub mod study;
 pub mod tools_cli;

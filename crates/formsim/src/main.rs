@@ -56,6 +56,8 @@ enum Command {
     Identify(IdentifyArgs),
     /// Normalised finite-difference sensitivities of the measured quantities to scene values.
     Sensitivity(SensitivityArgs),
+    /// What accuracy costs in time: vary scene values around a reference, tabulate errors and CPU time.
+    Study(StudyArgs),
 }
 
 #[derive(Args, Debug)]
@@ -182,6 +184,45 @@ struct CompareArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
     /// No progress bars.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args, Debug)]
+struct StudyArgs {
+    /// Scene file (TOML).
+    scene: PathBuf,
+    /// A knob and its values, most accurate first, e.g.
+    /// `--vary blank.mesh.divisions=100,50,25` (repeatable).
+    #[arg(long = "vary", value_name = "KEY=V1,V2,…", required = true)]
+    vary: Vec<String>,
+    /// Reference values when not the first listed, e.g. `"blank.mesh.divisions=50;contact.law=ac"`.
+    #[arg(long, value_name = "KEY=V;…")]
+    reference: Option<String>,
+    /// Quantities compared: summary.json keys (draw_in.DX, punch_force_max,
+    /// sections.OD.major_max) or section curves SECTION[@STROKE]:COLUMN
+    /// (OD:major, OX@40:thinning), comma-separated.
+    #[arg(long, value_delimiter = ',', required = true)]
+    quantities: Vec<String>,
+    /// Every combination of the values instead of one knob at a time.
+    #[arg(long)]
+    cross: bool,
+    /// Runs per variant, in alternating order (the median is reported).
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    repeat: usize,
+    /// Largest relative error a recommended variant may have on any quantity.
+    #[arg(long, default_value_t = 0.02, value_name = "FRACTION")]
+    tolerance: f64,
+    /// Output directory; if it is not empty, --force is needed.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Replace the results in a non-empty --out DIR (other files are kept).
+    #[arg(long)]
+    force: bool,
+    /// Override a scene value for every run (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// No progress bar.
     #[arg(long)]
     quiet: bool,
 }
@@ -313,6 +354,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare(&args),
         Command::Identify(args) => identify(&args),
         Command::Sensitivity(args) => sensitivity(&args),
+        Command::Study(args) => study(&args),
     };
     match result {
         Ok(code) => code,
@@ -828,6 +870,85 @@ fn compare(args: &CompareArgs) -> Outcome {
         args.out.display()
     );
     Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+fn study(args: &StudyArgs) -> Outcome {
+    use formsim::study::{self, Knob, Spec, quantity::Quantity};
+    let knobs = args
+        .vary
+        .iter()
+        .map(|k| Knob::parse(k))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut reference = Vec::new();
+    for part in args.reference.iter().flat_map(|r| r.split(';')) {
+        let part = part.trim();
+        if part.is_empty() {
+            continue;
+        }
+        let (k, v) = part
+            .split_once('=')
+            .ok_or_else(|| format!("--reference: `{part}` is not KEY=VALUE"))?;
+        reference.push((k.trim().to_string(), v.trim().to_string()));
+    }
+    let quantities = args
+        .quantities
+        .iter()
+        .map(|q| Quantity::parse(q))
+        .collect::<Result<Vec<_>, _>>()?;
+    let spec = Spec {
+        knobs,
+        reference,
+        quantities,
+        cross: args.cross,
+        repeat: args.repeat,
+        tolerance: args.tolerance,
+        sets: args.set.clone(),
+    };
+    let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let plan = study::plan(&args.scene, spec)?;
+    let labels = plan.labels();
+    out_dir::prepare(&args.out, out_dir::Owner::Study(&labels), args.force)?;
+    note!(
+        "study: {} variants × {} run(s) on {} thread(s)",
+        plan.variants.len(),
+        args.repeat,
+        rayon::current_num_threads()
+    );
+    let results = study::execute(plan, &args.out, progress, &|label, r| {
+        if progress {
+            return;
+        }
+        match r {
+            Ok(r) => note!(
+                "done {label}: {} increments, {:.1} s",
+                r.summary.increments,
+                r.summary.wall_time_s
+            ),
+            Err(m) => note!("failed {label}: {m}"),
+        }
+    })?;
+    study::report::write(&args.out, &results)?;
+    study::pareto::draw(&args.out, &results)?;
+    match study::recommendation(&results) {
+        Some(o) => say!(
+            "recommended: {} ({:.2} x the reference's speed, largest error {})",
+            o.label,
+            o.speed_up,
+            study::report::percent(o.worst)
+        ),
+        None => say!("no variant within the tolerance: keep the reference"),
+    }
+    say!(
+        "{} variants ({} failed): {}/study.md, study.json, pareto.png",
+        results.outcomes.len() + results.failed.len(),
+        results.failed.len(),
+        args.out.display()
+    );
+    Ok(if results.failed.is_empty() {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE

@@ -125,7 +125,10 @@ impl Observables {
 /// Follow `parts` through JSON objects; a key may itself contain dots (a
 /// stroke such as `12.5`): at each level the shortest join of the next parts
 /// that names a key is taken.
-fn lookup<'a>(value: &'a serde_json::Value, parts: &[&str]) -> Option<&'a serde_json::Value> {
+pub(crate) fn lookup<'a>(
+    value: &'a serde_json::Value,
+    parts: &[&str],
+) -> Option<&'a serde_json::Value> {
     if parts.is_empty() {
         return Some(value);
     }
@@ -140,15 +143,20 @@ fn lookup<'a>(value: &'a serde_json::Value, parts: &[&str]) -> Option<&'a serde_
 /// Linear interpolation at `x` on the first segment of `points` that holds it
 /// (`points` in the order they were sampled; a stroke history may start with
 /// repeated zeros).
-fn interpolate(points: &[(f64, f64)], x: f64) -> Option<f64> {
+pub(crate) fn interpolate(points: &[(f64, f64)], x: f64) -> Option<f64> {
     points.windows(2).find_map(|w| {
         let ((x0, y0), (x1, y1)) = (w[0], w[1]);
         let (lo, hi) = (x0.min(x1), x0.max(x1));
         if !(lo..=hi).contains(&x) {
             return None;
         }
-        if hi - lo == 0.0 {
+        // At a sampled point, its own value (the blend below need not give
+        // it to the last bit).
+        if x == x0 {
             return Some(y0);
+        }
+        if x == x1 {
+            return Some(y1);
         }
         let t = (x - x0) / (x1 - x0);
         Some(y0 + t * (y1 - y0))
@@ -179,5 +187,8 @@ mod tests {
         assert_eq!(interpolate(&p, 2.0), Some(20.0));
         assert_eq!(interpolate(&p, 3.0), Some(30.0));
         assert_eq!(interpolate(&p, 3.5), None);
+        // Sampled points come back to the bit.
+        let q = [(0.1, 0.3), (0.7, 0.1 + 0.2)];
+        assert_eq!(interpolate(&q, 0.7), Some(0.1 + 0.2));
     }
 }

@@ -7,7 +7,8 @@
 //! the folders of [`RUN_FOLDERS`], the files with that folder's extension; a
 //! folder left empty is removed. In a comparison's directory: [`COMPARE_FILES`],
 //! `plots/*.png`, and each sub-folder that is one of the comparison's rows or
-//! holds a run's results, cleaned as a run's directory.
+//! holds a run's results, cleaned as a run's directory. In a study's
+//! directory: [`STUDY_FILES`] and its variants' folders, the same way.
 
 use std::path::Path;
 
@@ -27,6 +28,9 @@ pub const RUN_FOLDERS: &[(&str, &str)] = &[("sections", "csv"), ("vtk", "vtu"), 
 /// and one folder per row).
 pub const COMPARE_FILES: &[&str] = &["compare.md", "compare.csv"];
 
+/// Files a study writes at the top of its directory (besides one folder per variant).
+pub const STUDY_FILES: &[&str] = &["study.md", "study.json", "pareto.png"];
+
 /// What is about to be written into the directory.
 #[derive(Debug, Clone, Copy)]
 pub enum Owner<'a> {
@@ -34,6 +38,8 @@ pub enum Owner<'a> {
     Run,
     /// A comparison (`formsim compare`) whose rows have these labels.
     Compare(&'a [String]),
+    /// A study (`formsim study`) whose variants have these labels.
+    Study(&'a [String]),
 }
 
 /// Make `dir` ready for new results of `owner`.
@@ -76,6 +82,7 @@ pub fn prepare(dir: &Path, owner: Owner<'_>, replace: bool) -> Result<(), String
     match owner {
         Owner::Run => clean_run(dir),
         Owner::Compare(labels) => clean_compare(dir, labels),
+        Owner::Study(labels) => clean_study(dir, labels),
     }
 }
 
@@ -86,6 +93,10 @@ fn holds_results(dir: &Path, owner: Owner<'_>) -> Result<bool, String> {
         Owner::Compare(labels) => {
             COMPARE_FILES.iter().any(|f| dir.join(f).exists())
                 || dir.join("plots").exists()
+                || !run_folders(dir, labels)?.is_empty()
+        }
+        Owner::Study(labels) => {
+            STUDY_FILES.iter().any(|f| dir.join(f).exists())
                 || !run_folders(dir, labels)?.is_empty()
         }
     })
@@ -172,6 +183,18 @@ fn clean_compare(dir: &Path, labels: &[String]) -> Result<(), String> {
         remove_file(&dir.join(name))?;
     }
     clean_folder(&dir.join("plots"), "png")?;
+    for folder in run_folders(dir, labels)? {
+        clean_run(&folder)?;
+        remove_if_empty(&folder)?;
+    }
+    Ok(())
+}
+
+/// Remove a study's files from `dir`: its reports, its plot and its variants.
+fn clean_study(dir: &Path, labels: &[String]) -> Result<(), String> {
+    for name in STUDY_FILES {
+        remove_file(&dir.join(name))?;
+    }
     for folder in run_folders(dir, labels)? {
         clean_run(&folder)?;
         remove_if_empty(&folder)?;
@@ -275,6 +298,27 @@ mod tests {
                 "mine/notes.txt"
             ]
         );
+    }
+
+    #[test]
+    fn replacing_a_study_cleans_its_reports_and_variants() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        for f in [
+            "study.md",
+            "study.json",
+            "pareto.png",
+            "reference/summary.json",
+            "divisions-25/energy.csv",
+            "notes.txt",
+        ] {
+            touch(d, f);
+        }
+        let labels = ["reference".to_string(), "divisions-25".to_string()];
+        let e = prepare(d, Owner::Study(&labels), false).unwrap_err();
+        assert!(e.contains("holds results"), "{e}");
+        prepare(d, Owner::Study(&labels), true).unwrap();
+        assert_eq!(walk(d), ["notes.txt"]);
     }
 
     /// Every path under `dir`, relative, sorted.

@@ -1,0 +1,750 @@
+//! `formsim study`: what accuracy costs in time, on the user's own scene.
+//!
+//! A study varies *knobs* (any scene key, `--vary KEY=V1,V2,…`) around a
+//! *reference* (one value per knob: the first listed, or `--reference`; list
+//! the most accurate value first). It runs the reference and every
+//! one-knob-at-a-time variant (or, with `cross`, every combination), one
+//! run after the other on the same worker threads, and gives each variant
+//! its error on the chosen [quantities](quantity) against the reference and
+//! its cost: increments, CPU seconds and wall seconds.
+//!
+//! Timing on a shared machine: each run is timed whole (set-up, steps,
+//! output), CPU time being the process's over the run (every thread). With
+//! `repeat` > 1 the rounds visit the variants in alternate order
+//! (forward, backward, …), so that a slow spell of the machine falls on
+//! different variants, and each variant reports the median with the fastest
+//! and slowest. Costs are compared on the median CPU time. A repeat must give
+//! the same bits as the first run of its variant; a difference stops the study.
+//!
+//! After a one-at-a-time study, when two knobs or more each have a value
+//! within the tolerance that is cheaper than the reference, the study also
+//! runs that combination (`combined`), since errors do not simply add. The
+//! recommendation is the cheapest completed variant whose every quantity is
+//! within the tolerance. [`report`] writes `study.json` and `study.md`,
+//! [`pareto`] the error-against-time plot `pareto.png`.
+
+pub mod pareto;
+pub mod quantity;
+pub mod report;
+
+use crate::run::{Progress, RunOptions, RunResult, run};
+use crate::scene;
+use quantity::{Measured, Quantity, QuantityError};
+use std::path::Path;
+use std::time::Instant;
+
+/// One knob: a scene key and the values it takes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Knob {
+    /// Scene key, as for `--set` (e.g. `blank.mesh.divisions`).
+    pub key: String,
+    /// Values, as written after `=` (the first is the default reference).
+    pub values: Vec<String>,
+}
+
+impl Knob {
+    /// Parse `KEY=V1,V2,…`.
+    ///
+    /// # Errors
+    /// No `=`, an empty key, no value or an empty or repeated one.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let (key, list) = text
+            .split_once('=')
+            .ok_or_else(|| format!("--vary `{text}`: expected KEY=V1,V2,…"))?;
+        let key = key.trim();
+        if key.is_empty() {
+            return Err(format!("--vary `{text}`: no key before `=`"));
+        }
+        let values: Vec<String> = list.split(',').map(|v| v.trim().to_string()).collect();
+        if values.iter().any(String::is_empty) {
+            return Err(format!("--vary `{text}`: an empty value"));
+        }
+        for (i, v) in values.iter().enumerate() {
+            if values[..i].contains(v) {
+                return Err(format!("--vary `{text}`: the value `{v}` is listed twice"));
+            }
+        }
+        Ok(Self {
+            key: key.into(),
+            values,
+        })
+    }
+}
+
+/// What a study runs and how it judges the variants.
+#[derive(Debug, Clone)]
+pub struct Spec {
+    /// The knobs (at least one).
+    pub knobs: Vec<Knob>,
+    /// Reference values `(key, value)` replacing a knob's first value.
+    pub reference: Vec<(String, String)>,
+    /// The quantities compared (at least one).
+    pub quantities: Vec<Quantity>,
+    /// Every combination of the knobs' values instead of one knob at a time.
+    pub cross: bool,
+    /// Runs per variant (≥ 1), in alternating rounds.
+    pub repeat: usize,
+    /// Largest relative error a recommended variant may have on any quantity.
+    pub tolerance: f64,
+    /// Overrides for every run, applied before the knobs.
+    pub sets: Vec<String>,
+}
+
+/// One variant: a value for every knob.
+#[derive(Debug)]
+pub struct Variant {
+    /// Label and output folder.
+    pub label: String,
+    /// `(key, value)` for every knob, in the knobs' order.
+    pub settings: Vec<(String, String)>,
+    /// Which knobs differ from the reference.
+    pub changed: Vec<usize>,
+    loaded: scene::LoadedScene,
+}
+
+/// The variants of a study, each scene loaded and built once (a bad value
+/// stops the study before anything runs). Made by [`plan`].
+#[derive(Debug)]
+pub struct Plan {
+    /// The spec it was made from.
+    pub spec: Spec,
+    /// Reference first.
+    pub variants: Vec<Variant>,
+    scene_path: std::path::PathBuf,
+}
+
+impl Plan {
+    /// The variants' labels (their folders under the output directory), the
+    /// possible `combined` one last.
+    pub fn labels(&self) -> Vec<String> {
+        let mut l: Vec<String> = self.variants.iter().map(|v| v.label.clone()).collect();
+        if !self.spec.cross {
+            l.push(COMBINED.into());
+        }
+        l
+    }
+}
+
+/// Label of the combination of each knob's cheapest value within tolerance.
+pub const COMBINED: &str = "combined";
+
+/// Cost of a variant over its runs.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Spread {
+    /// Fastest run.
+    pub min: f64,
+    /// Median over the runs.
+    pub median: f64,
+    /// Slowest run.
+    pub max: f64,
+}
+
+impl Spread {
+    fn of(samples: &[f64]) -> Self {
+        let mut s = samples.to_vec();
+        s.sort_by(f64::total_cmp);
+        let n = s.len();
+        let median = if n % 2 == 1 {
+            s[n / 2]
+        } else {
+            0.5 * (s[n / 2 - 1] + s[n / 2])
+        };
+        Self {
+            min: s[0],
+            median,
+            max: s[n - 1],
+        }
+    }
+}
+
+/// A finished variant.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Outcome {
+    /// Label (folder).
+    pub label: String,
+    /// `(key, value)` for every knob.
+    pub settings: Vec<(String, String)>,
+    /// Keys of the knobs that differ from the reference.
+    pub changed: Vec<String>,
+    /// Increments of the run.
+    pub increments: u64,
+    /// Process CPU seconds per run.
+    pub cpu_s: Spread,
+    /// Wall seconds per run.
+    pub wall_s: Spread,
+    /// Energy balance error of the run (relative).
+    pub balance_error: f64,
+    /// Each quantity's value (numbers) or `None` (curves).
+    pub values: Vec<Option<f64>>,
+    /// Each quantity's error against the reference (`None` for the reference).
+    pub errors: Vec<Option<QuantityError>>,
+    /// The largest error over the quantities (0 for the reference).
+    pub worst: f64,
+    /// Reference median CPU time over this variant's.
+    pub speed_up: f64,
+}
+
+/// A variant that failed: its label and the message.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Failed {
+    /// Label (folder).
+    pub label: String,
+    /// Why.
+    pub message: String,
+}
+
+/// Everything a study found.
+#[derive(Debug, Clone)]
+pub struct Results {
+    /// The spec.
+    pub spec: Spec,
+    /// Scene name.
+    pub scene: String,
+    /// Worker threads every run used.
+    pub threads: usize,
+    /// Completed variants, reference first.
+    pub outcomes: Vec<Outcome>,
+    /// Failed variants.
+    pub failed: Vec<Failed>,
+}
+
+/// Check the spec and build every variant's scene without running any.
+///
+/// # Errors
+/// No knob or no quantity, a knob listed twice, a reference key that is not
+/// a knob, `repeat` 0, a tolerance that is not positive, a variant whose
+/// scene does not load or build (named by its label).
+pub fn plan(scene_path: &Path, spec: Spec) -> Result<Plan, String> {
+    check_spec(&spec)?;
+    let reference: Vec<String> = spec
+        .knobs
+        .iter()
+        .map(|k| {
+            spec.reference
+                .iter()
+                .rev()
+                .find(|(key, _)| *key == k.key)
+                .map_or_else(|| k.values[0].clone(), |(_, v)| v.clone())
+        })
+        .collect();
+    let mut picks: Vec<Vec<String>> = vec![reference.clone()];
+    if spec.cross {
+        for combo in cartesian(&spec.knobs) {
+            if combo != reference {
+                picks.push(combo);
+            }
+        }
+    } else {
+        for (k, knob) in spec.knobs.iter().enumerate() {
+            for v in knob.values.iter().filter(|v| **v != reference[k]) {
+                let mut p = reference.clone();
+                p[k] = v.clone();
+                picks.push(p);
+            }
+        }
+    }
+    let mut variants = Vec::with_capacity(picks.len());
+    for pick in picks {
+        let v = variant(scene_path, &spec, &reference, pick)?;
+        if variants.iter().any(|w: &Variant| w.label == v.label) {
+            return Err(format!("two variants would share the folder `{}`", v.label));
+        }
+        variants.push(v);
+    }
+    Ok(Plan {
+        spec,
+        variants,
+        scene_path: scene_path.to_path_buf(),
+    })
+}
+
+fn check_spec(spec: &Spec) -> Result<(), String> {
+    if spec.knobs.is_empty() {
+        return Err("a study needs at least one --vary KEY=V1,V2,…".into());
+    }
+    if spec.quantities.is_empty() {
+        return Err("a study needs at least one quantity (--quantities)".into());
+    }
+    for (i, k) in spec.knobs.iter().enumerate() {
+        if spec.knobs[..i].iter().any(|j| j.key == k.key) {
+            return Err(format!("--vary: the key `{}` is varied twice", k.key));
+        }
+    }
+    for (key, _) in &spec.reference {
+        if !spec.knobs.iter().any(|k| k.key == *key) {
+            return Err(format!(
+                "--reference: `{key}` is not one of the --vary keys"
+            ));
+        }
+    }
+    if spec.repeat == 0 {
+        return Err("--repeat: 0: must be at least 1".into());
+    }
+    if !(spec.tolerance.is_finite() && spec.tolerance > 0.0) {
+        return Err(format!(
+            "--tolerance: {}: must be a positive fraction (0.02 = 2 %)",
+            spec.tolerance
+        ));
+    }
+    Ok(())
+}
+
+/// Every combination of the knobs' values, the first knob varying slowest.
+fn cartesian(knobs: &[Knob]) -> Vec<Vec<String>> {
+    let mut out: Vec<Vec<String>> = vec![Vec::new()];
+    for k in knobs {
+        out = out
+            .into_iter()
+            .flat_map(|p| {
+                k.values.iter().map(move |v| {
+                    let mut q = p.clone();
+                    q.push(v.clone());
+                    q
+                })
+            })
+            .collect();
+    }
+    out
+}
+
+/// Load and build the scene of one pick of values.
+fn variant(
+    scene_path: &Path,
+    spec: &Spec,
+    reference: &[String],
+    pick: Vec<String>,
+) -> Result<Variant, String> {
+    let changed: Vec<usize> = (0..pick.len())
+        .filter(|&k| pick[k] != reference[k])
+        .collect();
+    let label = label_of(&spec.knobs, &pick, &changed);
+    let settings: Vec<(String, String)> = spec
+        .knobs
+        .iter()
+        .zip(&pick)
+        .map(|(k, v)| (k.key.clone(), v.clone()))
+        .collect();
+    let mut sets = spec.sets.clone();
+    sets.extend(settings.iter().map(|(k, v)| format!("{k}={v}")));
+    let loaded = scene::load(scene_path, &sets).map_err(|e| format!("{label}: {e}"))?;
+    scene::build(&loaded).map_err(|e| format!("{label}: {e}"))?;
+    Ok(Variant {
+        label,
+        settings,
+        changed,
+        loaded,
+    })
+}
+
+/// `reference`, or the changed knobs as `LASTKEY-VALUE` joined by `+`, with
+/// characters other than letters, digits, `-`, `_`, `.` replaced by `_`.
+fn label_of(knobs: &[Knob], pick: &[String], changed: &[usize]) -> String {
+    if changed.is_empty() {
+        return "reference".into();
+    }
+    changed
+        .iter()
+        .map(|&k| {
+            let key = knobs[k].key.rsplit('.').next().unwrap_or(&knobs[k].key);
+            let raw = format!("{key}-{}", pick[k]);
+            raw.chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect::<String>()
+        })
+        .collect::<Vec<_>>()
+        .join("+")
+}
+
+/// One timed run's figures.
+struct Timed {
+    result: RunResult,
+    cpu_s: f64,
+    wall_s: f64,
+}
+
+/// Run a variant once into `out/LABEL`, timed.
+fn run_once(
+    v: &Variant,
+    out: &Path,
+    bar: Option<&indicatif::ProgressBar>,
+) -> Result<Timed, String> {
+    if let Some(b) = bar {
+        b.reset();
+    }
+    let cpu = cpu_time::ProcessTime::try_now().map_err(|e| format!("process CPU time: {e}"))?;
+    let wall = Instant::now();
+    let result = run(
+        &v.loaded,
+        &RunOptions {
+            out: out.join(&v.label),
+            progress: bar.map_or(Progress::Hidden, |b| Progress::Bar(b.clone())),
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let cpu_s = cpu
+        .try_elapsed()
+        .map_err(|e| format!("process CPU time: {e}"))?
+        .as_secs_f64();
+    Ok(Timed {
+        result,
+        cpu_s,
+        wall_s: wall.elapsed().as_secs_f64(),
+    })
+}
+
+/// A variant's runs so far.
+struct Runs {
+    first: Option<RunResult>,
+    values: Vec<Measured>,
+    cpu: Vec<f64>,
+    wall: Vec<f64>,
+    failure: Option<String>,
+}
+
+/// Run the plan's variants (`repeat` rounds, alternating order), then the
+/// possible combination, into `out`; `on_run` is told after each run.
+///
+/// # Errors
+/// The reference fails or does not give a quantity; a repeat differs from
+/// its first run; the output folder cannot be made.
+pub fn execute(
+    plan: Plan,
+    out: &Path,
+    progress: bool,
+    on_run: &dyn Fn(&str, Result<&RunResult, &str>),
+) -> Result<Results, String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let Plan {
+        spec,
+        mut variants,
+        scene_path,
+    } = plan;
+    let bar = progress.then(indicatif::ProgressBar::no_length);
+    let mut runs = run_rounds(&variants, &spec, out, bar.as_ref(), on_run)?;
+    let mut results = tabulate(&spec, &variants, &runs)?;
+    if !spec.cross
+        && let Some(pick) = combination(&spec, &variants[0].settings, &results)
+    {
+        let reference: Vec<String> = variants[0].settings.iter().map(|s| s.1.clone()).collect();
+        let mut v = variant(&scene_path, &spec, &reference, pick)?;
+        v.label = COMBINED.into();
+        let extra = run_rounds(std::slice::from_ref(&v), &spec, out, bar.as_ref(), on_run)?;
+        variants.push(v);
+        runs.extend(extra);
+        results = tabulate(&spec, &variants, &runs)?;
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    results.threads = rayon::current_num_threads();
+    Ok(results)
+}
+
+/// `repeat` rounds over `variants`, forward then backward.
+fn run_rounds(
+    variants: &[Variant],
+    spec: &Spec,
+    out: &Path,
+    bar: Option<&indicatif::ProgressBar>,
+    on_run: &dyn Fn(&str, Result<&RunResult, &str>),
+) -> Result<Vec<Runs>, String> {
+    let mut runs: Vec<Runs> = variants
+        .iter()
+        .map(|_| Runs {
+            first: None,
+            values: Vec::new(),
+            cpu: Vec::new(),
+            wall: Vec::new(),
+            failure: None,
+        })
+        .collect();
+    for round in 0..spec.repeat {
+        let order: Vec<usize> = if round % 2 == 0 {
+            (0..variants.len()).collect()
+        } else {
+            (0..variants.len()).rev().collect()
+        };
+        for i in order {
+            let (v, r) = (&variants[i], &mut runs[i]);
+            if r.failure.is_some() {
+                continue;
+            }
+            if let Some(b) = bar {
+                b.set_message(format!("round {}/{}: {}", round + 1, spec.repeat, v.label));
+            }
+            match run_once(v, out, bar) {
+                Err(m) => {
+                    on_run(&v.label, Err(&m));
+                    r.failure = Some(m);
+                }
+                Ok(t) => {
+                    on_run(&v.label, Ok(&t.result));
+                    record(v, r, t, &spec.quantities)?;
+                }
+            }
+        }
+    }
+    Ok(runs)
+}
+
+/// Keep a run's figures; a repeat must give the first run's bits.
+fn record(v: &Variant, r: &mut Runs, t: Timed, quantities: &[Quantity]) -> Result<(), String> {
+    let values: Result<Vec<Measured>, String> =
+        quantities.iter().map(|q| q.measure(&t.result)).collect();
+    let values = match values {
+        Ok(values) => values,
+        Err(m) => {
+            r.failure = Some(m);
+            return Ok(());
+        }
+    };
+    if r.first.is_none() {
+        r.values = values;
+        r.first = Some(t.result);
+    } else if values != r.values {
+        return Err(format!(
+            "{}: a repeated run gave other values than the first (the runs must be the same bits)",
+            v.label
+        ));
+    }
+    r.cpu.push(t.cpu_s);
+    r.wall.push(t.wall_s);
+    Ok(())
+}
+
+/// Errors and costs of every completed variant against the reference (the first).
+fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results, String> {
+    let (reference, ref_runs) = (&variants[0], &runs[0]);
+    let Some(ref_result) = &ref_runs.first else {
+        return Err(format!(
+            "the reference run failed: {}",
+            ref_runs.failure.as_deref().unwrap_or("no result")
+        ));
+    };
+    let ref_cpu = Spread::of(&ref_runs.cpu).median;
+    let mut outcomes = Vec::new();
+    let mut failed = Vec::new();
+    for (v, r) in variants.iter().zip(runs) {
+        let Some(result) = &r.first else {
+            failed.push(Failed {
+                label: v.label.clone(),
+                message: r.failure.clone().unwrap_or_default(),
+            });
+            continue;
+        };
+        let is_ref = std::ptr::eq(v, reference);
+        let mut errors = Vec::new();
+        for (q, (value, ref_value)) in spec
+            .quantities
+            .iter()
+            .zip(r.values.iter().zip(&ref_runs.values))
+        {
+            errors.push(if is_ref {
+                None
+            } else {
+                Some(quantity::error(value, ref_value).map_err(|e| format!("{}: {e}", q.name()))?)
+            });
+        }
+        let worst = errors.iter().flatten().map(|e| e.error).fold(0.0, f64::max);
+        let cpu_s = Spread::of(&r.cpu);
+        outcomes.push(Outcome {
+            label: v.label.clone(),
+            settings: v.settings.clone(),
+            changed: v
+                .changed
+                .iter()
+                .map(|&k| spec.knobs[k].key.clone())
+                .collect(),
+            increments: result.summary.increments,
+            cpu_s,
+            wall_s: Spread::of(&r.wall),
+            balance_error: result.summary.energy.balance_error_rel,
+            values: r
+                .values
+                .iter()
+                .map(|m| match m {
+                    Measured::Scalar(x) => Some(*x),
+                    Measured::Curve(_) => None,
+                })
+                .collect(),
+            errors,
+            worst,
+            speed_up: ref_cpu / cpu_s.median,
+        });
+    }
+    Ok(Results {
+        spec: spec.clone(),
+        scene: ref_result.summary.scene.clone(),
+        threads: 0,
+        outcomes,
+        failed,
+    })
+}
+
+/// For each knob, its cheapest value within the tolerance that is cheaper
+/// than the reference; `Some` when two knobs or more have one.
+fn combination(
+    spec: &Spec,
+    reference: &[(String, String)],
+    results: &Results,
+) -> Option<Vec<String>> {
+    let mut pick: Vec<String> = reference.iter().map(|s| s.1.clone()).collect();
+    let mut moved = 0;
+    for (k, knob) in spec.knobs.iter().enumerate() {
+        let best = results
+            .outcomes
+            .iter()
+            .filter(|o| o.changed.len() == 1 && o.changed[0] == knob.key)
+            .filter(|o| o.worst <= spec.tolerance && o.speed_up > 1.0)
+            .max_by(|a, b| a.speed_up.total_cmp(&b.speed_up));
+        if let Some(o) = best {
+            pick[k] = o.settings[k].1.clone();
+            moved += 1;
+        }
+    }
+    (moved >= 2).then_some(pick)
+}
+
+/// The cheapest completed variant (not the reference) within the tolerance
+/// on every quantity.
+pub fn recommendation(results: &Results) -> Option<&Outcome> {
+    results
+        .outcomes
+        .iter()
+        .skip(1)
+        .filter(|o| o.worst <= results.spec.tolerance)
+        .max_by(|a, b| a.speed_up.total_cmp(&b.speed_up))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn knobs_parse_and_refuse_bad_lists() {
+        let k = Knob::parse("blank.mesh.divisions=50, 25,100").unwrap();
+        assert_eq!(k.key, "blank.mesh.divisions");
+        assert_eq!(k.values, ["50", "25", "100"]);
+        assert!(
+            Knob::parse("blank.mesh.divisions")
+                .unwrap_err()
+                .contains("KEY=V1")
+        );
+        assert!(Knob::parse("=1,2").unwrap_err().contains("no key"));
+        assert!(Knob::parse("a=1,,2").unwrap_err().contains("empty value"));
+        assert!(Knob::parse("a=1,2,1").unwrap_err().contains("twice"));
+    }
+
+    #[test]
+    fn cartesian_has_every_combination_once() {
+        let knobs = [
+            Knob::parse("a=1,2").unwrap(),
+            Knob::parse("b=x,y,z").unwrap(),
+        ];
+        let c = cartesian(&knobs);
+        assert_eq!(c.len(), 6);
+        assert_eq!(c[0], ["1", "x"]);
+        assert_eq!(c[5], ["2", "z"]);
+    }
+
+    #[test]
+    fn labels_name_the_changed_knobs_in_plain_characters() {
+        let knobs = [
+            Knob::parse("blank.mesh.divisions=50,25").unwrap(),
+            Knob::parse("solver.mass_scaling_dt=5e-7,1e-6").unwrap(),
+        ];
+        let pick = vec!["25".to_string(), "1e-6".to_string()];
+        assert_eq!(label_of(&knobs, &pick, &[]), "reference");
+        assert_eq!(label_of(&knobs, &pick, &[0]), "divisions-25");
+        assert_eq!(
+            label_of(&knobs, &pick, &[0, 1]),
+            "divisions-25+mass_scaling_dt-1e-6"
+        );
+        let odd = vec!["a b/c".to_string(), "x".to_string()];
+        assert_eq!(label_of(&knobs, &odd, &[0]), "divisions-a_b_c");
+    }
+
+    fn outcome(settings: &[(&str, &str)], changed: &[&str], worst: f64, speed_up: f64) -> Outcome {
+        let one = Spread {
+            min: 1.0,
+            median: 1.0,
+            max: 1.0,
+        };
+        Outcome {
+            label: changed.join("+"),
+            settings: settings
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect(),
+            changed: changed.iter().map(|c| c.to_string()).collect(),
+            increments: 1,
+            cpu_s: one,
+            wall_s: one,
+            balance_error: 0.0,
+            values: Vec::new(),
+            errors: Vec::new(),
+            worst,
+            speed_up,
+        }
+    }
+
+    /// Knob a: `2` is within tolerance and faster, `3` faster still but
+    /// outside it; knob b: `y` within tolerance and faster; knob c: `q`
+    /// within tolerance but slower. The combination takes a=2, b=y, c as in
+    /// the reference; the recommendation is the fastest within tolerance.
+    #[test]
+    fn the_combination_takes_each_knobs_cheapest_value_within_tolerance() {
+        let spec = Spec {
+            knobs: vec![
+                Knob::parse("a=1,2,3").unwrap(),
+                Knob::parse("b=x,y").unwrap(),
+                Knob::parse("c=p,q").unwrap(),
+            ],
+            reference: Vec::new(),
+            quantities: vec![Quantity::parse("k").unwrap()],
+            cross: false,
+            repeat: 1,
+            tolerance: 0.02,
+            sets: Vec::new(),
+        };
+        let r = [("a", "1"), ("b", "x"), ("c", "p")];
+        let results = Results {
+            spec: spec.clone(),
+            scene: "s".into(),
+            threads: 1,
+            outcomes: vec![
+                outcome(&r, &[], 0.0, 1.0),
+                outcome(&[("a", "2"), ("b", "x"), ("c", "p")], &["a"], 0.01, 1.5),
+                outcome(&[("a", "3"), ("b", "x"), ("c", "p")], &["a"], 0.05, 3.0),
+                outcome(&[("a", "1"), ("b", "y"), ("c", "p")], &["b"], 0.02, 1.2),
+                outcome(&[("a", "1"), ("b", "x"), ("c", "q")], &["c"], 0.0, 0.9),
+            ],
+            failed: Vec::new(),
+        };
+        let reference: Vec<(String, String)> = r
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        assert_eq!(
+            combination(&spec, &reference, &results).unwrap(),
+            ["2", "y", "p"]
+        );
+        assert_eq!(recommendation(&results).unwrap().label, "a");
+        let mut one_knob = results.clone();
+        one_knob.outcomes.truncate(3);
+        assert_eq!(combination(&spec, &reference, &one_knob), None);
+    }
+
+    #[test]
+    fn spread_takes_the_median() {
+        let s = Spread::of(&[3.0, 1.0, 2.0]);
+        assert_eq!((s.min, s.median, s.max), (1.0, 2.0, 3.0));
+        assert_eq!(Spread::of(&[4.0, 1.0]).median, 2.5);
+    }
+}

@@ -1,0 +1,169 @@
+//! `pareto.png`: each variant's largest error against its CPU time, log
+//! axes, one marker and colour per knob, the Pareto front (no other variant
+//! both cheaper and more accurate) drawn through its points, the tolerance
+//! as a horizontal line and the reference's time as a vertical one.
+
+use super::{Outcome, Results};
+use crate::plot::ensure_font;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Errors below this are drawn at it (a log axis has no zero).
+const ERROR_FLOOR: f64 = 1e-6;
+
+/// The variants (not the reference) on the Pareto front of (CPU time, worst
+/// error), cheapest first: each is more accurate than every cheaper one.
+pub fn front(outcomes: &[Outcome]) -> Vec<&Outcome> {
+    let mut sorted: Vec<&Outcome> = outcomes.iter().filter(|o| !o.changed.is_empty()).collect();
+    sorted.sort_by(|a, b| {
+        a.cpu_s
+            .median
+            .total_cmp(&b.cpu_s.median)
+            .then(a.worst.total_cmp(&b.worst))
+    });
+    let mut best = f64::INFINITY;
+    sorted
+        .into_iter()
+        .filter(|o| {
+            let keep = o.worst < best;
+            best = best.min(o.worst);
+            keep
+        })
+        .collect()
+}
+
+/// Which knob a variant belongs to: its changed knob's index, the number of
+/// knobs for a combination, `None` for the reference.
+fn group(r: &Results, o: &Outcome) -> Option<usize> {
+    match o.changed.as_slice() {
+        [] => None,
+        [key] => r.spec.knobs.iter().position(|k| k.key == *key),
+        _ => Some(r.spec.knobs.len()),
+    }
+}
+
+/// Draw `pareto.png` into `out`.
+///
+/// # Errors
+/// No font, or the image cannot be written; the message names the file.
+pub fn draw(out: &Path, r: &Results) -> Result<(), String> {
+    ensure_font()?;
+    let path = out.join("pareto.png");
+    let fail = |e: &dyn std::fmt::Display| format!("{}: cannot draw plot: {e}", path.display());
+    let y = |o: &Outcome| o.worst.max(ERROR_FLOOR);
+    let xs = r.outcomes.iter().map(|o| o.cpu_s.median);
+    let (x0, x1) = xs.fold((f64::INFINITY, 0.0_f64), |(a, b), x| (a.min(x), b.max(x)));
+    let (y0, y1) = r
+        .outcomes
+        .iter()
+        .filter(|o| !o.changed.is_empty())
+        .map(y)
+        .chain([r.spec.tolerance])
+        .fold((f64::INFINITY, 0.0_f64), |(a, b), v| (a.min(v), b.max(v)));
+    let root = BitMapBackend::new(&path, (1000, 650)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| fail(&e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("{}: largest error against time", r.scene),
+            ("sans-serif", 22),
+        )
+        .margin(14)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(
+            (x0 / 1.3..x1 * 1.3).log_scale(),
+            (y0 / 2.0..y1 * 2.0).log_scale(),
+        )
+        .map_err(|e| fail(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc("CPU time per run, median (s)")
+        .y_desc("largest relative error over the quantities")
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 15))
+        .draw()
+        .map_err(|e| fail(&e))?;
+    let tol = r.spec.tolerance;
+    chart
+        .draw_series(LineSeries::new(
+            [(x0 / 1.3, tol), (x1 * 1.3, tol)],
+            RED.mix(0.6).stroke_width(1),
+        ))
+        .map_err(|e| fail(&e))?
+        .label(format!("tolerance {}", super::report::percent(tol)))
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED.mix(0.6)));
+    let t_ref = r.outcomes[0].cpu_s.median;
+    chart
+        .draw_series(LineSeries::new(
+            [(t_ref, y0 / 2.0), (t_ref, y1 * 2.0)],
+            BLACK.mix(0.4).stroke_width(1),
+        ))
+        .map_err(|e| fail(&e))?
+        .label("reference's time")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.mix(0.4)));
+    let f: Vec<(f64, f64)> = front(&r.outcomes)
+        .into_iter()
+        .map(|o| (o.cpu_s.median, y(o)))
+        .collect();
+    chart
+        .draw_series(LineSeries::new(f, BLACK.stroke_width(2)))
+        .map_err(|e| fail(&e))?
+        .label("Pareto front")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(2)));
+    let names: Vec<String> = r
+        .spec
+        .knobs
+        .iter()
+        .map(|k| k.key.clone())
+        .chain(["combined".to_string()])
+        .collect();
+    for (g, name) in names.iter().enumerate() {
+        let points: Vec<(f64, f64, String)> = r
+            .outcomes
+            .iter()
+            .filter(|o| group(r, o) == Some(g))
+            .map(|o| (o.cpu_s.median, y(o), short_value(r, o)))
+            .collect();
+        if points.is_empty() {
+            continue;
+        }
+        let color = Palette99::pick(g).to_rgba();
+        chart
+            .draw_series(points.iter().map(|(x, v, text)| {
+                EmptyElement::at((*x, *v))
+                    + marker(g, color)
+                    + Text::new(text.clone(), (7, -16), ("sans-serif", 13))
+            }))
+            .map_err(|e| fail(&e))?
+            .label(name.as_str())
+            .legend(move |(x, y)| EmptyElement::at((x + 9, y)) + marker(g, color));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()
+        .map_err(|e| fail(&e))?;
+    root.present().map_err(|e| fail(&e))
+}
+
+/// A marker shape per knob: circle, triangle, square, cross, in turn.
+fn marker<DB: DrawingBackend>(g: usize, color: RGBAColor) -> DynElement<'static, DB, (i32, i32)> {
+    let style = color.filled();
+    match g % 4 {
+        0 => Circle::new((0, 0), 6, style).into_dyn(),
+        1 => TriangleMarker::new((0, 0), 7, style).into_dyn(),
+        2 => Rectangle::new([(-5, -5), (5, 5)], style).into_dyn(),
+        _ => Cross::new((0, 0), 6, color.stroke_width(3)).into_dyn(),
+    }
+}
+
+/// The value a variant gives its knob (its label for a combination).
+fn short_value(r: &Results, o: &Outcome) -> String {
+    match group(r, o) {
+        Some(g) if g < r.spec.knobs.len() => o.settings[g].1.clone(),
+        _ => o.label.clone(),
+    }
+}

@@ -1,0 +1,302 @@
+//! The quantities a study compares, and the error of a variant against the
+//! reference.
+//!
+//! A quantity is either a number of `summary.json`, named by its dotted key
+//! (`draw_in.DX`, `punch_force_max`, `sections.OD.major_max`,
+//! `states.40.punch_force`), or a section curve, `SECTION:COLUMN` at the end
+//! of the run or `SECTION@STROKE:COLUMN` at a report stroke, with `COLUMN`
+//! one of `major`, `minor`, `thickness_strain`, `thinning`.
+//!
+//! Errors are relative. A number's is `|v − v_ref| / |v_ref|`. A curve's is
+//! measured at the reference's points (the variant's curve interpolated
+//! linearly there, so meshes may differ): the root mean square of the
+//! difference over the points the two curves share (L2) and its largest
+//! magnitude (max), both divided by the reference curve's largest magnitude.
+//! The L2 figure is the one held against the tolerance.
+
+use crate::identify::observe::{interpolate, lookup};
+use crate::run::RunResult;
+use crate::run::post::SectionRow;
+use crate::run::summary::stroke_key;
+
+/// A quantity compared across the variants.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Quantity {
+    /// A number of `summary.json` by its dotted key.
+    Scalar {
+        /// The dotted key, e.g. `draw_in.DX`.
+        key: String,
+    },
+    /// A section curve.
+    Curve {
+        /// Section name (`output.sections`).
+        section: String,
+        /// Report stroke (mm); `None`: the end of the run.
+        stroke: Option<f64>,
+        /// Which column of the section's rows.
+        column: Column,
+    },
+}
+
+/// A column of a section curve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Column {
+    /// Major logarithmic strain.
+    Major,
+    /// Minor logarithmic strain.
+    Minor,
+    /// Thickness strain `ln(t/t0)`.
+    ThicknessStrain,
+    /// Thinning `(t0 − t)/t0`.
+    Thinning,
+}
+
+impl Column {
+    const NAMES: [(&'static str, Column); 4] = [
+        ("major", Column::Major),
+        ("minor", Column::Minor),
+        ("thickness_strain", Column::ThicknessStrain),
+        ("thinning", Column::Thinning),
+    ];
+
+    fn of(self, row: &SectionRow) -> f64 {
+        match self {
+            Column::Major => row.major,
+            Column::Minor => row.minor,
+            Column::ThicknessStrain => row.thickness_strain,
+            Column::Thinning => row.thinning,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        Self::NAMES
+            .iter()
+            .find(|(_, c)| *c == self)
+            .map_or("", |(n, _)| n)
+    }
+}
+
+/// What a run gave for a quantity.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Measured {
+    /// A number.
+    Scalar(f64),
+    /// A curve: `(initial distance (mm), value)`.
+    Curve(Vec<(f64, f64)>),
+}
+
+/// A variant's error on one quantity, relative to the reference.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct QuantityError {
+    /// The error held against the tolerance (a number's relative error, a
+    /// curve's relative L2 norm).
+    pub error: f64,
+    /// A curve's relative max norm (a number: its relative error again).
+    pub max: f64,
+}
+
+impl Quantity {
+    /// Parse `KEY`, `SECTION:COLUMN` or `SECTION@STROKE:COLUMN`.
+    ///
+    /// # Errors
+    /// An empty name, an unknown column, a stroke that is not a finite number.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let text = text.trim();
+        if text.is_empty() {
+            return Err("--quantities: an empty name".into());
+        }
+        let Some((place, column)) = text.split_once(':') else {
+            return Ok(Quantity::Scalar { key: text.into() });
+        };
+        let column = Column::NAMES
+            .iter()
+            .find(|(n, _)| *n == column.trim())
+            .map(|(_, c)| *c)
+            .ok_or_else(|| {
+                format!(
+                    "--quantities `{text}`: the column after `:` must be major, minor, thickness_strain or thinning"
+                )
+            })?;
+        let (section, stroke) = match place.split_once('@') {
+            None => (place.trim(), None),
+            Some((s, k)) => {
+                let stroke: f64 = k.trim().parse().map_err(|_| {
+                    format!("--quantities `{text}`: the stroke after `@` must be a number (mm)")
+                })?;
+                if !stroke.is_finite() {
+                    return Err(format!(
+                        "--quantities `{text}`: the stroke must be finite (mm)"
+                    ));
+                }
+                (s.trim(), Some(stroke))
+            }
+        };
+        if section.is_empty() {
+            return Err(format!("--quantities `{text}`: no section before `:`"));
+        }
+        Ok(Quantity::Curve {
+            section: section.into(),
+            stroke,
+            column,
+        })
+    }
+
+    /// The quantity as it is written on the command line.
+    pub fn name(&self) -> String {
+        match self {
+            Quantity::Scalar { key } => key.clone(),
+            Quantity::Curve {
+                section,
+                stroke: None,
+                column,
+            } => format!("{section}:{}", column.name()),
+            Quantity::Curve {
+                section,
+                stroke: Some(s),
+                column,
+            } => format!("{section}@{}:{}", stroke_key(*s), column.name()),
+        }
+    }
+
+    /// What `result` gave for this quantity.
+    ///
+    /// # Errors
+    /// A key `summary.json` does not have, a section or report stroke the run
+    /// did not report, a value that is not finite.
+    pub fn measure(&self, result: &RunResult) -> Result<Measured, String> {
+        let name = self.name();
+        let measured = match self {
+            Quantity::Scalar { key } => {
+                let summary = serde_json::to_value(&result.summary).map_err(|e| e.to_string())?;
+                let parts: Vec<&str> = key.split('.').collect();
+                let v = lookup(&summary, &parts)
+                    .and_then(serde_json::Value::as_f64)
+                    .ok_or_else(|| format!("{name}: summary.json has no number at this key"))?;
+                Measured::Scalar(v)
+            }
+            Quantity::Curve {
+                section,
+                stroke,
+                column,
+            } => {
+                let snapshot = match stroke {
+                    None => Some(&result.last),
+                    Some(s) => result
+                        .states
+                        .iter()
+                        .find(|(k, _)| (k - s).abs() <= 1e-9 * s.abs().max(1.0))
+                        .map(|(_, snap)| snap),
+                };
+                let rows = snapshot
+                    .and_then(|snap| snap.curves.get(section))
+                    .ok_or_else(|| {
+                        format!("{name}: the run reported no such section curve (output.sections, output.report_strokes)")
+                    })?;
+                Measured::Curve(rows.iter().map(|r| (r.distance, column.of(r))).collect())
+            }
+        };
+        let finite = match &measured {
+            Measured::Scalar(v) => v.is_finite(),
+            Measured::Curve(p) => p.iter().all(|(x, y)| x.is_finite() && y.is_finite()),
+        };
+        if finite {
+            Ok(measured)
+        } else {
+            Err(format!("{name}: the run gave a value that is not finite"))
+        }
+    }
+}
+
+/// The relative error of `value` against `reference`.
+///
+/// # Errors
+/// A number against a curve; a reference that is zero everywhere; curves
+/// that share fewer than half of the reference's points.
+pub fn error(value: &Measured, reference: &Measured) -> Result<QuantityError, String> {
+    match (value, reference) {
+        (Measured::Scalar(v), Measured::Scalar(r)) => {
+            if *r == 0.0 {
+                return Err("the reference value is 0: no relative error".into());
+            }
+            let e = ((v - r) / r).abs();
+            Ok(QuantityError { error: e, max: e })
+        }
+        (Measured::Curve(v), Measured::Curve(r)) => curve_error(v, r),
+        _ => Err("a number compared with a curve".into()),
+    }
+}
+
+fn curve_error(curve: &[(f64, f64)], reference: &[(f64, f64)]) -> Result<QuantityError, String> {
+    let scale = reference.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
+    if scale == 0.0 {
+        return Err("the reference curve is zero everywhere: no relative error".into());
+    }
+    let diffs: Vec<f64> = reference
+        .iter()
+        .filter_map(|&(x, r)| interpolate(curve, x).map(|v| v - r))
+        .collect();
+    if 2 * diffs.len() < reference.len() {
+        return Err(format!(
+            "the curve covers {} of the reference's {} points: the sections do not match",
+            diffs.len(),
+            reference.len()
+        ));
+    }
+    let mean_square = diffs.iter().map(|d| d * d).sum::<f64>() / diffs.len() as f64;
+    let max = diffs.iter().map(|d| d.abs()).fold(0.0, f64::max);
+    Ok(QuantityError {
+        error: mean_square.sqrt() / scale,
+        max: max / scale,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_parse_and_print_back() {
+        for text in ["draw_in.DX", "OD:major", "OX@40:thinning", "OD@12.5:minor"] {
+            assert_eq!(Quantity::parse(text).unwrap().name(), text);
+        }
+        assert!(Quantity::parse("OD:strain").unwrap_err().contains("column"));
+        assert!(
+            Quantity::parse("OD@x:major")
+                .unwrap_err()
+                .contains("stroke")
+        );
+        assert!(Quantity::parse(":major").unwrap_err().contains("section"));
+        assert!(Quantity::parse(" ").is_err());
+    }
+
+    #[test]
+    fn scalar_error_is_relative() {
+        let e = error(&Measured::Scalar(10.5), &Measured::Scalar(10.0)).unwrap();
+        assert!((e.error - 0.05).abs() < 1e-15);
+        assert!(error(&Measured::Scalar(1.0), &Measured::Scalar(0.0)).is_err());
+    }
+
+    /// A curve shifted by a constant 0.01 on a coarser mesh, against a
+    /// reference peaking at 0.5: L2 = max = 0.01 / 0.5 wherever the coarse
+    /// curve interpolates the line exactly.
+    #[test]
+    fn curve_error_interpolates_the_variant_at_the_reference_points() {
+        let reference: Vec<(f64, f64)> = (0..=10).map(|i| (i as f64, 0.05 * i as f64)).collect();
+        let coarse: Vec<(f64, f64)> = (0..=5)
+            .map(|i| (2.0 * i as f64, 0.1 * i as f64 + 0.01))
+            .collect();
+        let e = error(
+            &Measured::Curve(coarse),
+            &Measured::Curve(reference.clone()),
+        )
+        .unwrap();
+        assert!((e.error - 0.02).abs() < 1e-12, "{e:?}");
+        assert!((e.max - 0.02).abs() < 1e-12, "{e:?}");
+        let short: Vec<(f64, f64)> = reference[..4].to_vec();
+        assert!(
+            error(&Measured::Curve(short), &Measured::Curve(reference))
+                .unwrap_err()
+                .contains("do not match")
+        );
+    }
+}

@@ -1,0 +1,278 @@
+//! A study's reports: `study.json` (every figure) and `study.md` (one table
+//! per knob, the recommendation).
+
+use super::{Outcome, Results, recommendation};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// `study.json`'s content.
+#[derive(Serialize)]
+struct Json<'a> {
+    scene: &'a str,
+    threads: usize,
+    repeat: usize,
+    tolerance: f64,
+    cross: bool,
+    sets: &'a [String],
+    knobs: Vec<JsonKnob<'a>>,
+    quantities: Vec<String>,
+    variants: &'a [Outcome],
+    failed: &'a [super::Failed],
+    recommendation: Option<&'a str>,
+}
+
+#[derive(Serialize)]
+struct JsonKnob<'a> {
+    key: &'a str,
+    values: &'a [String],
+    reference: &'a str,
+}
+
+/// Write `study.json` and `study.md` into `out`.
+///
+/// # Errors
+/// A file cannot be written.
+pub fn write(out: &Path, results: &Results) -> Result<(), String> {
+    let write = |name: &str, text: &str| {
+        let p = out.join(name);
+        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))
+    };
+    let json = to_json(results)?;
+    write("study.json", &json)?;
+    write("study.md", &markdown(results))
+}
+
+fn to_json(r: &Results) -> Result<String, String> {
+    let reference = &r.outcomes[0];
+    let doc = Json {
+        scene: &r.scene,
+        threads: r.threads,
+        repeat: r.spec.repeat,
+        tolerance: r.spec.tolerance,
+        cross: r.spec.cross,
+        sets: &r.spec.sets,
+        knobs: r
+            .spec
+            .knobs
+            .iter()
+            .zip(&reference.settings)
+            .map(|(k, (_, v))| JsonKnob {
+                key: &k.key,
+                values: &k.values,
+                reference: v,
+            })
+            .collect(),
+        quantities: r.spec.quantities.iter().map(|q| q.name()).collect(),
+        variants: &r.outcomes,
+        failed: &r.failed,
+        recommendation: recommendation(r).map(|o| o.label.as_str()),
+    };
+    serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())
+}
+
+/// A relative error as a percentage with two or three significant digits.
+pub fn percent(x: f64) -> String {
+    let v = 100.0 * x;
+    if v == 0.0 {
+        "0 %".into()
+    } else if v >= 10.0 {
+        format!("{v:.0} %")
+    } else if v >= 1.0 {
+        format!("{v:.1} %")
+    } else if v >= 0.01 {
+        format!("{v:.2} %")
+    } else {
+        format!("{v:.1e} %")
+    }
+}
+
+fn markdown(r: &Results) -> String {
+    let reference = &r.outcomes[0];
+    let settings: Vec<String> = reference
+        .settings
+        .iter()
+        .map(|(k, v)| format!("`{k}={v}`"))
+        .collect();
+    let mut md = format!(
+        "# Study of {}: what accuracy costs in time\n\n\
+         Reference: {}. Every run on {} worker thread(s), {} run(s) per variant in \
+         alternating order. Cost: process CPU seconds of the whole run (set-up, steps, \
+         output; every thread), median over the runs with the fastest and slowest in \
+         brackets; speed-up = the reference's median over the variant's. Errors are \
+         relative to the reference: a number's `|v − v_ref| / |v_ref|`, a curve's RMS \
+         difference at the reference's points over the reference curve's largest \
+         magnitude (the max norm is in `study.json`). Tolerance: {}.\n\n",
+        r.scene,
+        settings.join(", "),
+        r.threads,
+        r.spec.repeat,
+        percent(r.spec.tolerance),
+    );
+    if !r.spec.sets.is_empty() {
+        let _ = writeln!(
+            md,
+            "Every run also with `--set {}`.\n",
+            r.spec.sets.join("` `--set ")
+        );
+    }
+    md.push_str("## The reference\n\n| quantity | value |\n|---|---|\n");
+    for (q, v) in r.spec.quantities.iter().zip(&reference.values) {
+        let shown = v.map_or_else(|| "(curve)".into(), |x| format!("{x:.6}"));
+        let _ = writeln!(md, "| `{}` | {shown} |", q.name());
+    }
+    let _ = writeln!(
+        md,
+        "\n{} increments, {:.2} CPU s ({:.2}–{:.2}), {:.2} wall s, energy balance error {:.1e}.\n",
+        reference.increments,
+        reference.cpu_s.median,
+        reference.cpu_s.min,
+        reference.cpu_s.max,
+        reference.wall_s.median,
+        reference.balance_error
+    );
+    if r.spec.cross {
+        md.push_str("## Every combination\n\n");
+        table(&mut md, r, None, |_| true);
+    } else {
+        for (k, knob) in r.spec.knobs.iter().enumerate() {
+            let _ = writeln!(md, "## `{}`\n", knob.key);
+            table(&mut md, r, Some(k), |o| {
+                o.changed.is_empty() || (o.changed.len() == 1 && o.changed[0] == knob.key)
+            });
+        }
+        if r.outcomes.iter().any(|o| o.label == super::COMBINED) {
+            md.push_str(
+                "## Combined\n\nEach knob at its cheapest value within the tolerance, run together \
+                 (errors do not simply add).\n\n",
+            );
+            table(&mut md, r, None, |o| {
+                o.changed.is_empty() || o.label == super::COMBINED
+            });
+        }
+    }
+    if !r.failed.is_empty() {
+        md.push_str("## Failed\n\n");
+        for f in &r.failed {
+            let _ = writeln!(md, "- `{}`: {}", f.label, f.message);
+        }
+        md.push('\n');
+    }
+    md.push_str("## Recommendation\n\n");
+    md.push_str(&recommend(r));
+    md
+}
+
+/// One table: rows are the outcomes `keep` selects; with `knob`, the first
+/// column is that knob's value, otherwise the variant's label.
+fn table(md: &mut String, r: &Results, knob: Option<usize>, keep: impl Fn(&Outcome) -> bool) {
+    md.push_str(if knob.is_some() {
+        "| value |"
+    } else {
+        "| variant |"
+    });
+    for q in &r.spec.quantities {
+        let _ = write!(md, " `{}` |", q.name());
+    }
+    md.push_str(" worst | increments | CPU s | wall s | speed-up | balance |\n|");
+    for _ in 0..r.spec.quantities.len() + 7 {
+        md.push_str("---|");
+    }
+    md.push('\n');
+    for o in r.outcomes.iter().filter(|o| keep(o)) {
+        let name = match knob {
+            Some(k) => o.settings[k].1.clone(),
+            None => o.label.clone(),
+        };
+        let is_ref = o.changed.is_empty();
+        let name = if is_ref {
+            format!("**{name}** (ref.)")
+        } else {
+            name
+        };
+        let _ = write!(md, "| {name} |");
+        for e in &o.errors {
+            let _ = write!(
+                md,
+                " {} |",
+                e.map_or_else(|| "–".into(), |e| percent(e.error))
+            );
+        }
+        let within = if is_ref {
+            String::from("–")
+        } else if o.worst <= r.spec.tolerance {
+            percent(o.worst)
+        } else {
+            format!("**{}**", percent(o.worst))
+        };
+        let _ = writeln!(
+            md,
+            " {within} | {} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.1e} |",
+            o.increments,
+            o.cpu_s.median,
+            o.cpu_s.min,
+            o.cpu_s.max,
+            o.wall_s.median,
+            o.speed_up,
+            o.balance_error
+        );
+    }
+    md.push('\n');
+}
+
+fn recommend(r: &Results) -> String {
+    let tol = percent(r.spec.tolerance);
+    match recommendation(r) {
+        None => format!("No variant is within {tol} on every quantity: keep the reference.\n"),
+        Some(o) if o.speed_up <= 1.0 => format!(
+            "No variant within {tol} on every quantity is cheaper than the reference: keep it \
+             (the cheapest within it, `{}`, takes {:.2} times its time).\n",
+            o.label,
+            1.0 / o.speed_up
+        ),
+        Some(o) => {
+            let (worst_q, _) = r
+                .spec
+                .quantities
+                .iter()
+                .zip(&o.errors)
+                .filter_map(|(q, e)| e.map(|e| (q, e.error)))
+                .fold(
+                    (None, -1.0),
+                    |acc, (q, e)| if e > acc.1 { (Some(q), e) } else { acc },
+                );
+            let changed: Vec<String> = o
+                .settings
+                .iter()
+                .filter(|(k, _)| o.changed.contains(k))
+                .map(|(k, v)| format!("`{k}={v}`"))
+                .collect();
+            format!(
+                "The cheapest variant within {tol} on every quantity: **`{}`** ({}), \
+                 **{:.2} times faster** than the reference ({:.2} against {:.2} CPU s), its \
+                 largest error {} (on `{}`).\n",
+                o.label,
+                changed.join(", "),
+                o.speed_up,
+                o.cpu_s.median,
+                r.outcomes[0].cpu_s.median,
+                percent(o.worst),
+                worst_q.map_or_else(String::new, |q| q.name())
+            )
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::percent;
+
+    #[test]
+    fn percentages_keep_two_or_three_digits() {
+        assert_eq!(percent(0.0), "0 %");
+        assert_eq!(percent(0.1234), "12 %");
+        assert_eq!(percent(0.01234), "1.2 %");
+        assert_eq!(percent(0.001234), "0.12 %");
+        assert_eq!(percent(1.234e-6), "1.2e-4 %");
+    }
+}

@@ -1,0 +1,206 @@
+//! `formsim study` on a coarse square cup (the reduced study that runs in
+//! CI): the variants are real runs of their knob values, each error is the
+//! one recomputed here from the runs' own `summary.json`, costs are spreads
+//! over the repeats, and a bad value stops the study before anything runs.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn formsim(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_formsim"))
+        .current_dir(root())
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn json(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Reference: 10 × 10 elements, AC, no frames. Variants: 8 × 8 elements,
+/// WVS, and two VTK frames (which must not move any result: error 0).
+#[test]
+fn study_of_the_coarse_cup_gives_each_variant_its_errors_and_costs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let o = formsim(&[
+        "--threads",
+        "1",
+        "study",
+        "scenes/square-cup.toml",
+        "--vary",
+        "blank.mesh.divisions=10,8",
+        "--vary",
+        "contact.law=ac,wvs",
+        "--vary",
+        "output.frames=0,2",
+        "--quantities",
+        "draw_in.DX,punch_force_max,OD:major",
+        "--repeat",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    let s = json(&out.join("study.json"));
+    assert_eq!(s["threads"], 1);
+    let variants = s["variants"].as_array().unwrap();
+    let labels: Vec<&str> = variants
+        .iter()
+        .map(|v| v["label"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        labels[..4],
+        ["reference", "divisions-8", "law-wvs", "frames-2"]
+    );
+
+    // Errors of the scalars, from the runs' own summaries.
+    let dx = |label: &str| {
+        json(&out.join(label).join("summary.json"))["draw_in"]["DX"]
+            .as_f64()
+            .unwrap()
+    };
+    let d_ref = dx("reference");
+    for v in &variants[1..4] {
+        let label = v["label"].as_str().unwrap();
+        let expected = ((dx(label) - d_ref) / d_ref).abs();
+        let got = v["errors"][0]["error"].as_f64().unwrap();
+        assert_eq!(got, expected, "{label}");
+        let worst = v["errors"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|e| e["error"].as_f64().unwrap())
+            .fold(0.0, f64::max);
+        assert_eq!(v["worst"].as_f64().unwrap(), worst, "{label}");
+    }
+    // A coarser mesh and another law move the results; frames do not.
+    assert!(variants[1]["worst"].as_f64().unwrap() > 1e-3);
+    assert!(variants[2]["worst"].as_f64().unwrap() > 1e-4);
+    assert_eq!(variants[3]["worst"].as_f64().unwrap(), 0.0);
+    assert!(
+        variants[0]["errors"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(Value::is_null)
+    );
+
+    // Costs: two runs each, spread ordered, speed-up against the reference.
+    let median = |v: &Value| v["cpu_s"]["median"].as_f64().unwrap();
+    for v in variants {
+        let c = &v["cpu_s"];
+        let (lo, mid, hi) = (
+            c["min"].as_f64().unwrap(),
+            c["median"].as_f64().unwrap(),
+            c["max"].as_f64().unwrap(),
+        );
+        assert!(0.0 < lo && lo <= mid && mid <= hi, "{v}");
+        assert!(v["increments"].as_u64().unwrap() > 0);
+        let speed_up = median(&variants[0]) / mid;
+        assert_eq!(v["speed_up"].as_f64().unwrap(), speed_up);
+    }
+    // Each variant is the run of its values.
+    let summary = json(&out.join("divisions-8/summary.json"));
+    assert_eq!(summary["elements"], 64);
+    assert_eq!(json(&out.join("law-wvs/summary.json"))["law"], "wvs");
+
+    // The recommendation, if any, is within the tolerance.
+    if let Some(label) = s["recommendation"].as_str() {
+        let v = variants.iter().find(|v| v["label"] == label).unwrap();
+        assert!(v["worst"].as_f64().unwrap() <= 0.02);
+    }
+    let md = std::fs::read_to_string(out.join("study.md")).unwrap();
+    for heading in [
+        "## `blank.mesh.divisions`",
+        "## `contact.law`",
+        "## `output.frames`",
+        "## Recommendation",
+    ] {
+        assert!(md.contains(heading), "{heading}\n{md}");
+    }
+    assert!(std::fs::metadata(out.join("pareto.png")).unwrap().len() > 1000);
+
+    // The same folder again needs --force.
+    let again = formsim(&[
+        "study",
+        "scenes/square-cup.toml",
+        "--vary",
+        "contact.law=ac,wvs",
+        "--quantities",
+        "draw_in.DX",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!again.status.success());
+    assert!(String::from_utf8_lossy(&again.stderr).contains("--force"));
+}
+
+/// An unknown law in the second variant is found while planning: one line
+/// naming the variant, and no run (no output folder).
+#[test]
+fn a_bad_value_stops_the_study_before_any_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let o = formsim(&[
+        "study",
+        "scenes/square-cup.toml",
+        "--vary",
+        "contact.law=ac,nope",
+        "--quantities",
+        "draw_in.DX",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("law-nope") && stderr.contains("nope"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(!out.exists());
+}
+
+/// Command-line mistakes are one-line errors naming the option.
+#[test]
+fn bad_study_options_are_named() {
+    let cases: [(&[&str], &str); 5] = [
+        (&["--vary", "contact.law"], "--vary"),
+        (&["--vary", "contact.law=ac,ac"], "twice"),
+        (
+            &[
+                "--vary",
+                "contact.law=ac,wvs",
+                "--reference",
+                "blank.mesh.divisions=5",
+            ],
+            "--reference",
+        ),
+        (
+            &["--vary", "contact.law=ac,wvs", "--repeat", "0"],
+            "--repeat",
+        ),
+        (
+            &["--vary", "contact.law=ac,wvs", "--tolerance=-1"],
+            "--tolerance",
+        ),
+    ];
+    for (args, word) in cases {
+        let mut all = vec!["study", "scenes/square-cup.toml", "--out", "/nonexistent/x"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["--quantities", "draw_in.DX"]);
+        let o = formsim(&all);
+        assert!(!o.status.success(), "{args:?}");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(stderr.contains(word), "{args:?}: {stderr}");
+    }
+}
