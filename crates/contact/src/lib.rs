@@ -41,7 +41,7 @@ pub use blank::{BlankGeometry, BlankView};
 pub use effect::ContactEffect;
 pub use error::ContactError;
 pub use friction_record::{FrictionRecord, RECORD_NEEDS};
-pub use pair::{ContactEnergy, ContactPair, PairSpec, PointStatus, Reaction};
+pub use pair::{ContactEnergy, ContactPair, FRICTIONLESS, PairSpec, PointStatus, Reaction};
 pub use penalty::PenaltySettings;
 pub use timing::ContactTiming;
 pub use tool_log::{Sampled, ToolStepLog};

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use crate::penalty::{PenaltySettings, nodal_stiffness};
 use crate::stages::broad_phase::broad_phase;
-use crate::stages::friction::friction;
+use crate::stages::friction::{friction, no_friction};
 use crate::stages::narrow_phase::narrow_phase;
 use crate::stages::normal::{Normal, NormalSums};
 use crate::stages::scatter::{Scatter, ScatterSums};
@@ -129,11 +129,17 @@ macro_rules! points_mut {
     };
 }
 
+/// The law name of a frictionless pair ([`ContactPair::frictionless`]); a
+/// scene asks for one with `contact.law = "frictionless"`.
+pub const FRICTIONLESS: &str = "frictionless";
+
 /// A rigid tool against the blank: state per blank node of the pair.
 pub struct ContactPair {
     name: String,
     tool: usize,
-    integrator: Box<dyn PointIntegrator>,
+    /// The law × formulation; `None`: a frictionless pair, whose steps run
+    /// no friction stage (no return mapping, no stick springs).
+    integrator: Option<Box<dyn PointIntegrator>>,
     /// What the step computes: the integrator's needs, and
     /// [`crate::RECORD_NEEDS`] while recording.
     needs: PointNeeds,
@@ -175,6 +181,9 @@ pub struct ContactPair {
     pub penetration_max: f64,
     /// Projections on the tool so far (all steps).
     pub projections: u64,
+    /// Point steps of the friction law so far (touching points handed to the
+    /// return mapping, all steps); 0 for a frictionless pair.
+    pub friction_points: u64,
     /// Candidates answered from a flat region of the tool so far, without a
     /// projection ([`plugins_api::ToolSurface::flat_region`]).
     pub flat_answers: u64,
@@ -195,8 +204,8 @@ impl std::fmt::Debug for ContactPair {
         f.debug_struct("ContactPair")
             .field("name", &self.name)
             .field("tool", &self.tool)
-            .field("law", &self.integrator.law_name())
-            .field("formulation", &self.integrator.formulation_name())
+            .field("law", &self.friction_model().0)
+            .field("formulation", &self.friction_model().1)
             .field("points", &self.nodes.len())
             .finish()
     }
@@ -218,6 +227,29 @@ impl ContactPair {
     pub fn new(
         spec: &PairSpec,
         integrator: Box<dyn PointIntegrator>,
+        geometry: &BlankGeometry,
+        x0: &[Vec3],
+    ) -> Result<Self, ContactError> {
+        Self::with_friction(spec, Some(integrator), geometry, x0)
+    }
+
+    /// A frictionless pair ([`FRICTIONLESS`]): normal contact only. Its steps
+    /// compute no blank gradients and run no friction stage: no return
+    /// mapping, no stick springs, no frictional energy.
+    ///
+    /// # Errors
+    /// As [`ContactPair::new`].
+    pub fn frictionless(
+        spec: &PairSpec,
+        geometry: &BlankGeometry,
+        x0: &[Vec3],
+    ) -> Result<Self, ContactError> {
+        Self::with_friction(spec, None, geometry, x0)
+    }
+
+    fn with_friction(
+        spec: &PairSpec,
+        integrator: Option<Box<dyn PointIntegrator>>,
         geometry: &BlankGeometry,
         x0: &[Vec3],
     ) -> Result<Self, ContactError> {
@@ -263,7 +295,7 @@ impl ContactPair {
         let all = nodal_stiffness(geometry, x0, spec.bulk_modulus, &spec.penalty, &spec.name)?;
         let stiffness = nodes.iter().map(|&i| all[i as usize]).collect();
         let m = nodes.len();
-        let needs = integrator.needs();
+        let needs = integrator.as_ref().map_or(PointNeeds::NONE, |i| i.needs());
         Ok(Self {
             name: spec.name.clone(),
             tool: spec.tool,
@@ -292,6 +324,7 @@ impl ContactPair {
             clamped: false,
             penetration_max: 0.0,
             projections: 0,
+            friction_points: 0,
             flat_answers: 0,
             skipped: 0,
             timing: ContactTiming::default(),
@@ -327,7 +360,10 @@ impl ContactPair {
     /// must learn of the change to compute the blank's gradients: use
     /// [`crate::ContactEffect::record_friction`] on a pair it holds.
     pub fn record_friction(&mut self, on: bool) {
-        let own = self.integrator.needs();
+        let own = self
+            .integrator
+            .as_ref()
+            .map_or(PointNeeds::NONE, |i| i.needs());
         if on {
             self.needs = own | crate::RECORD_NEEDS;
             self.record.get_or_insert_with(Box::default);
@@ -348,12 +384,20 @@ impl ContactPair {
         &self.nodes
     }
 
-    /// The law and formulation names.
+    /// The law and formulation names (`frictionless`, `none` for a
+    /// frictionless pair).
     pub fn friction_model(&self) -> (&str, &str) {
-        (
-            self.integrator.law_name(),
-            self.integrator.formulation_name(),
-        )
+        match &self.integrator {
+            Some(i) => (i.law_name(), i.formulation_name()),
+            None => (FRICTIONLESS, "none"),
+        }
+    }
+
+    /// Stick stiffness `k_T` of the law (MPa/mm); 0 for a frictionless pair.
+    fn stick_stiffness(&self) -> f64 {
+        self.integrator
+            .as_ref()
+            .map_or(0.0, |i| i.stick_stiffness())
     }
 
     /// Frictional work density `ω` (N/mm) per pair point.
@@ -402,7 +446,7 @@ impl ContactPair {
         self.penetration_max = 0.0;
         let at = ToolStep::new(tool, self.needs, dt);
         let (settings, needs, name) = (self.settings, self.needs, self.name.as_str());
-        let k_t = self.integrator.stick_stiffness();
+        let k_t = self.stick_stiffness();
         let (nodes, stiffness) = (&self.nodes, &self.stiffness);
         let (last, cand, batch) = (&mut self.last, &mut self.cand, &mut self.batch);
         let mut points = points_mut!(self);
@@ -428,14 +472,14 @@ impl ContactPair {
         };
         let contact = normal.run(nodes, stiffness, cand, last, &mut points, batch);
         lap(&mut t, &mut self.timing.normal);
-        // 2. Friction on the gathered points.
-        friction(
-            self.integrator.as_ref(),
-            points.friction,
-            nodes,
-            batch,
-            name,
-        )?;
+        // 2. Friction on the gathered points (a frictionless pair: none).
+        match self.integrator.as_deref() {
+            Some(integrator) => {
+                friction(integrator, points.friction, nodes, batch, name)?;
+                self.friction_points += batch.points.len() as u64;
+            }
+            None => no_friction(batch),
+        }
         if let Some(r) = self.record.as_deref_mut() {
             r.capture(batch, points.friction);
         }
@@ -514,7 +558,7 @@ impl ContactPair {
 
     /// `(node, penalty + stick stiffness (N/mm))` of every touching point with a positive spring.
     fn touching_springs<'a>(&'a self, area: &'a [f64]) -> impl Iterator<Item = (usize, f64)> + 'a {
-        let k_t = self.integrator.stick_stiffness();
+        let k_t = self.stick_stiffness();
         self.nodes
             .iter()
             .zip(&self.stiffness)

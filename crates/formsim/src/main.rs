@@ -457,6 +457,11 @@ fn laws(args: &LawsArgs) -> Outcome {
         }
         print_schema(l.description.params)?;
     }
+    say!(
+        "\n  {} — normal contact only (scene key contact.law = \"{0}\"): no friction law, no \
+         return mapping, no stick springs; no parameters, no formulation",
+        contact::FRICTIONLESS
+    );
     say!("\nKinematic formulations (any law pairs with any formulation):");
     for f in &forms {
         say!(

@@ -2,6 +2,7 @@
 //! touching points, through [`PointIntegrator::step_batch`] (one batch, or
 //! independent chunks in parallel for many points). It owns the batch's
 //! states and outputs and the naming of the first point a model refuses.
+//! A frictionless pair runs [`no_friction`] instead.
 
 use plugins_api::{PointIntegrator, PointState, StepOutput};
 use rayon::prelude::*;
@@ -61,4 +62,14 @@ pub(crate) fn friction(
         node: first.0,
         source: Box::new(first.1),
     })
+}
+
+/// A frictionless pair's stage: every gathered point gets a zero traction,
+/// no slip, no dissipation and an empty history, without any law.
+pub(crate) fn no_friction(batch: &mut Batch) {
+    let n = batch.points.len();
+    batch.states.clear();
+    batch.states.resize(n, PointState::default());
+    batch.outputs.clear();
+    batch.outputs.resize(n, StepOutput::default());
 }

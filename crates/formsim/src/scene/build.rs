@@ -7,7 +7,7 @@ use super::SceneError;
 use super::schema::{AmplitudeSpec, Boundary, ElementKind, HardeningSpec, Motion, Scene};
 use super::validate::{axis_index, dof_from_name};
 use crate::components::{LawSource, point_integrator};
-use contact::{BlankGeometry, ContactEffect, ContactPair, PairSpec, PenaltySettings};
+use contact::{BlankGeometry, ContactEffect, ContactPair, FRICTIONLESS, PairSpec, PenaltySettings};
 use fem_core::{
     Amplitude, BoundaryCondition, Dofs, EffectId, Mesh, MotionKind, NodalLoad, NodalState, Press,
     PressStep, Solver, SolverSettings, StepEnd, ToolMotion, Vec3,
@@ -412,18 +412,37 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
                 }
                 _ => (LawSource::Named(law.clone()), law.clone()),
             };
+            let frictionless = matches!(&source, LawSource::Named(n) if n == FRICTIONLESS);
             if k == 0 {
                 law_name = match &source {
                     LawSource::Named(n) => n.clone(),
                     LawSource::Plugin(p) => p.display().to_string(),
                 };
-                formulation_name = formulation.clone();
+                formulation_name = if frictionless {
+                    "none".into()
+                } else {
+                    formulation.clone()
+                };
             }
             let mut params = Params::new();
             if let Some(table) = s.contact.params.get(&params_key) {
                 for (name, v) in table {
                     params.set(name, *v);
                 }
+            }
+            if frictionless {
+                if let Some((name, _)) = params.0.iter().next() {
+                    return Err(loaded.key_error(
+                        &format!("contact.params.{FRICTIONLESS}.{name}"),
+                        "a frictionless pair takes no parameters",
+                    ));
+                }
+                let tool = tool_index(&entry.tool).expect("validated");
+                let spec = pair_spec(s, entry, tool, bulk);
+                let pair = ContactPair::frictionless(&spec, &geometry, &mesh.nodes)
+                    .map_err(|e| loaded.key_error(&key, e.to_string()))?;
+                pairs.push(pair);
+                continue;
             }
             let integrator = point_integrator(&source, &params, &formulation, TangentMode::None)
                 .map_err(|e| {
@@ -448,19 +467,7 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
                     loaded.key_error(&key, message)
                 })?;
             let tool = tool_index(&entry.tool).expect("validated");
-            let mut spec = PairSpec::new(
-                &entry
-                    .name
-                    .clone()
-                    .unwrap_or_else(|| format!("{}-blank", entry.tool)),
-                tool,
-                bulk,
-            );
-            spec.penalty = PenaltySettings {
-                scale: entry.penalty_scale.unwrap_or(s.contact.penalty_scale),
-                damping: s.contact.damping,
-            };
-            spec.search_margin = s.contact.search_margin;
+            let spec = pair_spec(s, entry, tool, bulk);
             let pair = ContactPair::new(&spec, integrator, &geometry, &mesh.nodes)
                 .map_err(|e| loaded.key_error(&key, e.to_string()))?;
             pairs.push(pair);
@@ -594,6 +601,21 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
         law: law_name,
         formulation: formulation_name,
     })
+}
+
+/// A pair's settings: its name (or `TOOL-blank`), tool, penalty and search margin.
+fn pair_spec(s: &Scene, entry: &super::schema::PairEntry, tool: usize, bulk: f64) -> PairSpec {
+    let name = entry
+        .name
+        .clone()
+        .unwrap_or_else(|| format!("{}-blank", entry.tool));
+    let mut spec = PairSpec::new(&name, tool, bulk);
+    spec.penalty = PenaltySettings {
+        scale: entry.penalty_scale.unwrap_or(s.contact.penalty_scale),
+        damping: s.contact.damping,
+    };
+    spec.search_margin = s.contact.search_margin;
+    spec
 }
 
 /// The contact pairs: as listed, or one per tool.
