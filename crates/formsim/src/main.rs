@@ -938,6 +938,7 @@ fn study(args: &StudyArgs) -> Outcome {
     })?;
     study::report::write(&args.out, &results)?;
     study::pareto::draw(&args.out, &results)?;
+    study::bars::draw(&args.out, &results)?;
     match study::recommendation(&results) {
         Some(o) => say!(
             "recommended: {} ({:.2} x the reference's speed, largest error {})",
@@ -945,10 +946,10 @@ fn study(args: &StudyArgs) -> Outcome {
             o.speed_up,
             study::report::percent(o.worst)
         ),
-        None => say!("no variant within the tolerance: keep the reference"),
+        None => say!("no variant within the tolerance is cheaper: keep the reference"),
     }
     say!(
-        "{} variants ({} failed): {}/study.md, study.json, pareto.png",
+        "{} variants ({} failed): {}/study.md, study.json, pareto.png, times.png",
         results.outcomes.len() + results.failed.len(),
         results.failed.len(),
         args.out.display()

@@ -127,7 +127,12 @@ fn study_of_the_coarse_cup_gives_each_variant_its_errors_and_costs() {
     ] {
         assert!(md.contains(heading), "{heading}\n{md}");
     }
-    assert!(std::fs::metadata(out.join("pareto.png")).unwrap().len() > 1000);
+    for png in ["pareto.png", "times.png"] {
+        assert!(
+            std::fs::metadata(out.join(png)).unwrap().len() > 1000,
+            "{png}"
+        );
+    }
 
     // The same folder again needs --force.
     let again = formsim(&[

@@ -29,7 +29,7 @@ pub const RUN_FOLDERS: &[(&str, &str)] = &[("sections", "csv"), ("vtk", "vtu"), 
 pub const COMPARE_FILES: &[&str] = &["compare.md", "compare.csv"];
 
 /// Files a study writes at the top of its directory (besides one folder per variant).
-pub const STUDY_FILES: &[&str] = &["study.md", "study.json", "pareto.png"];
+pub const STUDY_FILES: &[&str] = &["study.md", "study.json", "pareto.png", "times.png"];
 
 /// What is about to be written into the directory.
 #[derive(Debug, Clone, Copy)]

@@ -4,6 +4,8 @@
 //! `steps[2].duration`, `contact.params.wvs.nu`); `VALUE` is read as a TOML
 //! value (`0.2`, `50`, `[25, 25]`, `true`, `"text"`), and as a bare string when
 //! it is not one (`wvs`). Intermediate tables are created; array entries must exist.
+//! An empty value (`KEY=`) removes the key, so that its default applies
+//! (`--set solver.mass_scaling_dt=`: no mass scaling).
 
 use super::SceneError;
 use super::locate::{Segment, split_path};
@@ -66,7 +68,11 @@ fn set_in(node: &mut Value, path: &[Segment], value: Value) -> Result<(), String
     let child: &mut Value = match (first, node) {
         (Segment::Key(k), Value::Table(t)) => {
             if rest.is_empty() {
-                t.insert(k.clone(), value);
+                if value.as_str() == Some("") {
+                    t.remove(k);
+                } else {
+                    t.insert(k.clone(), value);
+                }
                 return Ok(());
             }
             t.entry(k.clone())
@@ -78,6 +84,9 @@ fn set_in(node: &mut Value, path: &[Segment], value: Value) -> Result<(), String
                 .get_mut(*i)
                 .ok_or_else(|| format!("index [{i}] past the end ({n} entries)"))?;
             if rest.is_empty() {
+                if value.as_str() == Some("") {
+                    return Err(format!("an array entry ([{i}]) cannot be removed"));
+                }
                 *slot = value;
                 return Ok(());
             }
@@ -123,5 +132,20 @@ mod tests {
             .to_string();
         assert!(e.contains("past the end"), "{e}");
         assert!(parse_assignment("novalue").is_err());
+    }
+
+    #[test]
+    fn an_empty_value_removes_the_key() {
+        let mut t: Table = toml::from_str(
+            "[solver]\nmass_scaling_dt = 5e-7\nsafety_factor = 0.9\n[[steps]]\nduration = 1.0\n",
+        )
+        .unwrap();
+        let (k, v) = parse_assignment("solver.mass_scaling_dt=").unwrap();
+        apply(&mut t, &k, v, "solver.mass_scaling_dt=").unwrap();
+        assert!(t["solver"].get("mass_scaling_dt").is_none());
+        assert_eq!(t["solver"]["safety_factor"].as_float(), Some(0.9));
+        let (k, v) = parse_assignment("steps[0]=").unwrap();
+        let e = apply(&mut t, &k, v, "steps[0]=").unwrap_err().to_string();
+        assert!(e.contains("cannot be removed"), "{e}");
     }
 }

@@ -21,8 +21,10 @@
 //! runs that combination (`combined`), since errors do not simply add. The
 //! recommendation is the cheapest completed variant whose every quantity is
 //! within the tolerance. [`report`] writes `study.json` and `study.md`,
-//! [`pareto`] the error-against-time plot `pareto.png`.
+//! [`pareto`] the error-against-time plot `pareto.png`, [`bars`] the
+//! relative CPU times `times.png`.
 
+pub mod bars;
 pub mod pareto;
 pub mod quantity;
 pub mod report;
@@ -38,7 +40,8 @@ use std::time::Instant;
 pub struct Knob {
     /// Scene key, as for `--set` (e.g. `blank.mesh.divisions`).
     pub key: String,
-    /// Values, as written after `=` (the first is the default reference).
+    /// Values, as written after `=` (the first is the default reference);
+    /// [`DEFAULT`] removes the key.
     pub values: Vec<String>,
 }
 
@@ -125,6 +128,11 @@ impl Plan {
     }
 }
 
+/// A knob value that removes the key from the scene, so that its default
+/// applies (`--vary solver.mass_scaling_dt=5e-7,default`: with and without
+/// mass scaling).
+pub const DEFAULT: &str = "default";
+
 /// Label of the combination of each knob's cheapest value within tolerance.
 pub const COMBINED: &str = "combined";
 
@@ -174,6 +182,9 @@ pub struct Outcome {
     pub wall_s: Spread,
     /// Energy balance error of the run (relative).
     pub balance_error: f64,
+    /// Largest kinetic/internal energy ratio of the run (after forming starts):
+    /// whether a mass-scaled or fast variant stayed quasi-static.
+    pub kinetic_to_internal_max: f64,
     /// Each quantity's value (numbers) or `None` (curves).
     pub values: Vec<Option<f64>>,
     /// Each quantity's error against the reference (`None` for the reference).
@@ -325,7 +336,13 @@ fn variant(
         .map(|(k, v)| (k.key.clone(), v.clone()))
         .collect();
     let mut sets = spec.sets.clone();
-    sets.extend(settings.iter().map(|(k, v)| format!("{k}={v}")));
+    sets.extend(settings.iter().map(|(k, v)| {
+        if v == DEFAULT {
+            format!("{k}=")
+        } else {
+            format!("{k}={v}")
+        }
+    }));
     let loaded = scene::load(scene_path, &sets).map_err(|e| format!("{label}: {e}"))?;
     scene::build(&loaded).map_err(|e| format!("{label}: {e}"))?;
     Ok(Variant {
@@ -565,6 +582,7 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
             cpu_s,
             wall_s: Spread::of(&r.wall),
             balance_error: result.summary.energy.balance_error_rel,
+            kinetic_to_internal_max: result.summary.kinetic_to_internal_max,
             values: r
                 .values
                 .iter()
@@ -611,14 +629,14 @@ fn combination(
     (moved >= 2).then_some(pick)
 }
 
-/// The cheapest completed variant (not the reference) within the tolerance
-/// on every quantity.
+/// The cheapest completed variant within the tolerance on every quantity,
+/// when it is cheaper than the reference (`None`: keep the reference).
 pub fn recommendation(results: &Results) -> Option<&Outcome> {
     results
         .outcomes
         .iter()
         .skip(1)
-        .filter(|o| o.worst <= results.spec.tolerance)
+        .filter(|o| o.worst <= results.spec.tolerance && o.speed_up > 1.0)
         .max_by(|a, b| a.speed_up.total_cmp(&b.speed_up))
 }
 
@@ -687,6 +705,7 @@ mod tests {
             cpu_s: one,
             wall_s: one,
             balance_error: 0.0,
+            kinetic_to_internal_max: 0.0,
             values: Vec::new(),
             errors: Vec::new(),
             worst,

@@ -102,7 +102,8 @@ fn markdown(r: &Results) -> String {
          brackets; speed-up = the reference's median over the variant's. Errors are \
          relative to the reference: a number's `|v − v_ref| / |v_ref|`, a curve's RMS \
          difference at the reference's points over the reference curve's largest \
-         magnitude (the max norm is in `study.json`). Tolerance: {}.\n\n",
+         magnitude (the max norm is in `study.json`). K/I max: the largest kinetic over \
+         internal energy of the run (quasi-static when small). Tolerance: {}.\n\n",
         r.scene,
         settings.join(", "),
         r.threads,
@@ -174,8 +175,8 @@ fn table(md: &mut String, r: &Results, knob: Option<usize>, keep: impl Fn(&Outco
     for q in &r.spec.quantities {
         let _ = write!(md, " `{}` |", q.name());
     }
-    md.push_str(" worst | increments | CPU s | wall s | speed-up | balance |\n|");
-    for _ in 0..r.spec.quantities.len() + 7 {
+    md.push_str(" worst | increments | CPU s | wall s | speed-up | K/I max | balance |\n|");
+    for _ in 0..r.spec.quantities.len() + 8 {
         md.push_str("---|");
     }
     md.push('\n');
@@ -207,13 +208,14 @@ fn table(md: &mut String, r: &Results, knob: Option<usize>, keep: impl Fn(&Outco
         };
         let _ = writeln!(
             md,
-            " {within} | {} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.1e} |",
+            " {within} | {} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.3} | {:.1e} |",
             o.increments,
             o.cpu_s.median,
             o.cpu_s.min,
             o.cpu_s.max,
             o.wall_s.median,
             o.speed_up,
+            o.kinetic_to_internal_max,
             o.balance_error
         );
     }
@@ -223,12 +225,8 @@ fn table(md: &mut String, r: &Results, knob: Option<usize>, keep: impl Fn(&Outco
 fn recommend(r: &Results) -> String {
     let tol = percent(r.spec.tolerance);
     match recommendation(r) {
-        None => format!("No variant is within {tol} on every quantity: keep the reference.\n"),
-        Some(o) if o.speed_up <= 1.0 => format!(
-            "No variant within {tol} on every quantity is cheaper than the reference: keep it \
-             (the cheapest within it, `{}`, takes {:.2} times its time).\n",
-            o.label,
-            1.0 / o.speed_up
+        None => format!(
+            "No variant within {tol} on every quantity is cheaper than the reference: keep it.\n"
         ),
         Some(o) => {
             let (worst_q, _) = r
