@@ -943,7 +943,7 @@ fn study(args: &StudyArgs) -> Outcome {
         Some(o) => say!(
             "recommended: {} ({:.2} x the reference's speed, largest error {})",
             o.label,
-            o.speed_up,
+            o.speed_up.median,
             study::report::percent(o.worst)
         ),
         None => say!("no variant within the tolerance is cheaper: keep the reference"),

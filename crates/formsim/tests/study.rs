@@ -94,8 +94,12 @@ fn study_of_the_coarse_cup_gives_each_variant_its_errors_and_costs() {
             .all(Value::is_null)
     );
 
-    // Costs: two runs each, spread ordered, speed-up against the reference.
-    let median = |v: &Value| v["cpu_s"]["median"].as_f64().unwrap();
+    // Costs: two rounds; the reference at both ends of each (three
+    // variants, fewer than the reference's period), the others once per
+    // round; spreads ordered; speed-ups per run against the reference.
+    let reference = &variants[0];
+    assert_eq!(reference["runs"], 4);
+    let ref_median = reference["cpu_s"]["median"].as_f64().unwrap();
     for v in variants {
         let c = &v["cpu_s"];
         let (lo, mid, hi) = (
@@ -105,9 +109,21 @@ fn study_of_the_coarse_cup_gives_each_variant_its_errors_and_costs() {
         );
         assert!(0.0 < lo && lo <= mid && mid <= hi, "{v}");
         assert!(v["increments"].as_u64().unwrap() > 0);
-        let speed_up = median(&variants[0]) / mid;
-        assert_eq!(v["speed_up"].as_f64().unwrap(), speed_up);
+        let s = &v["speed_up"];
+        let (lo, mid, hi) = (
+            s["min"].as_f64().unwrap(),
+            s["median"].as_f64().unwrap(),
+            s["max"].as_f64().unwrap(),
+        );
+        assert!(0.0 < lo && lo <= mid && mid <= hi, "{v}");
+        assert_eq!(v["cost_s"].as_f64().unwrap(), ref_median / mid);
+        if v["label"] != "reference" {
+            assert_eq!(v["runs"], 2, "{v}");
+        }
     }
+    assert_eq!(reference["speed_up"]["min"], 1.0);
+    // The coarser mesh is cheaper beyond any drift of the machine.
+    assert!(variants[1]["speed_up"]["min"].as_f64().unwrap() > 1.2);
     // Each variant is the run of its values.
     let summary = json(&out.join("divisions-8/summary.json"));
     assert_eq!(summary["elements"], 64);

@@ -20,7 +20,8 @@
 //! within the tolerance that is cheaper than the reference, the study also
 //! runs that combination (`combined`), since errors do not simply add. The
 //! recommendation is the cheapest completed variant whose every quantity is
-//! within the tolerance. [`report`] writes `study.json` and `study.md`,
+//! within the tolerance and that is [`cheaper`] than the reference beyond
+//! the noise (its slowest run faster than the reference's fastest). [`report`] writes `study.json` and `study.md`,
 //! [`pareto`] the error-against-time plot `pareto.png`, [`bars`] the
 //! relative CPU times `times.png`.
 
@@ -28,10 +29,12 @@ pub mod bars;
 pub mod pareto;
 pub mod quantity;
 pub mod report;
+pub mod schedule;
 
-use crate::run::{Progress, RunOptions, RunResult, run};
+use crate::run::RunResult;
 use crate::scene;
 use quantity::{Measured, Quantity, QuantityError};
+use schedule::{Runs, run_rounds};
 use std::path::Path;
 use std::time::Instant;
 
@@ -176,6 +179,8 @@ pub struct Outcome {
     pub changed: Vec<String>,
     /// Increments of the run.
     pub increments: u64,
+    /// Timed runs (the reference runs several times per round).
+    pub runs: usize,
     /// Process CPU seconds per run.
     pub cpu_s: Spread,
     /// Wall seconds per run.
@@ -191,8 +196,14 @@ pub struct Outcome {
     pub errors: Vec<Option<QuantityError>>,
     /// The largest error over the quantities (0 for the reference).
     pub worst: f64,
-    /// Reference median CPU time over this variant's.
-    pub speed_up: f64,
+    /// Speed-up over the reference, run by run: the reference's CPU time
+    /// at the moment of the run (interpolated between its runs) over the
+    /// run's; 1 for the reference.
+    pub speed_up: Spread,
+    /// The variant's CPU time at the reference's pace: the reference's
+    /// median CPU seconds over the median speed-up (what plots and the
+    /// recommendation compare).
+    pub cost_s: f64,
 }
 
 /// A variant that failed: its label and the message.
@@ -378,54 +389,9 @@ fn label_of(knobs: &[Knob], pick: &[String], changed: &[usize]) -> String {
         .join("+")
 }
 
-/// One timed run's figures.
-struct Timed {
-    result: RunResult,
-    cpu_s: f64,
-    wall_s: f64,
-}
-
-/// Run a variant once into `out/LABEL`, timed.
-fn run_once(
-    v: &Variant,
-    out: &Path,
-    bar: Option<&indicatif::ProgressBar>,
-) -> Result<Timed, String> {
-    if let Some(b) = bar {
-        b.reset();
-    }
-    let cpu = cpu_time::ProcessTime::try_now().map_err(|e| format!("process CPU time: {e}"))?;
-    let wall = Instant::now();
-    let result = run(
-        &v.loaded,
-        &RunOptions {
-            out: out.join(&v.label),
-            progress: bar.map_or(Progress::Hidden, |b| Progress::Bar(b.clone())),
-        },
-    )
-    .map_err(|e| e.to_string())?;
-    let cpu_s = cpu
-        .try_elapsed()
-        .map_err(|e| format!("process CPU time: {e}"))?
-        .as_secs_f64();
-    Ok(Timed {
-        result,
-        cpu_s,
-        wall_s: wall.elapsed().as_secs_f64(),
-    })
-}
-
-/// A variant's runs so far.
-struct Runs {
-    first: Option<RunResult>,
-    values: Vec<Measured>,
-    cpu: Vec<f64>,
-    wall: Vec<f64>,
-    failure: Option<String>,
-}
-
-/// Run the plan's variants (`repeat` rounds, alternating order), then the
-/// possible combination, into `out`; `on_run` is told after each run.
+/// Run the plan's variants (`repeat` rounds, the reference between them:
+/// [`schedule`]), then the possible combination (with the reference around
+/// it), into `out`; `on_run` is told after each run.
 ///
 /// # Errors
 /// The reference fails or does not give a quantity; a repeat differs from
@@ -443,7 +409,19 @@ pub fn execute(
         scene_path,
     } = plan;
     let bar = progress.then(indicatif::ProgressBar::no_length);
-    let mut runs = run_rounds(&variants, &spec, out, bar.as_ref(), on_run)?;
+    let clock = Instant::now();
+    let rounds = |vs: &[&Variant]| {
+        run_rounds(
+            vs,
+            &spec.quantities,
+            spec.repeat,
+            out,
+            clock,
+            bar.as_ref(),
+            on_run,
+        )
+    };
+    let mut runs = rounds(&variants.iter().collect::<Vec<_>>())?;
     let mut results = tabulate(&spec, &variants, &runs)?;
     if !spec.cross
         && let Some(pick) = combination(&spec, &variants[0].settings, &results)
@@ -451,10 +429,14 @@ pub fn execute(
         let reference: Vec<String> = variants[0].settings.iter().map(|s| s.1.clone()).collect();
         let mut v = variant(&scene_path, &spec, &reference, pick)?;
         v.label = COMBINED.into();
-        let extra = run_rounds(std::slice::from_ref(&v), &spec, out, bar.as_ref(), on_run)?;
-        variants.push(v);
-        runs.extend(extra);
-        results = tabulate(&spec, &variants, &runs)?;
+        let mut extra = rounds(&[&variants[0], &v])?.into_iter();
+        let (again, combined) = (extra.next(), extra.next());
+        if let (Some(again), Some(combined)) = (again, combined) {
+            runs[0].merge(again, &variants[0].label)?;
+            runs.push(combined);
+            variants.push(v);
+            results = tabulate(&spec, &variants, &runs)?;
+        }
     }
     if let Some(b) = bar {
         b.finish_and_clear();
@@ -463,91 +445,28 @@ pub fn execute(
     Ok(results)
 }
 
-/// `repeat` rounds over `variants`, forward then backward.
-fn run_rounds(
-    variants: &[Variant],
-    spec: &Spec,
-    out: &Path,
-    bar: Option<&indicatif::ProgressBar>,
-    on_run: &dyn Fn(&str, Result<&RunResult, &str>),
-) -> Result<Vec<Runs>, String> {
-    let mut runs: Vec<Runs> = variants
-        .iter()
-        .map(|_| Runs {
-            first: None,
-            values: Vec::new(),
-            cpu: Vec::new(),
-            wall: Vec::new(),
-            failure: None,
-        })
-        .collect();
-    for round in 0..spec.repeat {
-        let order: Vec<usize> = if round % 2 == 0 {
-            (0..variants.len()).collect()
-        } else {
-            (0..variants.len()).rev().collect()
-        };
-        for i in order {
-            let (v, r) = (&variants[i], &mut runs[i]);
-            if r.failure.is_some() {
-                continue;
-            }
-            if let Some(b) = bar {
-                b.set_message(format!("round {}/{}: {}", round + 1, spec.repeat, v.label));
-            }
-            match run_once(v, out, bar) {
-                Err(m) => {
-                    on_run(&v.label, Err(&m));
-                    r.failure = Some(m);
-                }
-                Ok(t) => {
-                    on_run(&v.label, Ok(&t.result));
-                    record(v, r, t, &spec.quantities)?;
-                }
-            }
-        }
-    }
-    Ok(runs)
-}
-
-/// Keep a run's figures; a repeat must give the first run's bits.
-fn record(v: &Variant, r: &mut Runs, t: Timed, quantities: &[Quantity]) -> Result<(), String> {
-    let values: Result<Vec<Measured>, String> =
-        quantities.iter().map(|q| q.measure(&t.result)).collect();
-    let values = match values {
-        Ok(values) => values,
-        Err(m) => {
-            r.failure = Some(m);
-            return Ok(());
-        }
-    };
-    if r.first.is_none() {
-        r.values = values;
-        r.first = Some(t.result);
-    } else if values != r.values {
-        return Err(format!(
-            "{}: a repeated run gave other values than the first (the runs must be the same bits)",
-            v.label
-        ));
-    }
-    r.cpu.push(t.cpu_s);
-    r.wall.push(t.wall_s);
-    Ok(())
-}
-
-/// Errors and costs of every completed variant against the reference (the first).
+/// Errors and costs of every completed variant against the reference (the
+/// first): each run's speed-up is the reference's CPU time at that moment
+/// ([`schedule::reference_at`]) over the run's.
 fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results, String> {
-    let (reference, ref_runs) = (&variants[0], &runs[0]);
+    let ref_runs = &runs[0];
     let Some(ref_result) = &ref_runs.first else {
         return Err(format!(
             "the reference run failed: {}",
             ref_runs.failure.as_deref().unwrap_or("no result")
         ));
     };
+    let mut timeline: Vec<(f64, f64)> = ref_runs
+        .at
+        .iter()
+        .copied()
+        .zip(ref_runs.cpu.iter().copied())
+        .collect();
+    timeline.sort_by(|a, b| a.0.total_cmp(&b.0));
     let ref_cpu = Spread::of(&ref_runs.cpu).median;
     let mut outcomes = Vec::new();
     let mut failed = Vec::new();
-    for (v, r) in variants.iter().zip(runs) {
+    for (k, (v, r)) in variants.iter().zip(runs).enumerate() {
         let Some(result) = &r.first else {
             failed.push(Failed {
                 label: v.label.clone(),
@@ -555,21 +474,33 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
             });
             continue;
         };
-        let is_ref = std::ptr::eq(v, reference);
         let mut errors = Vec::new();
         for (q, (value, ref_value)) in spec
             .quantities
             .iter()
             .zip(r.values.iter().zip(&ref_runs.values))
         {
-            errors.push(if is_ref {
+            errors.push(if k == 0 {
                 None
             } else {
                 Some(quantity::error(value, ref_value).map_err(|e| format!("{}: {e}", q.name()))?)
             });
         }
         let worst = errors.iter().flatten().map(|e| e.error).fold(0.0, f64::max);
-        let cpu_s = Spread::of(&r.cpu);
+        let speed_up = if k == 0 {
+            Spread {
+                min: 1.0,
+                median: 1.0,
+                max: 1.0,
+            }
+        } else {
+            let ratios: Vec<f64> =
+                r.at.iter()
+                    .zip(&r.cpu)
+                    .map(|(&t, &c)| schedule::reference_at(&timeline, t) / c)
+                    .collect();
+            Spread::of(&ratios)
+        };
         outcomes.push(Outcome {
             label: v.label.clone(),
             settings: v.settings.clone(),
@@ -579,7 +510,8 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
                 .map(|&k| spec.knobs[k].key.clone())
                 .collect(),
             increments: result.summary.increments,
-            cpu_s,
+            runs: r.cpu.len(),
+            cpu_s: Spread::of(&r.cpu),
             wall_s: Spread::of(&r.wall),
             balance_error: result.summary.energy.balance_error_rel,
             kinetic_to_internal_max: result.summary.kinetic_to_internal_max,
@@ -593,7 +525,8 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
                 .collect(),
             errors,
             worst,
-            speed_up: ref_cpu / cpu_s.median,
+            speed_up,
+            cost_s: ref_cpu / speed_up.median,
         });
     }
     Ok(Results {
@@ -605,8 +538,8 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
     })
 }
 
-/// For each knob, its cheapest value within the tolerance that is cheaper
-/// than the reference; `Some` when two knobs or more have one.
+/// For each knob, its cheapest value within the tolerance that is
+/// [`cheaper`] than the reference; `Some` when two knobs or more have one.
 fn combination(
     spec: &Spec,
     reference: &[(String, String)],
@@ -619,8 +552,8 @@ fn combination(
             .outcomes
             .iter()
             .filter(|o| o.changed.len() == 1 && o.changed[0] == knob.key)
-            .filter(|o| o.worst <= spec.tolerance && o.speed_up > 1.0)
-            .max_by(|a, b| a.speed_up.total_cmp(&b.speed_up));
+            .filter(|o| o.worst <= spec.tolerance && cheaper(o))
+            .min_by(|a, b| a.cost_s.total_cmp(&b.cost_s));
         if let Some(o) = best {
             pick[k] = o.settings[k].1.clone();
             moved += 1;
@@ -629,15 +562,22 @@ fn combination(
     (moved >= 2).then_some(pick)
 }
 
+/// Whether `o` is cheaper than the reference beyond the noise of the
+/// machine: every one of its runs was faster than the reference at that
+/// moment (its smallest speed-up above 1).
+pub fn cheaper(o: &Outcome) -> bool {
+    o.speed_up.min > 1.0
+}
+
 /// The cheapest completed variant within the tolerance on every quantity,
-/// when it is cheaper than the reference (`None`: keep the reference).
+/// when it is [`cheaper`] than the reference (`None`: keep the reference).
 pub fn recommendation(results: &Results) -> Option<&Outcome> {
     results
         .outcomes
         .iter()
         .skip(1)
-        .filter(|o| o.worst <= results.spec.tolerance && o.speed_up > 1.0)
-        .max_by(|a, b| a.speed_up.total_cmp(&b.speed_up))
+        .filter(|o| o.worst <= results.spec.tolerance && cheaper(o))
+        .min_by(|a, b| a.cost_s.total_cmp(&b.cost_s))
 }
 
 #[cfg(test)]
@@ -689,10 +629,11 @@ mod tests {
     }
 
     fn outcome(settings: &[(&str, &str)], changed: &[&str], worst: f64, speed_up: f64) -> Outcome {
+        let t = 1.0 / speed_up;
         let one = Spread {
-            min: 1.0,
-            median: 1.0,
-            max: 1.0,
+            min: t,
+            median: t,
+            max: t,
         };
         Outcome {
             label: changed.join("+"),
@@ -702,6 +643,7 @@ mod tests {
                 .collect(),
             changed: changed.iter().map(|c| c.to_string()).collect(),
             increments: 1,
+            runs: 1,
             cpu_s: one,
             wall_s: one,
             balance_error: 0.0,
@@ -709,7 +651,12 @@ mod tests {
             values: Vec::new(),
             errors: Vec::new(),
             worst,
-            speed_up,
+            speed_up: Spread {
+                min: speed_up,
+                median: speed_up,
+                max: speed_up,
+            },
+            cost_s: t,
         }
     }
 

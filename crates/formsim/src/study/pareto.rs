@@ -16,9 +16,8 @@ const ERROR_FLOOR: f64 = 1e-6;
 pub fn front(outcomes: &[Outcome]) -> Vec<&Outcome> {
     let mut sorted: Vec<&Outcome> = outcomes.iter().filter(|o| !o.changed.is_empty()).collect();
     sorted.sort_by(|a, b| {
-        a.cpu_s
-            .median
-            .total_cmp(&b.cpu_s.median)
+        a.cost_s
+            .total_cmp(&b.cost_s)
             .then(a.worst.total_cmp(&b.worst))
     });
     let mut best = f64::INFINITY;
@@ -51,7 +50,7 @@ pub fn draw(out: &Path, r: &Results) -> Result<(), String> {
     let path = out.join("pareto.png");
     let fail = |e: &dyn std::fmt::Display| format!("{}: cannot draw plot: {e}", path.display());
     let y = |o: &Outcome| o.worst.max(ERROR_FLOOR);
-    let xs = r.outcomes.iter().map(|o| o.cpu_s.median);
+    let xs = r.outcomes.iter().map(|o| o.cost_s);
     let (x0, x1) = xs.fold((f64::INFINITY, 0.0_f64), |(a, b), x| (a.min(x), b.max(x)));
     let (y0, y1) = r
         .outcomes
@@ -70,23 +69,31 @@ pub fn draw(out: &Path, r: &Results) -> Result<(), String> {
         .margin(14)
         .x_label_area_size(45)
         .y_label_area_size(80)
+        // Room on the right (a factor 4 of time) for the legend.
         .build_cartesian_2d(
-            (x0 / 1.3..x1 * 1.3).log_scale(),
+            (x0 / 1.3..x1 * 4.0).log_scale(),
             (y0 / 2.0..y1 * 2.0).log_scale(),
         )
         .map_err(|e| fail(&e))?;
     chart
         .configure_mesh()
-        .x_desc("CPU time per run, median (s)")
+        .x_desc("CPU time per run at the reference's pace (s)")
         .y_desc("largest relative error over the quantities")
         .y_label_formatter(&|v| format!("{v:.0e}"))
+        .x_label_formatter(&|v| {
+            if *v >= 10.0 {
+                format!("{v:.0}")
+            } else {
+                format!("{v:.1}")
+            }
+        })
         .label_style(("sans-serif", 15))
         .draw()
         .map_err(|e| fail(&e))?;
     let tol = r.spec.tolerance;
     chart
         .draw_series(LineSeries::new(
-            [(x0 / 1.3, tol), (x1 * 1.3, tol)],
+            [(x0 / 1.3, tol), (x1 * 4.0, tol)],
             RED.mix(0.6).stroke_width(1),
         ))
         .map_err(|e| fail(&e))?
@@ -103,7 +110,7 @@ pub fn draw(out: &Path, r: &Results) -> Result<(), String> {
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.mix(0.4)));
     let f: Vec<(f64, f64)> = front(&r.outcomes)
         .into_iter()
-        .map(|o| (o.cpu_s.median, y(o)))
+        .map(|o| (o.cost_s, y(o)))
         .collect();
     chart
         .draw_series(LineSeries::new(f, BLACK.stroke_width(2)))
@@ -122,7 +129,7 @@ pub fn draw(out: &Path, r: &Results) -> Result<(), String> {
             .outcomes
             .iter()
             .filter(|o| group(r, o) == Some(g))
-            .map(|o| (o.cpu_s.median, y(o), short_value(r, o)))
+            .map(|o| (o.cost_s, y(o), short_value(r, o)))
             .collect();
         if points.is_empty() {
             continue;

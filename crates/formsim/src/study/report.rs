@@ -96,10 +96,13 @@ fn markdown(r: &Results) -> String {
         .collect();
     let mut md = format!(
         "# Study of {}: what accuracy costs in time\n\n\
-         Reference: {}. Every run on {} worker thread(s), {} run(s) per variant in \
-         alternating order. Cost: process CPU seconds of the whole run (set-up, steps, \
-         output; every thread), median over the runs with the fastest and slowest in \
-         brackets; speed-up = the reference's median over the variant's. Errors are \
+         Reference: {}. Every run on {} worker thread(s), {} round(s) in alternating \
+         order, the reference at the start of each round, after every {} variants and at \
+         the end. CPU s: process CPU seconds of the whole run (set-up, steps, output; \
+         every thread), median over the runs with the fastest and slowest in brackets. \
+         Speed-up: per run, the reference's CPU time at that moment (interpolated between \
+         its runs, so that a slow spell of the machine slows both) over the run's; median \
+         (smallest–largest). A variant is cheaper only when every run was. Errors are \
          relative to the reference: a number's `|v − v_ref| / |v_ref|`, a curve's RMS \
          difference at the reference's points over the reference curve's largest \
          magnitude (the max norm is in `study.json`). K/I max: the largest kinetic over \
@@ -108,6 +111,7 @@ fn markdown(r: &Results) -> String {
         settings.join(", "),
         r.threads,
         r.spec.repeat,
+        super::schedule::REFERENCE_EVERY,
         percent(r.spec.tolerance),
     );
     if !r.spec.sets.is_empty() {
@@ -208,13 +212,15 @@ fn table(md: &mut String, r: &Results, knob: Option<usize>, keep: impl Fn(&Outco
         };
         let _ = writeln!(
             md,
-            " {within} | {} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.3} | {:.1e} |",
+            " {within} | {} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} ({:.2}–{:.2}) | {:.3} | {:.1e} |",
             o.increments,
             o.cpu_s.median,
             o.cpu_s.min,
             o.cpu_s.max,
             o.wall_s.median,
-            o.speed_up,
+            o.speed_up.median,
+            o.speed_up.min,
+            o.speed_up.max,
             o.kinetic_to_internal_max,
             o.balance_error
         );
@@ -247,13 +253,13 @@ fn recommend(r: &Results) -> String {
                 .collect();
             format!(
                 "The cheapest variant within {tol} on every quantity: **`{}`** ({}), \
-                 **{:.2} times faster** than the reference ({:.2} against {:.2} CPU s), its \
-                 largest error {} (on `{}`).\n",
+                 **{:.2} times faster** than the reference (every run faster: {:.2} to {:.2} \
+                 times), its largest error {} (on `{}`).\n",
                 o.label,
                 changed.join(", "),
-                o.speed_up,
-                o.cpu_s.median,
-                r.outcomes[0].cpu_s.median,
+                o.speed_up.median,
+                o.speed_up.min,
+                o.speed_up.max,
                 percent(o.worst),
                 worst_q.map_or_else(String::new, |q| q.name())
             )
