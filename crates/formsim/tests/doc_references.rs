@@ -51,7 +51,7 @@ const ROOTED: &[&str] = &["docs/", "scenes/", "crates/", "plugins/", "tests/"];
 const SECTIONED: &[&str] = &["friction-math", "benchmarks", "architecture"];
 
 /// Files that formsim writes (not repository files), named bare in docs.
-const GENERATED: &[&str] = &["compare.md"];
+const GENERATED: &[&str] = &["compare.md", "study.md"];
 
 /// Placeholder names in paths that stand for any file (`scenes/NAME.toml`);
 /// one-letter names are placeholders too (`scenes/x.toml` in a sample error).
