@@ -193,7 +193,8 @@ struct StudyArgs {
     /// Scene file (TOML).
     scene: PathBuf,
     /// A knob and its values, most accurate first, e.g.
-    /// `--vary blank.mesh.divisions=100,50,25` (repeatable).
+    /// `--vary blank.mesh.divisions=100,50,25` (repeatable); the value
+    /// `default` removes the key (`--vary solver.mass_scaling_dt=5e-7,default`).
     #[arg(long = "vary", value_name = "KEY=V1,V2,…", required = true)]
     vary: Vec<String>,
     /// Reference values when not the first listed, e.g. `"blank.mesh.divisions=50;contact.law=ac"`.
@@ -207,7 +208,8 @@ struct StudyArgs {
     /// Every combination of the values instead of one knob at a time.
     #[arg(long)]
     cross: bool,
-    /// Runs per variant, in alternating order (the median is reported).
+    /// Rounds over the variants, in alternating order, the reference between
+    /// every 4 (medians and spreads are reported).
     #[arg(long, default_value_t = 1, value_name = "N")]
     repeat: usize,
     /// Largest relative error a recommended variant may have on any quantity.
