@@ -8,8 +8,9 @@
 //! geometry ([`differential`]), multi-patch tools with a BVH and a
 //! warm-started, never-failing projection ([`nurbs_tool`], [`closest_point`]),
 //! faceted tools read from STL/OBJ ([`faceted`], [`mesh_io`]), exact builders
-//! for the benchmark tool sets ([`builders`]), the TOML tools section of a
-//! scene ([`spec`]) and VTU/OBJ export ([`export`]). It must not know about
+//! for the benchmark tool sets ([`builders`]), the tool kinds a scene may
+//! name, each registered from its own file ([`kinds`]), the TOML tools
+//! section of a scene ([`spec`]) and VTU/OBJ export ([`export`]). It must not know about
 //! blanks, contact enforcement, friction or press schedules: the scheduler
 //! moves a tool only through its rigid pose.
 //!
@@ -60,8 +61,15 @@ pub use surface::{Derivs, NurbsSurface, PatchDef};
 pub mod export;
 pub mod faceted;
 pub mod faceted_edges;
+pub mod kinds;
 pub mod mesh_io;
 pub mod spec;
 
 pub use faceted::FacetedTool;
 pub use spec::Tool;
+
+/// Keep this crate's registrations ([`kinds`]) in a binary that names none
+/// of its items otherwise; returns the number of registered tool kinds.
+pub fn ensure_linked() -> usize {
+    kinds::anchor()
+}

@@ -2,15 +2,14 @@
 //!
 //! Keys, units and defaults are documented in `docs/tools.md`. Every tool
 //! table takes `kind`, `origin = [x, y, z]` (mm, default `[0, 0, 0]`) and
-//! `facing = "up" | "down"`; the square-cup kinds also take `model =
-//! "quarter" | "full"`. Unknown keys are errors naming the tool and the key.
+//! `facing = "up" | "down"` (default: the kind's); the kind, registered in
+//! [`crate::kinds`], reads the rest. Unknown keys are errors naming the tool
+//! and the key.
 
-use crate::builders::s_rail::{self, SRailParams};
-use crate::builders::square_cup::{self, DieParams, HolderParams, PunchParams};
-use crate::builders::{Facing, Model, Placement, primitives};
+use crate::builders::{Facing, Placement};
 use crate::error::NurbsError;
 use crate::faceted::FacetedTool;
-use crate::mesh_io::read_mesh;
+use crate::kinds;
 use crate::nurbs_tool::NurbsTool;
 use plugins_api::{
     Aabb, FlatRegion, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface,
@@ -80,7 +79,8 @@ fn spec_err(message: String) -> NurbsError {
     NurbsError::Spec { message }
 }
 
-fn take<T: DeserializeOwned>(
+/// Remove and read `key` of the tool `name`'s table, if present.
+pub(crate) fn take<T: DeserializeOwned>(
     name: &str,
     table: &mut toml::Table,
     key: &str,
@@ -94,7 +94,8 @@ fn take<T: DeserializeOwned>(
     }
 }
 
-fn params<T: DeserializeOwned>(
+/// Read a tool's remaining keys as its kind's parameters.
+pub(crate) fn params<T: DeserializeOwned>(
     name: &str,
     kind: &str,
     table: toml::Table,
@@ -107,149 +108,39 @@ fn params<T: DeserializeOwned>(
     })
 }
 
-#[derive(serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct PlaneKeys {
-    length: f64,
-    width: f64,
-}
-
-#[derive(serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CylinderKeys {
-    radius: f64,
-    length: f64,
-    #[serde(default)]
-    start_deg: f64,
-    #[serde(default = "full_turn")]
-    end_deg: f64,
-}
-
-fn full_turn() -> f64 {
-    360.0
-}
-
-#[derive(serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MeshKeys {
-    file: String,
-    #[serde(default)]
-    flip_normals: bool,
-}
-
-/// The tool kinds a spec may name.
-pub const KINDS: &[&str] = &[
-    "punch",
-    "die",
-    "blankholder",
-    "plane",
-    "cylinder",
-    "mesh",
-    "s-rail-punch",
-    "s-rail-die",
-    "s-rail-blankholder",
-];
-
 /// Build one tool from its table; `base` resolves relative mesh paths.
+/// The kind is looked up in the registry ([`crate::kinds`]).
 pub fn build_tool(name: &str, table: &toml::Table, base: &Path) -> Result<Tool, NurbsError> {
     let mut t = table.clone();
     let kind: String = take(name, &mut t, "kind")?.ok_or_else(|| {
         spec_err(format!(
             "tool `{name}`: missing key `kind` (one of {})",
-            KINDS.join(", ")
+            kinds::names()
         ))
     })?;
+    let Some(registered) = kinds::find(&kind) else {
+        return Err(spec_err(format!(
+            "tool `{name}`: unknown kind `{kind}` (one of {})",
+            kinds::names()
+        )));
+    };
     let origin: [f64; 3] = take(name, &mut t, "origin")?.unwrap_or([0.0; 3]);
     if origin.iter().any(|v| !v.is_finite()) {
         return Err(spec_err(format!(
             "tool `{name}`: origin {origin:?} mm is not finite"
         )));
     }
-    let default_facing = if kind == "blankholder" {
-        Facing::Down
-    } else {
-        Facing::Up
-    };
-    let facing: Facing = take(name, &mut t, "facing")?.unwrap_or(default_facing);
-    let place = Placement {
-        origin: Vec3::from(origin),
-        facing,
-    };
-    let square = matches!(kind.as_str(), "punch" | "die" | "blankholder");
-    let model: Model = if square {
-        take(name, &mut t, "model")?.unwrap_or_default()
-    } else {
-        Model::Quarter
-    };
-    let k = kind.as_str();
-    let tool = match k {
-        "punch" => Tool::Nurbs(square_cup::punch(
-            name,
-            &params::<PunchParams>(name, k, t)?,
-            model,
-            &place,
-        )?),
-        "die" => Tool::Nurbs(square_cup::die(
-            name,
-            &params::<DieParams>(name, k, t)?,
-            model,
-            &place,
-        )?),
-        "blankholder" => Tool::Nurbs(square_cup::blankholder(
-            name,
-            &params::<HolderParams>(name, k, t)?,
-            model,
-            &place,
-        )?),
-        "plane" => {
-            let p: PlaneKeys = params(name, k, t)?;
-            Tool::Nurbs(primitives::plane(name, p.length, p.width, &place)?)
-        }
-        "cylinder" => {
-            let p: CylinderKeys = params(name, k, t)?;
-            Tool::Nurbs(primitives::cylinder(
-                name,
-                p.radius,
-                p.length,
-                p.start_deg,
-                p.end_deg,
-                &place,
-            )?)
-        }
-        "mesh" => {
-            let p: MeshKeys = params(name, k, t)?;
-            let path = base.join(&p.file);
-            let mut mesh = read_mesh(&path)?;
-            let mz = if facing == Facing::Down { -1.0 } else { 1.0 };
-            for v in &mut mesh.vertices {
-                *v = Vec3::new(v.x, v.y, mz * v.z) + place.origin;
-            }
-            // Mirroring reverses the winding.
-            Tool::Faceted(FacetedTool::new(name, &mesh, p.flip_normals ^ (mz < 0.0))?)
-        }
-        "s-rail-punch" => Tool::Nurbs(s_rail::punch(
-            name,
-            &params::<SRailParams>(name, k, t)?,
-            &place,
-        )?),
-        "s-rail-die" => Tool::Nurbs(s_rail::die(
-            name,
-            &params::<SRailParams>(name, k, t)?,
-            &place,
-        )?),
-        "s-rail-blankholder" => Tool::Nurbs(s_rail::blankholder(
-            name,
-            &params::<SRailParams>(name, k, t)?,
-            &place,
-        )?),
-        other => {
-            return Err(spec_err(format!(
-                "tool `{name}`: unknown kind `{other}` (one of {})",
-                KINDS.join(", ")
-            )));
-        }
-    };
-    Ok(tool)
+    let facing: Facing = take(name, &mut t, "facing")?.unwrap_or(registered.default_facing);
+    (registered.build)(kinds::Request {
+        name,
+        kind: &kind,
+        table: t,
+        base,
+        place: Placement {
+            origin: Vec3::from(origin),
+            facing,
+        },
+    })
 }
 
 /// Build every tool of a spec text (`[tools.NAME]` tables; other sections ignored), sorted by name.
