@@ -231,6 +231,8 @@ struct StudyArgs {
 
 #[derive(Subcommand, Debug)]
 enum ToolsAction {
+    /// List the registered tool kinds (a scene's `kind = …`) with their keys.
+    Kinds,
     /// Write every tool of SPEC as DIR/NAME.vtu (ParaView) and DIR/NAME.obj.
     Export {
         /// Tools spec (TOML with [tools.NAME] tables; docs/tools.md).
@@ -370,6 +372,21 @@ fn main() -> ExitCode {
 
 fn tools(action: &ToolsAction) -> Outcome {
     match action {
+        ToolsAction::Kinds => {
+            tools_nurbs::ensure_linked();
+            say!("Tool kinds (units: mm, degrees; every kind also takes origin and facing):");
+            for k in tools_nurbs::kinds::all() {
+                let facing = match k.default_facing {
+                    tools_nurbs::builders::Facing::Up => "up",
+                    tools_nurbs::builders::Facing::Down => "down",
+                };
+                say!(
+                    "  {:<20} {} [facing {facing} by default]",
+                    k.name,
+                    k.summary
+                );
+            }
+        }
         ToolsAction::Export { spec, out } => {
             for f in formsim::tools_cli::export(spec, out)? {
                 say!("wrote {f}");

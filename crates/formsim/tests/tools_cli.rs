@@ -22,6 +22,50 @@ fn text(o: &Output) -> String {
     )
 }
 
+/// `formsim tools kinds` lists the registry (linked into the binary): every
+/// built-in kind once, each with its summary, and an unknown kind in a scene
+/// names them all.
+#[test]
+fn tools_kinds_lists_the_registered_kinds() {
+    let o = formsim(&["tools", "kinds"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = text(&o);
+    let names = [
+        "blankholder",
+        "cylinder",
+        "die",
+        "mesh",
+        "plane",
+        "punch",
+        "s-rail-blankholder",
+        "s-rail-die",
+        "s-rail-punch",
+    ];
+    for name in names {
+        let lines = out
+            .lines()
+            .filter(|l| l.split_whitespace().next() == Some(name))
+            .count();
+        assert_eq!(lines, 1, "{name}\n{out}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "[tools.t]\nkind = \"cone\"\n").unwrap();
+    let o = formsim(&[
+        "tools",
+        "export",
+        bad.to_str().unwrap(),
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let e = text(&o);
+    assert!(
+        e.contains("unknown kind `cone`") && names.iter().all(|n| e.contains(n)),
+        "{e}"
+    );
+}
+
 #[test]
 fn tools_export_writes_vtu_and_obj_for_every_tool() {
     let dir = tempfile::tempdir().unwrap();

@@ -22,7 +22,11 @@ fn build(r: Request<'_>) -> Result<Tool, NurbsError> {
     let (name, base, place) = (r.name, r.base, r.place);
     let k: Keys = r.params()?;
     let mut mesh = read_mesh(&base.join(&k.file))?;
-    let mz = if place.facing == Facing::Down { -1.0 } else { 1.0 };
+    let mz = if place.facing == Facing::Down {
+        -1.0
+    } else {
+        1.0
+    };
     for v in &mut mesh.vertices {
         *v = Vec3::new(v.x, v.y, mz * v.z) + place.origin;
     }

@@ -84,11 +84,7 @@ pub fn find(name: &str) -> Option<&'static ToolKind> {
 
 /// The registered names, sorted, for messages.
 pub fn names() -> String {
-    all()
-        .iter()
-        .map(|k| k.name)
-        .collect::<Vec<_>>()
-        .join(", ")
+    all().iter().map(|k| k.name).collect::<Vec<_>>().join(", ")
 }
 
 /// Referenced by [`crate::ensure_linked`], so that a binary that names no
@@ -120,7 +116,10 @@ mod tests {
             ]
         );
         assert!(all().iter().all(|k| !k.summary.is_empty()));
-        assert_eq!(find("blankholder").map(|k| k.default_facing), Some(Facing::Down));
+        assert_eq!(
+            find("blankholder").map(|k| k.default_facing),
+            Some(Facing::Down)
+        );
         assert!(find("nope").is_none());
     }
 }

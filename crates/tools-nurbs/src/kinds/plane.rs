@@ -16,7 +16,9 @@ struct Keys {
 fn build(r: Request<'_>) -> Result<Tool, NurbsError> {
     let (name, place) = (r.name, r.place);
     let k: Keys = r.params()?;
-    Ok(Tool::Nurbs(primitives::plane(name, k.length, k.width, &place)?))
+    Ok(Tool::Nurbs(primitives::plane(
+        name, k.length, k.width, &place,
+    )?))
 }
 
 inventory::submit! {

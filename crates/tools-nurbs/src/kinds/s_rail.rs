@@ -29,7 +29,7 @@ fn blankholder(r: Request<'_>) -> Result<Tool, NurbsError> {
 inventory::submit! {
     ToolKind {
         name: "s-rail-punch",
-        summary: "S-rail punch: punch_width, draw_depth, arc_radius, arc_angle_deg, straight_lengths, end_extension, shoulders, thickness, clearance_factor, flange_width, holder_gap, apron (mm, degrees)",
+        summary: "S-rail punch: punch_width, draw_depth, arc_radius, arc_angle_deg, straight_lengths, end_extension, punch_shoulder, die_shoulder, thickness, clearance_factor, flange_width, holder_gap, apron (mm, degrees)",
         default_facing: Facing::Up,
         build: punch,
     }
@@ -38,7 +38,7 @@ inventory::submit! {
 inventory::submit! {
     ToolKind {
         name: "s-rail-die",
-        summary: "S-rail die: punch_width, draw_depth, arc_radius, arc_angle_deg, straight_lengths, end_extension, shoulders, thickness, clearance_factor, flange_width, holder_gap, apron (mm, degrees)",
+        summary: "S-rail die: punch_width, draw_depth, arc_radius, arc_angle_deg, straight_lengths, end_extension, punch_shoulder, die_shoulder, thickness, clearance_factor, flange_width, holder_gap, apron (mm, degrees)",
         default_facing: Facing::Up,
         build: die,
     }
@@ -47,7 +47,7 @@ inventory::submit! {
 inventory::submit! {
     ToolKind {
         name: "s-rail-blankholder",
-        summary: "S-rail blankholder: punch_width, draw_depth, arc_radius, arc_angle_deg, straight_lengths, end_extension, shoulders, thickness, clearance_factor, flange_width, holder_gap, apron (mm, degrees)",
+        summary: "S-rail blankholder: punch_width, draw_depth, arc_radius, arc_angle_deg, straight_lengths, end_extension, punch_shoulder, die_shoulder, thickness, clearance_factor, flange_width, holder_gap, apron (mm, degrees)",
         default_facing: Facing::Up,
         build: blankholder,
     }

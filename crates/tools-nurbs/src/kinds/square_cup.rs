@@ -56,7 +56,7 @@ inventory::submit! {
 inventory::submit! {
     ToolKind {
         name: "blankholder",
-        summary: "square-cup blankholder ring: inner_length, inner_width, corner_radius, outer_length, outer_width (mm), model; faces down",
+        summary: "square-cup blankholder ring: inner_length, inner_width, corner_radius, outer_length, outer_width (mm), model",
         default_facing: Facing::Down,
         build: blankholder,
     }
