@@ -61,7 +61,7 @@ fn not_the_same_bits(label: &str) -> String {
 /// The order of one round over `n` variants (0 the reference): the
 /// reference, then the others (forward in even rounds, backward in odd
 /// ones) with the reference after every [`REFERENCE_EVERY`] and at the end.
-pub(crate) fn round_order(n: usize, round: usize) -> Vec<usize> {
+pub fn round_order(n: usize, round: usize) -> Vec<usize> {
     let mut others: Vec<usize> = (1..n).collect();
     if round % 2 == 1 {
         others.reverse();
@@ -79,7 +79,7 @@ pub(crate) fn round_order(n: usize, round: usize) -> Vec<usize> {
 /// The reference's CPU time at `t` (s since the study started): linear
 /// between the reference runs around `t`, the nearest one outside them.
 /// `runs` are `(at, cpu)` in time order, at least one.
-pub(crate) fn reference_at(runs: &[(f64, f64)], t: f64) -> f64 {
+pub fn reference_at(runs: &[(f64, f64)], t: f64) -> f64 {
     match runs.iter().position(|r| r.0 >= t) {
         Some(0) => runs[0].1,
         None => runs[runs.len() - 1].1,
