@@ -26,44 +26,16 @@
 //! RAYON_NUM_THREADS=2 cargo bench -p formsim --bench cup_step
 //! ```
 
+mod common;
+
+use common::{bench_steps, cup_at_mid_draw, stroke};
 use contact::ContactTiming;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use formsim::scene::{self, Model};
-use std::path::Path;
-use std::time::{Duration, Instant};
-
-/// Punch stroke at which the bench starts (mm).
-const START: f64 = 13.0;
+use formsim::scene::Model;
+use std::time::Duration;
 
 /// Room for the duration of every step the bench takes (no allocation while timing).
 const MAX_STEPS: usize = 100_000;
-
-fn stroke(model: &Model) -> f64 {
-    let s = model.stroke.expect("the cup has a stroke tool");
-    let c = model.contact().expect("the cup has contact");
-    c.press()
-        .map_or(0.0, |p| p.displacement(s.index).dot(&s.direction))
-}
-
-/// The cup, built and drawn to `START`.
-fn cup_at_mid_draw() -> Model {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/square-cup.toml");
-    let loaded = scene::load(&path, &[]).expect("scene");
-    let mut model = scene::build(&loaded).expect("model");
-    model.solver.initialize().expect("set-up");
-    let t = Instant::now();
-    while stroke(&model) < START {
-        model.solver.step().expect("step");
-    }
-    eprintln!(
-        "set-up: {} steps to {:.2} mm of stroke in {:.1} s ({} rayon threads)",
-        model.solver.steps(),
-        stroke(&model),
-        t.elapsed().as_secs_f64(),
-        rayon::current_num_threads()
-    );
-    model
-}
 
 /// What the timers say so far: (step, engine, every effect but contact,
 /// contact, contact's stages) in seconds.
@@ -82,28 +54,14 @@ fn split(model: &Model) -> (f64, f64, f64, f64, ContactTiming) {
 }
 
 fn cup_step(c: &mut Criterion) {
-    let mut model = cup_at_mid_draw();
+    let mut model = cup_at_mid_draw("the cup", &[]);
     let elements = model.mesh.quads.len();
     let (steps0, stroke0) = (model.solver.steps(), stroke(&model));
     let before = split(&model);
     let mut g = c.benchmark_group("cup_step");
     g.throughput(Throughput::Elements(elements as u64));
     let mut each: Vec<Duration> = Vec::with_capacity(MAX_STEPS);
-    g.bench_function("step", |b| {
-        b.iter_custom(|iters| {
-            let mut total = Duration::ZERO;
-            for _ in 0..iters {
-                let t = Instant::now();
-                model.solver.step().expect("step");
-                let d = t.elapsed();
-                total += d;
-                if each.len() < each.capacity() {
-                    each.push(d);
-                }
-            }
-            total
-        })
-    });
+    bench_steps(&mut g, "step", &mut model, &mut each);
     g.finish();
 
     let after = split(&model);

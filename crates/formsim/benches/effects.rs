@@ -18,13 +18,12 @@
 //! ```
 //! prints the table (markdown) at the end; `docs/accuracy-cost.md` keeps one.
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use formsim::scene::{self, Model};
-use std::path::Path;
-use std::time::{Duration, Instant};
+mod common;
 
-/// Punch stroke at which the benches start (mm).
-const START: f64 = 13.0;
+use common::{START, bench_steps, cup_at_mid_draw};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use formsim::scene::Model;
+use std::time::Duration;
 
 /// Room for the duration of every step a variant takes (no allocation while timing).
 const MAX_STEPS: usize = 50_000;
@@ -49,33 +48,6 @@ const VARIANTS: [(&str, &[&str]); 11] = [
     ("3 points", &["blank.integration_points=3"]),
     ("7 points", &["blank.integration_points=7"]),
 ];
-
-fn stroke(model: &Model) -> f64 {
-    let s = model.stroke.expect("the cup has a stroke tool");
-    let c = model.contact().expect("the cup has contact");
-    c.press()
-        .map_or(0.0, |p| p.displacement(s.index).dot(&s.direction))
-}
-
-/// The cup with `sets`, built and drawn to `START`.
-fn cup_at_mid_draw(label: &str, sets: &[&str]) -> Model {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/square-cup.toml");
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let loaded = scene::load(&path, &sets).expect("scene");
-    let mut model = scene::build(&loaded).expect("model");
-    model.solver.initialize().expect("set-up");
-    let t = Instant::now();
-    while stroke(&model) < START {
-        model.solver.step().expect("step");
-    }
-    eprintln!(
-        "set-up {label}: {} steps to {:.2} mm in {:.1} s",
-        model.solver.steps(),
-        stroke(&model),
-        t.elapsed().as_secs_f64()
-    );
-    model
-}
 
 /// A variant's measured steps.
 struct Timed {
@@ -102,21 +74,7 @@ fn effects(c: &mut Criterion) {
             model.solver.timing().total,
         );
         let mut steps: Vec<Duration> = Vec::with_capacity(MAX_STEPS);
-        g.bench_function(*label, |b| {
-            b.iter_custom(|iters| {
-                let mut total = Duration::ZERO;
-                for _ in 0..iters {
-                    let t = Instant::now();
-                    model.solver.step().expect("step");
-                    let d = t.elapsed();
-                    total += d;
-                    if steps.len() < steps.capacity() {
-                        steps.push(d);
-                    }
-                }
-                total
-            })
-        });
+        bench_steps(&mut g, label, model, &mut steps);
         let t = model.solver.timing();
         timed.push(Timed {
             label,

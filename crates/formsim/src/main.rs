@@ -173,6 +173,13 @@ struct CompareArgs {
     /// (repeatable; crossed with the laws and formulations; the first row is the reference).
     #[arg(long = "case", value_name = "NAME:KEY=VALUE;…")]
     cases: Vec<String>,
+    #[command(flatten)]
+    batch: BatchArgs,
+}
+
+/// The options every command that runs several scenes into one directory shares.
+#[derive(Args, Debug)]
+struct BatchArgs {
     /// Output directory; if it is not empty, --force is needed.
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
@@ -215,18 +222,8 @@ struct StudyArgs {
     /// Largest relative error a recommended variant may have on any quantity.
     #[arg(long, default_value_t = 0.02, value_name = "FRACTION")]
     tolerance: f64,
-    /// Output directory; if it is not empty, --force is needed.
-    #[arg(long, value_name = "DIR")]
-    out: PathBuf,
-    /// Replace the results in a non-empty --out DIR (other files are kept).
-    #[arg(long)]
-    force: bool,
-    /// Override a scene value for every run (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-    /// No progress bar.
-    #[arg(long)]
-    quiet: bool,
+    #[command(flatten)]
+    batch: BatchArgs,
 }
 
 #[derive(Subcommand, Debug)]
@@ -858,14 +855,18 @@ fn compare(args: &CompareArgs) -> Outcome {
             .formulations
             .clone()
             .unwrap_or_else(|| own(default_forms)),
-        sets: args.set.clone(),
+        sets: args.batch.set.clone(),
     };
     // With bars on the terminal, each run's bar says when it is done.
-    let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let progress = !args.batch.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
     let plan = formsim::compare::plan(&args.scene, &matrix)?;
     let labels: Vec<String> = plan.labels().map(String::from).collect();
-    out_dir::prepare(&args.out, out_dir::Owner::Compare(&labels), args.force)?;
-    let entries = formsim::compare::execute(plan, &args.out, progress, &|e| {
+    out_dir::prepare(
+        &args.batch.out,
+        out_dir::Owner::Compare(&labels),
+        args.batch.force,
+    )?;
+    let entries = formsim::compare::execute(plan, &args.batch.out, progress, &|e| {
         if progress {
             return;
         }
@@ -891,7 +892,7 @@ fn compare(args: &CompareArgs) -> Outcome {
         "{} runs ({} failed): {}/compare.md, compare.csv, plots/",
         entries.len(),
         failed,
-        args.out.display()
+        args.batch.out.display()
     );
     Ok(if failed == 0 {
         ExitCode::SUCCESS
@@ -930,19 +931,23 @@ fn study(args: &StudyArgs) -> Outcome {
         cross: args.cross,
         repeat: args.repeat,
         tolerance: args.tolerance,
-        sets: args.set.clone(),
+        sets: args.batch.set.clone(),
     };
-    let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let progress = !args.batch.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
     let plan = study::plan(&args.scene, spec)?;
     let labels = plan.labels();
-    out_dir::prepare(&args.out, out_dir::Owner::Study(&labels), args.force)?;
+    out_dir::prepare(
+        &args.batch.out,
+        out_dir::Owner::Study(&labels),
+        args.batch.force,
+    )?;
     note!(
         "study: {} variants × {} run(s) on {} thread(s)",
         plan.variants.len(),
         args.repeat,
         rayon::current_num_threads()
     );
-    let results = study::execute(plan, &args.out, progress, &|label, r| {
+    let results = study::execute(plan, &args.batch.out, progress, &|label, r| {
         if progress {
             return;
         }
@@ -955,9 +960,9 @@ fn study(args: &StudyArgs) -> Outcome {
             Err(m) => note!("failed {label}: {m}"),
         }
     })?;
-    study::report::write(&args.out, &results)?;
-    study::pareto::draw(&args.out, &results)?;
-    study::bars::draw(&args.out, &results)?;
+    study::report::write(&args.batch.out, &results)?;
+    study::pareto::draw(&args.batch.out, &results)?;
+    study::bars::draw(&args.batch.out, &results)?;
     match study::recommendation(&results) {
         Some(o) => say!(
             "recommended: {} ({:.2} x the reference's speed, largest error {})",
@@ -971,7 +976,7 @@ fn study(args: &StudyArgs) -> Outcome {
         "{} variants ({} failed): {}/study.md, study.json, pareto.png, times.png",
         results.outcomes.len() + results.failed.len(),
         results.failed.len(),
-        args.out.display()
+        args.batch.out.display()
     );
     Ok(if results.failed.is_empty() {
         ExitCode::SUCCESS
