@@ -105,11 +105,7 @@ fn cup_step(c: &mut Criterion) {
 
 criterion_group! {
     name = benches;
-    // Few, short samples: every iteration moves the draw on (see above).
-    config = Criterion::default()
-        .sample_size(10)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1));
+    config = common::few_short_samples();
     targets = cup_step
 }
 criterion_main!(benches);

@@ -127,11 +127,7 @@ fn print_table(timed: &mut [Timed], elements: usize) {
 
 criterion_group! {
     name = benches;
-    // Few, short samples: every iteration moves the draw on (see cup_step).
-    config = Criterion::default()
-        .sample_size(10)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1));
+    config = common::few_short_samples();
     targets = effects
 }
 criterion_main!(benches);

@@ -1,8 +1,8 @@
 //! What the cup benches share: the square cup drawn to mid-draw, and one
 //! criterion bench that steps it on and keeps each step's duration.
 
-use criterion::BenchmarkGroup;
 use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion};
 use formsim::scene::{self, Model};
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -64,4 +64,14 @@ pub fn bench_steps(
             total
         })
     });
+}
+
+/// Criterion held to its minimum (10 samples, 0.3 s of warm-up, 1 s of
+/// measurement): every iteration moves the draw on, so a bench should cover
+/// a short stretch of it.
+pub fn few_short_samples() -> Criterion {
+    Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
 }
