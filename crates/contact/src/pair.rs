@@ -295,7 +295,7 @@ impl ContactPair {
         let all = nodal_stiffness(geometry, x0, spec.bulk_modulus, &spec.penalty, &spec.name)?;
         let stiffness = nodes.iter().map(|&i| all[i as usize]).collect();
         let m = nodes.len();
-        let needs = integrator.as_ref().map_or(PointNeeds::NONE, |i| i.needs());
+        let needs = law_needs(integrator.as_deref());
         Ok(Self {
             name: spec.name.clone(),
             tool: spec.tool,
@@ -360,10 +360,7 @@ impl ContactPair {
     /// must learn of the change to compute the blank's gradients: use
     /// [`crate::ContactEffect::record_friction`] on a pair it holds.
     pub fn record_friction(&mut self, on: bool) {
-        let own = self
-            .integrator
-            .as_ref()
-            .map_or(PointNeeds::NONE, |i| i.needs());
+        let own = law_needs(self.integrator.as_deref());
         if on {
             self.needs = own | crate::RECORD_NEEDS;
             self.record.get_or_insert_with(Box::default);
@@ -594,6 +591,11 @@ impl ContactPair {
         self.penetration_max = 0.0;
         self.energy.stored = 0.0;
     }
+}
+
+/// What a pair's law and formulation read; nothing for a frictionless pair.
+fn law_needs(integrator: Option<&dyn PointIntegrator>) -> PointNeeds {
+    integrator.map_or(PointNeeds::NONE, PointIntegrator::needs)
 }
 
 /// Add the time since `start` to `stage` (s) and restart the clock.

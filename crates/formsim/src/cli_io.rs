@@ -49,6 +49,12 @@ pub fn write_line(args: fmt::Arguments<'_>) -> Result<(), Failure> {
     }
 }
 
+/// Whether to draw progress bars: not asked to be quiet, and standard error
+/// is a terminal.
+pub fn bars_wanted(quiet: bool) -> bool {
+    !quiet && io::IsTerminal::is_terminal(&io::stderr())
+}
+
 /// Write one line to standard error, ignoring failure.
 pub fn write_note(args: fmt::Arguments<'_>) {
     let _ = writeln!(io::stderr().lock(), "{args}");

@@ -737,7 +737,7 @@ fn run(args: &RunArgs) -> Outcome {
     {
         note!("warning: {w}");
     }
-    let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let progress = cli_io::bars_wanted(args.quiet);
     let result = formsim::run::run(
         &loaded,
         &formsim::run::RunOptions {
@@ -858,7 +858,7 @@ fn compare(args: &CompareArgs) -> Outcome {
         sets: args.batch.set.clone(),
     };
     // With bars on the terminal, each run's bar says when it is done.
-    let progress = !args.batch.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let progress = cli_io::bars_wanted(args.batch.quiet);
     let plan = formsim::compare::plan(&args.scene, &matrix)?;
     let labels: Vec<String> = plan.labels().map(String::from).collect();
     out_dir::prepare(
@@ -908,17 +908,7 @@ fn study(args: &StudyArgs) -> Outcome {
         .iter()
         .map(|k| Knob::parse(k))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut reference = Vec::new();
-    for part in args.reference.iter().flat_map(|r| r.split(';')) {
-        let part = part.trim();
-        if part.is_empty() {
-            continue;
-        }
-        let (k, v) = part
-            .split_once('=')
-            .ok_or_else(|| format!("--reference: `{part}` is not KEY=VALUE"))?;
-        reference.push((k.trim().to_string(), v.trim().to_string()));
-    }
+    let reference = study::parse_reference(args.reference.as_deref().unwrap_or(""))?;
     let quantities = args
         .quantities
         .iter()
@@ -933,7 +923,7 @@ fn study(args: &StudyArgs) -> Outcome {
         tolerance: args.tolerance,
         sets: args.batch.set.clone(),
     };
-    let progress = !args.batch.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let progress = cli_io::bars_wanted(args.batch.quiet);
     let plan = study::plan(&args.scene, spec)?;
     let labels = plan.labels();
     out_dir::prepare(
@@ -1020,7 +1010,7 @@ fn identify(args: &IdentifyArgs) -> Outcome {
         tolerance: args.tolerance,
         fd_step: args.fd_step,
         out: args.out.clone(),
-        progress: !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()),
+        progress: cli_io::bars_wanted(args.quiet),
     };
     let data = Measurements::read(&args.measurements).map_err(err)?;
     let report = identify::identify(&options, &data).map_err(err)?;

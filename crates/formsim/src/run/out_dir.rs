@@ -82,7 +82,7 @@ pub fn prepare(dir: &Path, owner: Owner<'_>, replace: bool) -> Result<(), String
     match owner {
         Owner::Run => clean_run(dir),
         Owner::Compare(labels) => clean_compare(dir, labels),
-        Owner::Study(labels) => clean_study(dir, labels),
+        Owner::Study(labels) => clean_batch(dir, STUDY_FILES, labels),
     }
 }
 
@@ -179,20 +179,14 @@ fn clean_run(dir: &Path) -> Result<(), String> {
 
 /// Remove a comparison's files from `dir`: its table, its plots and its rows.
 fn clean_compare(dir: &Path, labels: &[String]) -> Result<(), String> {
-    for name in COMPARE_FILES {
-        remove_file(&dir.join(name))?;
-    }
     clean_folder(&dir.join("plots"), "png")?;
-    for folder in run_folders(dir, labels)? {
-        clean_run(&folder)?;
-        remove_if_empty(&folder)?;
-    }
-    Ok(())
+    clean_batch(dir, COMPARE_FILES, labels)
 }
 
-/// Remove a study's files from `dir`: its reports, its plot and its variants.
-fn clean_study(dir: &Path, labels: &[String]) -> Result<(), String> {
-    for name in STUDY_FILES {
+/// Remove the `files` of a batch of runs (a comparison, a study) from `dir`,
+/// and its runs' folders.
+fn clean_batch(dir: &Path, files: &[&str], labels: &[String]) -> Result<(), String> {
+    for name in files {
         remove_file(&dir.join(name))?;
     }
     for folder in run_folders(dir, labels)? {

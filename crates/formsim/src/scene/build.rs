@@ -430,47 +430,45 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
                     params.set(name, *v);
                 }
             }
-            if frictionless {
+            let tool = tool_index(&entry.tool).expect("validated");
+            let spec = pair_spec(s, entry, tool, bulk);
+            let pair = if frictionless {
                 if let Some((name, _)) = params.0.iter().next() {
                     return Err(loaded.key_error(
                         &format!("contact.params.{FRICTIONLESS}.{name}"),
                         "a frictionless pair takes no parameters",
                     ));
                 }
-                let tool = tool_index(&entry.tool).expect("validated");
-                let spec = pair_spec(s, entry, tool, bulk);
-                let pair = ContactPair::frictionless(&spec, &geometry, &mesh.nodes)
-                    .map_err(|e| loaded.key_error(&key, e.to_string()))?;
-                pairs.push(pair);
-                continue;
-            }
-            let integrator = point_integrator(&source, &params, &formulation, TangentMode::None)
-                .map_err(|e| {
-                    let message = e.to_string();
-                    let key = if message.contains("unknown law") || message.contains("plugin") {
-                        if entry.law.is_some() {
-                            format!("{key}.law")
-                        } else if s.contact.plugin.is_some() {
-                            "contact.plugin".to_string()
-                        } else {
-                            "contact.law".to_string()
-                        }
-                    } else if message.contains("formulation") {
-                        if entry.formulation.is_some() {
-                            format!("{key}.formulation")
-                        } else {
-                            "contact.formulation".to_string()
-                        }
-                    } else {
-                        format!("contact.params.{params_key}")
-                    };
-                    loaded.key_error(&key, message)
-                })?;
-            let tool = tool_index(&entry.tool).expect("validated");
-            let spec = pair_spec(s, entry, tool, bulk);
-            let pair = ContactPair::new(&spec, integrator, &geometry, &mesh.nodes)
-                .map_err(|e| loaded.key_error(&key, e.to_string()))?;
-            pairs.push(pair);
+                ContactPair::frictionless(&spec, &geometry, &mesh.nodes)
+            } else {
+                let integrator =
+                    point_integrator(&source, &params, &formulation, TangentMode::None).map_err(
+                        |e| {
+                            let message = e.to_string();
+                            let key =
+                                if message.contains("unknown law") || message.contains("plugin") {
+                                    if entry.law.is_some() {
+                                        format!("{key}.law")
+                                    } else if s.contact.plugin.is_some() {
+                                        "contact.plugin".to_string()
+                                    } else {
+                                        "contact.law".to_string()
+                                    }
+                                } else if message.contains("formulation") {
+                                    if entry.formulation.is_some() {
+                                        format!("{key}.formulation")
+                                    } else {
+                                        "contact.formulation".to_string()
+                                    }
+                                } else {
+                                    format!("contact.params.{params_key}")
+                                };
+                            loaded.key_error(&key, message)
+                        },
+                    )?;
+                ContactPair::new(&spec, integrator, &geometry, &mesh.nodes)
+            };
+            pairs.push(pair.map_err(|e| loaded.key_error(&key, e.to_string()))?);
         }
         let effect = ContactEffect::new(
             tools,

@@ -77,6 +77,24 @@ impl Knob {
     }
 }
 
+/// Parse `--reference "KEY=V;KEY=V"` into `(key, value)` pairs (empty
+/// parts skipped).
+///
+/// # Errors
+/// A part without `=`.
+pub fn parse_reference(text: &str) -> Result<Vec<(String, String)>, String> {
+    text.split(';')
+        .map(str::trim)
+        .filter(|p| !p.is_empty())
+        .map(|part| {
+            let (k, v) = part
+                .split_once('=')
+                .ok_or_else(|| format!("--reference: `{part}` is not KEY=VALUE"))?;
+            Ok((k.trim().to_string(), v.trim().to_string()))
+        })
+        .collect()
+}
+
 /// What a study runs and how it judges the variants.
 #[derive(Debug, Clone)]
 pub struct Spec {
@@ -441,7 +459,6 @@ pub fn execute(
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    results.threads = rayon::current_num_threads();
     Ok(results)
 }
 
@@ -532,7 +549,7 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
     Ok(Results {
         spec: spec.clone(),
         scene: ref_result.summary.scene.clone(),
-        threads: 0,
+        threads: rayon::current_num_threads(),
         outcomes,
         failed,
     })

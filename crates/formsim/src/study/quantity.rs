@@ -158,18 +158,22 @@ impl Quantity {
         }
     }
 
-    /// What `result` gave for this quantity.
+    /// What `result` gave for this quantity; `summary` is its summary as
+    /// JSON ([`measure_all`] makes it once for every quantity).
     ///
     /// # Errors
     /// A key `summary.json` does not have, a section or report stroke the run
     /// did not report, a value that is not finite.
-    pub fn measure(&self, result: &RunResult) -> Result<Measured, String> {
+    pub fn measure(
+        &self,
+        result: &RunResult,
+        summary: &serde_json::Value,
+    ) -> Result<Measured, String> {
         let name = self.name();
         let measured = match self {
             Quantity::Scalar { key } => {
-                let summary = serde_json::to_value(&result.summary).map_err(|e| e.to_string())?;
                 let parts: Vec<&str> = key.split('.').collect();
-                let v = lookup(&summary, &parts)
+                let v = lookup(summary, &parts)
                     .and_then(serde_json::Value::as_f64)
                     .ok_or_else(|| format!("{name}: summary.json has no number at this key"))?;
                 Measured::Scalar(v)
@@ -205,6 +209,18 @@ impl Quantity {
             Err(format!("{name}: the run gave a value that is not finite"))
         }
     }
+}
+
+/// What `result` gave for each of `quantities`, in order.
+///
+/// # Errors
+/// As [`Quantity::measure`], for the first quantity that fails.
+pub fn measure_all(quantities: &[Quantity], result: &RunResult) -> Result<Vec<Measured>, String> {
+    let summary = serde_json::to_value(&result.summary).map_err(|e| e.to_string())?;
+    quantities
+        .iter()
+        .map(|q| q.measure(result, &summary))
+        .collect()
 }
 
 /// The relative error of `value` against `reference`.

@@ -8,7 +8,7 @@
 //! slows both. Rounds alternate direction (forward, backward, …).
 
 use super::Variant;
-use super::quantity::{Measured, Quantity};
+use super::quantity::{Measured, Quantity, measure_all};
 use crate::run::{Progress, RunOptions, RunResult, run};
 use std::path::Path;
 use std::time::Instant;
@@ -177,9 +177,7 @@ fn record(
     at: f64,
     quantities: &[Quantity],
 ) -> Result<(), String> {
-    let values: Result<Vec<Measured>, String> =
-        quantities.iter().map(|q| q.measure(&t.result)).collect();
-    let values = match values {
+    let values = match measure_all(quantities, &t.result) {
         Ok(values) => values,
         Err(m) => {
             r.failure = Some(m);

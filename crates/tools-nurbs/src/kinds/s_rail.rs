@@ -3,27 +3,32 @@
 //! docs/tools.md).
 
 use super::{Request, ToolKind};
-use crate::builders::Facing;
 use crate::builders::s_rail::{self, SRailParams};
+use crate::builders::{Facing, Placement};
 use crate::error::NurbsError;
+use crate::nurbs_tool::NurbsTool;
 use crate::spec::Tool;
 
-fn punch(r: Request<'_>) -> Result<Tool, NurbsError> {
+/// An S-rail tool: the table's dimensions, handed to `build`.
+fn s_rail_tool(
+    r: Request<'_>,
+    build: fn(&str, &SRailParams, &Placement) -> Result<NurbsTool, NurbsError>,
+) -> Result<Tool, NurbsError> {
     let (name, place) = (r.name, r.place);
     let p: SRailParams = r.params()?;
-    Ok(Tool::Nurbs(s_rail::punch(name, &p, &place)?))
+    Ok(Tool::Nurbs(build(name, &p, &place)?))
+}
+
+fn punch(r: Request<'_>) -> Result<Tool, NurbsError> {
+    s_rail_tool(r, s_rail::punch)
 }
 
 fn die(r: Request<'_>) -> Result<Tool, NurbsError> {
-    let (name, place) = (r.name, r.place);
-    let p: SRailParams = r.params()?;
-    Ok(Tool::Nurbs(s_rail::die(name, &p, &place)?))
+    s_rail_tool(r, s_rail::die)
 }
 
 fn blankholder(r: Request<'_>) -> Result<Tool, NurbsError> {
-    let (name, place) = (r.name, r.place);
-    let p: SRailParams = r.params()?;
-    Ok(Tool::Nurbs(s_rail::blankholder(name, &p, &place)?))
+    s_rail_tool(r, s_rail::blankholder)
 }
 
 inventory::submit! {

@@ -4,35 +4,34 @@
 
 use super::{Request, ToolKind};
 use crate::builders::square_cup::{self, DieParams, HolderParams, PunchParams};
-use crate::builders::{Facing, Model};
+use crate::builders::{Facing, Model, Placement};
 use crate::error::NurbsError;
+use crate::nurbs_tool::NurbsTool;
 use crate::spec::Tool;
+use serde::de::DeserializeOwned;
 
-/// The table's `model` (default a quarter) and the request without it.
-fn model(mut r: Request<'_>) -> Result<(Model, Request<'_>), NurbsError> {
-    let m = r.take("model")?.unwrap_or_default();
-    Ok((m, r))
+/// A square-cup tool: the table's `model` (default a quarter), then its
+/// dimensions `P`, handed to `build`.
+fn square<P: DeserializeOwned>(
+    mut r: Request<'_>,
+    build: fn(&str, &P, Model, &Placement) -> Result<NurbsTool, NurbsError>,
+) -> Result<Tool, NurbsError> {
+    let model = r.take("model")?.unwrap_or_default();
+    let (name, place) = (r.name, r.place);
+    let p: P = r.params()?;
+    Ok(Tool::Nurbs(build(name, &p, model, &place)?))
 }
 
 fn punch(r: Request<'_>) -> Result<Tool, NurbsError> {
-    let (m, r) = model(r)?;
-    let (name, place) = (r.name, r.place);
-    let p: PunchParams = r.params()?;
-    Ok(Tool::Nurbs(square_cup::punch(name, &p, m, &place)?))
+    square::<PunchParams>(r, square_cup::punch)
 }
 
 fn die(r: Request<'_>) -> Result<Tool, NurbsError> {
-    let (m, r) = model(r)?;
-    let (name, place) = (r.name, r.place);
-    let p: DieParams = r.params()?;
-    Ok(Tool::Nurbs(square_cup::die(name, &p, m, &place)?))
+    square::<DieParams>(r, square_cup::die)
 }
 
 fn blankholder(r: Request<'_>) -> Result<Tool, NurbsError> {
-    let (m, r) = model(r)?;
-    let (name, place) = (r.name, r.place);
-    let p: HolderParams = r.params()?;
-    Ok(Tool::Nurbs(square_cup::blankholder(name, &p, m, &place)?))
+    square::<HolderParams>(r, square_cup::blankholder)
 }
 
 inventory::submit! {
