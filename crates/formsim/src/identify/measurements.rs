@@ -90,6 +90,16 @@ impl CurveColumn {
         })
     }
 
+    /// The column's value in a row of a section curve.
+    pub fn of(self, row: &crate::run::post::SectionRow) -> f64 {
+        match self {
+            Self::Major => row.major,
+            Self::Minor => row.minor,
+            Self::ThicknessStrain => row.thickness_strain,
+            Self::Thinning => row.thinning,
+        }
+    }
+
     /// The column's name.
     pub fn name(self) -> &'static str {
         match self {

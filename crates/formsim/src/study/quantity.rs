@@ -14,9 +14,9 @@
 //! magnitude (max), both divided by the reference curve's largest magnitude.
 //! The L2 figure is the one held against the tolerance.
 
+use crate::identify::measurements::CurveColumn;
 use crate::identify::observe::{interpolate, lookup};
 use crate::run::RunResult;
-use crate::run::post::SectionRow;
 use crate::run::summary::stroke_key;
 
 /// A quantity compared across the variants.
@@ -34,46 +34,8 @@ pub enum Quantity {
         /// Report stroke (mm); `None`: the end of the run.
         stroke: Option<f64>,
         /// Which column of the section's rows.
-        column: Column,
+        column: CurveColumn,
     },
-}
-
-/// A column of a section curve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Column {
-    /// Major logarithmic strain.
-    Major,
-    /// Minor logarithmic strain.
-    Minor,
-    /// Thickness strain `ln(t/t0)`.
-    ThicknessStrain,
-    /// Thinning `(t0 − t)/t0`.
-    Thinning,
-}
-
-impl Column {
-    const NAMES: [(&'static str, Column); 4] = [
-        ("major", Column::Major),
-        ("minor", Column::Minor),
-        ("thickness_strain", Column::ThicknessStrain),
-        ("thinning", Column::Thinning),
-    ];
-
-    fn of(self, row: &SectionRow) -> f64 {
-        match self {
-            Column::Major => row.major,
-            Column::Minor => row.minor,
-            Column::ThicknessStrain => row.thickness_strain,
-            Column::Thinning => row.thinning,
-        }
-    }
-
-    fn name(self) -> &'static str {
-        Self::NAMES
-            .iter()
-            .find(|(_, c)| *c == self)
-            .map_or("", |(n, _)| n)
-    }
 }
 
 /// What a run gave for a quantity.
@@ -108,15 +70,11 @@ impl Quantity {
         let Some((place, column)) = text.split_once(':') else {
             return Ok(Quantity::Scalar { key: text.into() });
         };
-        let column = Column::NAMES
-            .iter()
-            .find(|(n, _)| *n == column.trim())
-            .map(|(_, c)| *c)
-            .ok_or_else(|| {
-                format!(
-                    "--quantities `{text}`: the column after `:` must be major, minor, thickness_strain or thinning"
-                )
-            })?;
+        let column = CurveColumn::parse(column.trim()).ok_or_else(|| {
+            format!(
+                "--quantities `{text}`: the column after `:` must be major, minor, thickness_strain or thinning"
+            )
+        })?;
         let (section, stroke) = match place.split_once('@') {
             None => (place.trim(), None),
             Some((s, k)) => {
