@@ -497,6 +497,18 @@ impl Effect for ContactEffect {
             .sum()
     }
 
+    fn stiffens_nodes(&self) -> bool {
+        self.pairs.iter().any(ContactPair::touching)
+    }
+
+    /// The penalty and stick springs of the touching points, summed over
+    /// the pairs (a flange node between die and holder gets both).
+    fn nodal_stiffness(&self, _state: &NodalState, stiffness: &mut [f64]) {
+        for p in &self.pairs {
+            p.add_nodal_stiffness(&self.geometry.area, stiffness);
+        }
+    }
+
     fn stable_dt(&self, state: &NodalState) -> Option<StableDt> {
         self.pairs
             .iter()

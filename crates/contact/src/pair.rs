@@ -553,6 +553,27 @@ impl ContactPair {
         added
     }
 
+    /// Whether any point touched the tool in the last step.
+    pub fn touching(&self) -> bool {
+        !self.batch.points.is_empty()
+    }
+
+    /// Add the penalty plus stick stiffness (N/mm) of every point touching
+    /// in the last step to its node's entry of `stiffness` (the springs of
+    /// [`ContactPair::stable_dt`], for the limit of the effects on a node
+    /// together, see `fem_core::nodal_limit`).
+    pub fn add_nodal_stiffness(&self, area: &[f64], stiffness: &mut [f64]) {
+        let k_t = self.stick_stiffness();
+        for &k in &self.batch.points {
+            let k = k as usize;
+            let node = self.nodes[k] as usize;
+            let s = self.stiffness[k] + k_t * area[node];
+            if s > 0.0 {
+                stiffness[node] += s;
+            }
+        }
+    }
+
     /// `(node, penalty + stick stiffness (N/mm))` of every touching point with a positive spring.
     fn touching_springs<'a>(&'a self, area: &'a [f64]) -> impl Iterator<Item = (usize, f64)> + 'a {
         let k_t = self.stick_stiffness();

@@ -96,6 +96,25 @@ pub trait Effect: Any + Send {
         0.0
     }
 
+    /// Whether [`Effect::nodal_stiffness`] adds anything at the moment
+    /// (asked at every step, so it must be cheap): the solver combines the
+    /// effects' stiffness on shared nodes only when two or more do.
+    fn stiffens_nodes(&self) -> bool {
+        false
+    }
+
+    /// Add, per node, the stiffness `s_i` (N/mm) that bounds this effect's
+    /// highest translational frequency at the node for its own stable step:
+    /// `2 √(m_i / s_i)` is the step it would allow the node alone (`m_i` the
+    /// nodal mass, which `s_i` must not depend on). The solver sums the
+    /// effects' `s_i` on every node, so that a node held by shells and a
+    /// contact spring together gets the step stable for both (the highest
+    /// frequency of a sum of stiffnesses is at most the sum of theirs).
+    /// The default adds nothing.
+    fn nodal_stiffness(&self, state: &NodalState, stiffness: &mut [f64]) {
+        let _ = (state, stiffness);
+    }
+
     /// The shared nodal fields this effect writes in [`Effect::add_forces`]
     /// (asked once, at set-up). One effect at most writes a given field.
     fn writes(&self) -> &[NodalField] {

@@ -92,6 +92,26 @@ pub enum FemError {
     /// An inconsistent set-up that no single parameter explains.
     #[error("invalid set-up: {0}")]
     InvalidSetup(String),
+    /// A fixed time step ([`SolverSettings::fixed_dt`](crate::SolverSettings::fixed_dt))
+    /// is above the stable limit at some step: the run stops before the
+    /// step that would go unstable.
+    #[error(
+        "the fixed time step {dt:e} s is above the stable limit {stable:.4e} s of {location} \
+         at step {step} (t = {time:.4e} s); lower `fixed_dt` below the limit"
+    )]
+    StepAboveStableLimit {
+        /// Time reached (s).
+        time: f64,
+        /// Step number.
+        step: u64,
+        /// The fixed step (s).
+        dt: f64,
+        /// The stable limit (s), without safety factor.
+        stable: f64,
+        /// What limits it: an element of an effect, or a node and the
+        /// effects that stiffen it together.
+        location: String,
+    },
     /// The stable time step collapsed (below the floor or not finite) during a run.
     #[error(
         "time step collapsed at t = {time} s (step {step}): dt = {dt:e} s < floor {floor:e} s, \

@@ -62,6 +62,7 @@ pub mod error;
 pub mod fields;
 pub mod mesh;
 pub mod mesh_io;
+pub mod nodal_limit;
 pub mod press;
 pub mod settings;
 pub mod solver;

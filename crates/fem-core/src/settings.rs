@@ -1,4 +1,4 @@
-//! Solver settings: time-step safety factor, mass scaling, dynamic-relaxation damping, time-step bounds.
+//! Solver settings: time-step safety factor, mass scaling, dynamic-relaxation damping, time-step bounds, a fixed step.
 
 use crate::FemError;
 
@@ -22,6 +22,12 @@ pub struct SolverSettings {
     pub damping: f64,
     /// Upper bound of the time step (s); required when no effect imposes one.
     pub dt_max: Option<f64>,
+    /// A fixed time step (s): every step is this long (no safety factor, no
+    /// mass scaling), and the run stops with
+    /// [`FemError::StepAboveStableLimit`], naming the element or node, at the
+    /// first step whose stable limit falls below it. Excludes
+    /// `mass_scaling_dt` and `dt_max`. `None`: the step follows the limit.
+    pub fixed_dt: Option<f64>,
     /// A run stops with [`FemError::TimeStepCollapse`] when the time step
     /// falls below this fraction of the initial one (-); default 1e-3.
     pub dt_floor_ratio: f64,
@@ -34,6 +40,7 @@ impl Default for SolverSettings {
             mass_scaling_dt: None,
             damping: 0.0,
             dt_max: None,
+            fixed_dt: None,
             dt_floor_ratio: 1e-3,
         }
     }
@@ -65,6 +72,16 @@ impl SolverSettings {
             && !(t.is_finite() && t > 0.0)
         {
             return bad("dt_max", t, "s", "finite and > 0");
+        }
+        if let Some(t) = self.fixed_dt {
+            if !(t.is_finite() && t > 0.0) {
+                return bad("fixed_dt", t, "s", "finite and > 0");
+            }
+            if self.mass_scaling_dt.is_some() || self.dt_max.is_some() {
+                return Err(FemError::InvalidSetup(
+                    "`fixed_dt` excludes `mass_scaling_dt` and `dt_max`".into(),
+                ));
+            }
         }
         if !(self.dt_floor_ratio >= 0.0 && self.dt_floor_ratio < 1.0) {
             return bad("dt_floor_ratio", self.dt_floor_ratio, "-", "in [0, 1)");

@@ -17,13 +17,17 @@
 //!    effect, every writer of a shared nodal field before its readers (see
 //!    [`crate::fields`]): a reader sees the field at `t_{n+1}`, as its writer
 //!    computed it in this same step.
-//! 6. `Δt_{n+3/2} = min(safety × min_effects stable dt, dt_max)`, with mass
-//!    scaling if configured; a collapse stops the run with an error.
+//! 6. `Δt_{n+3/2} = min(safety × stable dt, dt_max)`, the stable dt the
+//!    smallest of the effects' own and of the effects on one node together
+//!    ([`crate::nodal_limit`]), with mass scaling if configured; a collapse
+//!    stops the run with an error. A fixed step (`fixed_dt`) is checked
+//!    against the stable dt instead, and the run stops when it is above.
 //!
 //! Nodes with zero mass (zero inertia) do not move (do not rotate): they are
 //! counted in [`SetupReport::massless_nodes`].
 
 use crate::fields::{Declared, effect_order};
+use crate::nodal_limit::NodalLimit;
 use crate::{
     Amplitude, BoundaryCondition, Dof, Dofs, Effect, EnergyLedger, EnergyTally, FemError, Forces,
     Mesh, MotionKind, NodalField, NodalLoad, NodalState, SharedFields, SolverSettings, StableDt,
@@ -46,10 +50,14 @@ pub struct EffectId(pub usize);
 /// The effect and element that limit the time step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DtLimit {
-    /// Index of the effect (see [`Solver::effect_name`]).
+    /// Index of the effect (see [`Solver::effect_name`]); for a combined
+    /// limit, the effect whose own limit is the smallest.
     pub effect: usize,
     /// Its stable time step (without safety factor) and limiting element.
     pub stable: StableDt,
+    /// `true` when the limit is that of the effects on one node together
+    /// ([`crate::nodal_limit`]); `stable.element` is then the node.
+    pub combined: bool,
 }
 
 /// What [`Solver::initialize`] found.
@@ -189,6 +197,9 @@ struct WorkSums {
     prescribed_pending: f64,
     damping_work: f64,
     damping_pending: f64,
+    /// The step-change term of `integration` (see [`Solver::step_change_sums`]).
+    step_change: f64,
+    step_change_pending: f64,
 }
 
 /// Energy sums of one nodal update (index 0: translations, 1: rotations).
@@ -310,6 +321,8 @@ pub struct Solver {
     w_old: Vec<Vec3>,
     scratch_mass: Vec<f64>,
     scratch_inertia: Vec<f64>,
+    /// The effects' stiffness summed per node (the combined step limit).
+    nodal: NodalLimit,
     node_sets: BTreeMap<String, Vec<u32>>,
     effects: Vec<Box<dyn Effect>>,
     /// The order of the effects' `add_forces` (indices into `effects`):
@@ -392,6 +405,7 @@ impl Solver {
             w_old: vec![Vec3::zeros(); n],
             scratch_mass: vec![0.0; n],
             scratch_inertia: vec![0.0; n],
+            nodal: NodalLimit::new(n),
             node_sets,
             effects: Vec::new(),
             order: Vec::new(),
@@ -828,23 +842,8 @@ impl Solver {
         self.compute_forces(0.0, 0.0, 0)?;
         let (dt, limit) = self.next_dt()?;
         if !(dt.is_finite() && dt > 0.0) {
-            let (effect, element, what) = match limit {
-                Some(l) => (
-                    self.effect_name(l.effect).to_string(),
-                    l.stable.element,
-                    l.stable.what,
-                ),
-                None => ("dt_max".to_string(), 0, "settings"),
-            };
-            return Err(FemError::TimeStepCollapse {
-                time: 0.0,
-                step: 0,
-                dt,
-                floor: 0.0,
-                effect,
-                element,
-                what,
-            });
+            self.dt_floor = 0.0;
+            return Err(self.collapse(dt, limit));
         }
         self.dt_next = dt;
         self.dt_floor = self.settings.dt_floor_ratio * dt;
@@ -906,7 +905,9 @@ impl Solver {
         Ok(())
     }
 
-    /// Ask every effect to add mass so that its stable dt is `>= target / safety`; returns the added mass.
+    /// Ask every effect to add mass so that its stable dt is `>= target / safety`,
+    /// then every node so that the effects on it together allow it
+    /// ([`crate::nodal_limit`]); returns the added mass.
     fn scale_mass(&mut self, target: f64) -> f64 {
         let goal = target / self.settings.safety_factor;
         self.scratch_mass.copy_from_slice(&self.state.mass);
@@ -920,6 +921,9 @@ impl Solver {
                 &mut self.scratch_inertia,
             );
         }
+        added += self
+            .nodal
+            .scale_mass(&self.effects, &self.state, goal, &mut self.scratch_mass);
         std::mem::swap(&mut self.state.mass, &mut self.scratch_mass);
         std::mem::swap(&mut self.state.inertia, &mut self.scratch_inertia);
         added
@@ -989,8 +993,9 @@ impl Solver {
         Ok(())
     }
 
-    /// The smallest stable dt over the effects.
-    fn stable_dt(&self) -> Option<DtLimit> {
+    /// The smallest stable dt over the effects and over the nodes they
+    /// share (see [`crate::nodal_limit`]).
+    fn stable_dt(&mut self) -> Option<DtLimit> {
         let mut best: Option<DtLimit> = None;
         for (k, e) in self.effects.iter().enumerate() {
             if let Some(s) = e.stable_dt(&self.state) {
@@ -999,15 +1004,86 @@ impl Solver {
                     best = Some(DtLimit {
                         effect: k,
                         stable: s,
+                        combined: false,
                     });
                 }
             }
         }
+        if let Some(b) = best
+            && !b.stable.dt.is_nan()
+            && let Some(c) = self.nodal.stable_dt(&self.effects, &self.state)
+            && (c.dt.is_nan() || c.dt < b.stable.dt)
+        {
+            best = Some(DtLimit {
+                effect: b.effect,
+                stable: c,
+                combined: true,
+            });
+        }
         best
+    }
+
+    /// Where `limit` sits, in words: `element E of `effect` (what)`, or
+    /// `node N (effect s N/mm + … together)` for a combined limit.
+    fn describe_limit(&mut self, limit: &DtLimit) -> String {
+        if limit.combined {
+            let node = limit.stable.element;
+            let who = self.nodal.contributors(&self.effects, &self.state, node);
+            format!("node {node} ({who}, together)")
+        } else {
+            format!(
+                "element {} of `{}` ({})",
+                limit.stable.element,
+                self.effect_name(limit.effect),
+                limit.stable.what
+            )
+        }
+    }
+
+    /// The collapse error for a step `dt` below the floor, with its limit.
+    fn collapse(&mut self, dt: f64, limit: Option<DtLimit>) -> FemError {
+        let (effect, element, what) = match limit {
+            Some(l) if l.combined => {
+                let who = self
+                    .nodal
+                    .contributors(&self.effects, &self.state, l.stable.element);
+                (who, l.stable.element, l.stable.what)
+            }
+            Some(l) => (
+                self.effect_name(l.effect).to_string(),
+                l.stable.element,
+                l.stable.what,
+            ),
+            None => ("dt_max".to_string(), 0, "settings"),
+        };
+        FemError::TimeStepCollapse {
+            time: self.time,
+            step: self.step,
+            dt,
+            floor: self.dt_floor,
+            effect,
+            element,
+            what,
+        }
     }
 
     /// Next time step (safety, dt_max, mass scaling), before the collapse check.
     fn next_dt(&mut self) -> Result<(f64, Option<DtLimit>), FemError> {
+        if let Some(fixed) = self.settings.fixed_dt {
+            let limit = self.stable_dt();
+            if let Some(l) = limit
+                && (l.stable.dt.is_nan() || l.stable.dt < fixed)
+            {
+                return Err(FemError::StepAboveStableLimit {
+                    time: self.time,
+                    step: self.step,
+                    dt: fixed,
+                    stable: l.stable.dt,
+                    location: self.describe_limit(&l),
+                });
+            }
+            return Ok((fixed, limit));
+        }
         let sf = self.settings.safety_factor;
         let mut limit = self.stable_dt();
         let mut dt = limit.map_or(f64::INFINITY, |l| sf * l.stable.dt);
@@ -1049,6 +1125,48 @@ impl Solver {
             ));
         }
         Ok((dt, limit))
+    }
+
+    /// The step-change halves of the step just updated, `(cur, pending)`.
+    ///
+    /// The effects book the work of their forces with the trapezoidal rule
+    /// over each step, `½ (F_{k-1} + F_k)·v_{k-1/2} Δt_{k-1/2}`; central
+    /// difference changes the product-form kinetic energy by the rule the
+    /// ledger applies to loads, `½ v_{k-1/2}·(Δt̄_k F_k + Δt̄_{k-1} F_{k-1})`.
+    /// The two differ only where the step changes: with
+    /// `δ_k = Δt_{k+1/2} − Δt_{k-1/2}`, by `¼ δ_k F_k·v_{k-1/2}` over the
+    /// step ending at `t_k` and `−¼ δ_k F_k·v_{k+1/2}` over the next (`F` the
+    /// effects' forces and moments, loads excluded). Exact, and zero at a
+    /// constant step; large only where the step jumps under large forces
+    /// (a node landing on a tool shortens the step it limits).
+    fn step_change_sums(&self, delta: f64) -> (f64, f64) {
+        let st = &self.state;
+        let (mut cur, mut pend) = (0.0, 0.0);
+        for i in 0..st.len() {
+            let (f, m) = (&self.forces.f[i], &self.forces.m[i]);
+            if st.mass[i] > 0.0 {
+                cur += f.dot(&self.v_old[i]);
+                pend += f.dot(&st.v[i]);
+            }
+            if st.inertia[i] > 0.0 {
+                cur += m.dot(&self.w_old[i]);
+                pend += m.dot(&st.w[i]);
+            }
+        }
+        for l in &self.loads {
+            let p = l.value * self.amp_values[l.amplitude as usize];
+            let (i, axis) = (l.node as usize, (l.dof % 3) as usize);
+            let (moving, vo, vn) = if l.dof >= 3 {
+                (st.inertia[i] > 0.0, self.w_old[i][axis], st.w[i][axis])
+            } else {
+                (st.mass[i] > 0.0, self.v_old[i][axis], st.v[i][axis])
+            };
+            if moving {
+                cur -= p * vo;
+                pend -= p * vn;
+            }
+        }
+        (0.25 * delta * cur, -0.25 * delta * pend)
     }
 
     // ----- stepping ---------------------------------------------------------
@@ -1189,6 +1307,11 @@ impl Solver {
             loads_cur += 0.5 * hb * p * vo;
             loads_pend += 0.5 * hb * p * vn;
         }
+        let (sc_cur, sc_pend) = if dt != self.dt_prev {
+            self.step_change_sums(dt - self.dt_prev)
+        } else {
+            (0.0, 0.0)
+        };
         let w = &mut self.work;
         if first {
             *w = WorkSums::default();
@@ -1197,7 +1320,9 @@ impl Solver {
             w.loads += w.loads_pending + loads_cur;
             w.prescribed += w.prescribed_pending + sums.presc_cur;
             w.damping_work += w.damping_pending + sums.damp_cur;
+            w.step_change -= w.step_change_pending + sc_cur;
         }
+        w.step_change_pending = sc_pend;
         w.loads_pending = loads_pend;
         w.prescribed_pending = sums.presc_pend;
         w.damping_pending = sums.damp_pend;
@@ -1206,7 +1331,7 @@ impl Solver {
             time: t_n,
             kinetic: ke_mid[0] + ke_mid[1],
             kinetic_rotational: ke_mid[1],
-            integration: (ke_prod[0] + ke_prod[1]) - (ke_mid[0] + ke_mid[1]),
+            integration: (ke_prod[0] + ke_prod[1]) - (ke_mid[0] + ke_mid[1]) + w.step_change,
             internal: self.tally.internal,
             hourglass: self.tally.hourglass,
             plastic: self.tally.plastic,
@@ -1237,23 +1362,7 @@ impl Solver {
         self.timing.time_step += mark.elapsed().as_secs_f64();
         self.limit = limit;
         if !dt_next.is_finite() || dt_next < self.dt_floor {
-            let (effect, element, what) = match limit {
-                Some(l) => (
-                    self.effect_name(l.effect).to_string(),
-                    l.stable.element,
-                    l.stable.what,
-                ),
-                None => ("dt_max".to_string(), 0, "settings"),
-            };
-            return Err(FemError::TimeStepCollapse {
-                time: self.time,
-                step: self.step,
-                dt: dt_next,
-                floor: self.dt_floor,
-                effect,
-                element,
-                what,
-            });
+            return Err(self.collapse(dt_next, limit));
         }
         self.dt_next = dt_next;
         Ok(StepReport {

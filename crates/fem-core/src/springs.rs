@@ -145,6 +145,17 @@ impl Effect for Springs {
         best
     }
 
+    fn stiffens_nodes(&self) -> bool {
+        !self.springs.is_empty()
+    }
+
+    /// `2 k` per node (`k` its springs' total): [`spring_dt`] as `2 √(m / s)`.
+    fn nodal_stiffness(&self, _state: &NodalState, stiffness: &mut [f64]) {
+        for (s, &k) in stiffness.iter_mut().zip(&self.node_k) {
+            *s += 2.0 * k;
+        }
+    }
+
     fn scale_mass(
         &mut self,
         _state: &NodalState,

@@ -147,6 +147,39 @@ impl Effect for Wobble {
     }
 }
 
+// A step that varies by ±30 % every few steps: the spring chain's energy
+// still balances to round-off, because the ledger's integration term holds
+// the exact difference between the springs' trapezoidal work and central
+// difference's kinetic-energy update at a step change
+// (fem_core::energy). Tolerance 1e-11 relative: round-off over 20,000 steps.
+#[test]
+fn energy_balances_at_a_varying_step() {
+    let omega = (K / M).sqrt();
+    let period = 2.0 * PI / omega;
+    let settings = SolverSettings {
+        safety_factor: 1.0,
+        ..Default::default()
+    };
+    let (mut s, _) = chain(3, K, M, settings);
+    s.add_effect(Wobble {
+        base: period / 40.0,
+        time: 0.0,
+        omega: 2.0 * PI / (0.37 * period),
+    });
+    s.state_mut().x[3].x += 0.5;
+    s.state_mut().x[1].x -= 0.2;
+    let mut worst = 0.0f64;
+    let mut dts = (f64::INFINITY, 0.0f64);
+    s.run_until(200.0 * period, &mut |_, r| {
+        worst = worst.max(r.energy.balance_error);
+        dts = (dts.0.min(r.dt), dts.1.max(r.dt));
+        Control::Continue
+    })
+    .unwrap();
+    assert!(dts.1 > 1.5 * dts.0, "the step varied: {dts:?}");
+    assert!(worst < 1e-11, "worst balance error {worst:e}");
+}
+
 fn oscillator_variable(steps_per_period: f64) -> f64 {
     let omega = (K / M).sqrt();
     let period = 2.0 * PI / omega;
@@ -205,9 +238,10 @@ fn undamped_spring_chain_conserves_energy() {
     assert!(l.internal > 0.0 && l.kinetic > 0.0);
 }
 
-// The engine takes safety × the smallest stable dt over the effects and names the
-// limiting effect and element; dt_max caps it. Springs' bound: Δt = √(2 m / Σk).
-// Tolerance: 1e-12 relative.
+// The engine takes safety × the smallest stable dt over the effects and over
+// the nodes they share (their stiffnesses summed per node, fem_core::nodal_limit),
+// names the limiting node and the effects on it; dt_max caps it.
+// Springs' bound: Δt = √(2 m / Σk). Tolerance: 1e-12 relative.
 #[test]
 fn stable_time_step_is_respected() {
     let settings = SolverSettings::default();
@@ -226,13 +260,14 @@ fn stable_time_step_is_respected() {
     .unwrap();
     s.add_effect(stiff);
     let setup = s.initialize().unwrap();
-    // Node 2: Σk = K + K (chain) — but the `stiff` effect only sees its own 4K at node 2.
-    // Per effect: chain min at nodes 1, 2: √(2m/2K); stiff: √(2m/4K) → stiff limits.
-    let expect = 0.9 * (2.0 * M / (4.0 * K)).sqrt();
+    // Per effect: chain √(2m/2K) at nodes 1, 2; stiff √(2m/4K) at nodes 2, 3.
+    // Together at node 2: Σk = 2K + 4K, √(2m/6K): the combined limit rules.
+    let expect = 0.9 * (2.0 * M / (6.0 * K)).sqrt();
     assert!((setup.dt_initial - expect).abs() < 1e-12 * expect);
     let lim = setup.limit.unwrap();
+    assert!(lim.combined);
+    assert_eq!(lim.stable.element, 2);
     assert_eq!(s.effect_name(lim.effect), "stiff");
-    assert_eq!(lim.stable.element, 0);
     let r = s.step().unwrap();
     assert!((r.dt - expect).abs() < 1e-12 * expect && (r.dt_next - expect).abs() < 1e-12 * expect);
 
@@ -654,6 +689,65 @@ fn chain_err(settings: SolverSettings) -> String {
         Err(e) => e.to_string(),
         Ok(_) => String::new(),
     }
+}
+
+/// The chain of `stable_time_step_is_respected` (limit √(2M/6K) at node 2,
+/// the two spring effects together) at a fixed step.
+fn stiff_chain(fixed: f64) -> Solver {
+    let settings = SolverSettings {
+        fixed_dt: Some(fixed),
+        ..Default::default()
+    };
+    let (mut s, _) = chain(3, K, M, settings);
+    let stiff = vec![Spring {
+        a: 2,
+        b: 3,
+        k: 4.0 * K,
+        length0: 10.0,
+    }];
+    s.add_effect(Springs::new("stiff", 4, stiff).unwrap());
+    s.state_mut().x[3].x += 0.1;
+    s
+}
+
+// A fixed step: at 0.95 of the combined limit every step takes exactly it;
+// at 1.05 the solver refuses the first step with one line naming node 2 and
+// both effects on it. Exclusive with mass scaling and dt_max.
+#[test]
+fn fixed_step_is_checked_against_the_combined_limit() {
+    let limit = (2.0 * M / (6.0 * K)).sqrt();
+    let mut s = stiff_chain(0.95 * limit);
+    for _ in 0..100 {
+        let r = s.step().unwrap();
+        assert_eq!(r.dt, 0.95 * limit);
+    }
+    let e = stiff_chain(1.05 * limit).initialize().unwrap_err();
+    let msg = e.to_string();
+    assert!(matches!(e, FemError::StepAboveStableLimit { .. }), "{msg}");
+    assert!(
+        msg.contains("node 2") && msg.contains("chain") && msg.contains("stiff"),
+        "{msg}"
+    );
+    assert!(!msg.contains('\n'));
+    for other in [
+        SolverSettings {
+            fixed_dt: Some(1e-6),
+            mass_scaling_dt: Some(1e-6),
+            ..Default::default()
+        },
+        SolverSettings {
+            fixed_dt: Some(1e-6),
+            dt_max: Some(1e-6),
+            ..Default::default()
+        },
+    ] {
+        assert!(chain_err(other).contains("fixed_dt"));
+    }
+    let bad = SolverSettings {
+        fixed_dt: Some(f64::NAN),
+        ..Default::default()
+    };
+    assert!(chain_err(bad).contains("fixed_dt"));
 }
 
 // Amplitudes: values and rates at the ends and in between (exact formulas).

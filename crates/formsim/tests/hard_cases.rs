@@ -305,28 +305,56 @@ fn sticks_under_half_mu_n(case: &str, name: &str, sets: &[&str]) {
     assert!(f.kinetic_max <= f.external_end.abs(), "{case}: {f:?}");
 }
 
-/// dt-limit, the stable side: the sticking block at 0.95 of the step that is
-/// stable for the shells and the stick springs together (safety factor
-/// 0.725 = 0.95 × 0.763 of the shells' step, no mass scaling): it runs and
-/// sticks exactly as at 0.6 (same checks and bounds as
+/// dt-limit, the stable side: the sticking block at a fixed step of 0.95 of
+/// the limit of the shells and the stick springs together (3.546e-7 s,
+/// docs/hard-cases.md; no mass scaling): it runs and sticks exactly as at
+/// a small step (same checks and bounds as
 /// `high_friction_sticks_under_half_mu_n`).
 #[test]
 fn dt_limit_at_095_of_the_combined_limit_runs_and_sticks() {
     sticks_under_half_mu_n("dt-limit 0.95", "hard/dt-limit", &[]);
 }
 
-/// dt-limit, the unstable side: at 1.05 of the combined limit (safety
-/// factor 0.80) the run must stop with a message naming the node.
+/// dt-limit, the unstable side: at a fixed step of 1.05 of the combined
+/// limit the run stops at the first step whose limit is below it, naming
+/// the node and the effects that stiffen it, and keeps what it computed.
 #[test]
-#[ignore = "not detected today: the engine takes min(shell step, contact step) instead of \
-            combining the two on the nodes they share, so at 1.05 of the combined limit the \
-            stick springs grow at ~3.6e6 rad/s until the friction cone caps them, the block \
-            chatters and walks (friction force up to mu N) and the run completes \
-            (docs/hard-cases.md)"]
 fn dt_limit_at_105_of_the_combined_limit_is_stopped() {
-    let (_dir, r) = run_scene("hard/dt-limit", &["solver.safety_factor=0.80"]);
-    assert_ne!(r.summary.status, "completed");
-    assert!(r.summary.status.contains("node"), "{}", r.summary.status);
+    let dir = tempfile::tempdir().unwrap();
+    let sets = vec!["solver.fixed_dt=3.723e-7".to_string()];
+    let loaded = scene::load(&root().join("scenes/hard/dt-limit.toml"), &sets).unwrap();
+    let options = formsim::run::RunOptions {
+        out: dir.path().to_path_buf(),
+        progress: Default::default(),
+    };
+    let Err(formsim::run::RunError::Solver { message, .. }) = formsim::run::run(&loaded, &options)
+    else {
+        panic!("the run at 1.05 of the limit was not stopped");
+    };
+    assert!(
+        message.contains("node") && message.contains("contact") && message.contains("3.723e-7"),
+        "{message}"
+    );
+    assert!(!message.contains('\n'), "one line: {message}");
+    // What was computed is kept: the summary says why the run stopped.
+    let summary = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
+    let status = summary["status"].as_str().unwrap();
+    assert!(status.contains("above the stable limit"), "{status}");
+    assert!(dir.path().join("energy.csv").is_file());
+}
+
+/// dt-limit at the default step (safety factor 0.9 of the engine's limit,
+/// which now combines the shells and the contact springs): the block
+/// sticks. Before the limits were combined this step was 1.18 times the
+/// combined limit and the block chattered and walked 0.2 mm.
+#[test]
+fn dt_limit_default_step_sticks() {
+    sticks_under_half_mu_n(
+        "dt-limit default step",
+        "hard/dt-limit",
+        &["solver.fixed_dt=", "solver.safety_factor=0.9"],
+    );
 }
 
 /// A step above the engine's own stable limit cannot be asked for:

@@ -84,6 +84,8 @@ pub struct ShellSet<E: ShellFormulation, M: Material> {
     max_node: usize,
     energy: EnergyTally,
     cached_dt: Option<StableDt>,
+    /// Whether `results`/`results_x4` hold the last forces' lengths and areas.
+    forces_computed: bool,
     parallel_min: usize,
     wave_speed: f64,
     /// Blocks of four elements store stress, shear, hourglass and drilling
@@ -278,6 +280,7 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
                 .unwrap_or(0),
             energy: EnergyTally::default(),
             cached_dt: None,
+            forces_computed: false,
             parallel_min: DEFAULT_PARALLEL_MIN,
             wave_speed,
             lane_major: formulation.lane_major(&section),
@@ -528,6 +531,38 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
         }
     }
 
+    /// See [`Effect::nodal_stiffness`] for `ShellSet`. Before the first
+    /// forces (no lengths yet) the element frames come from `state`.
+    fn add_nodal_stiffness(&self, state: &NodalState, stiffness: &mut [f64]) {
+        let rho_c2 = self.material.density() * self.wave_speed * self.wave_speed;
+        let mut add = |e: usize, q: &[u32; 4], length: f64, area: f64| {
+            if length > 0.0 {
+                let k = rho_c2 * area * self.thickness[e] / (length * length);
+                for &n in q {
+                    stiffness[n as usize] += k;
+                }
+            }
+        };
+        if !self.forces_computed {
+            for (e, q) in self.conn.iter().enumerate() {
+                let fr = Frame::new(&q.map(|n| v3(&state.x[n as usize])));
+                add(e, q, fr.char_length(), fr.area);
+            }
+            return;
+        }
+        let nb = self.conn.len() / 4;
+        for (b, r) in self.results_x4.iter().enumerate() {
+            for l in 0..4 {
+                let e = 4 * b + l;
+                add(e, &self.conn[e], r.length.0[l], r.area.0[l]);
+            }
+        }
+        for (j, r) in self.results.iter().enumerate() {
+            let e = 4 * nb + j;
+            add(e, &self.conn[e], r.length, r.area);
+        }
+    }
+
     fn element_dt(&self, e: usize, length: f64) -> f64 {
         length * self.density_scale[e].sqrt() / self.wave_speed
     }
@@ -601,6 +636,20 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
 
     fn stable_dt(&self, state: &NodalState) -> Option<StableDt> {
         self.cached_dt.or_else(|| self.dt_from_state(state))
+    }
+
+    fn stiffens_nodes(&self) -> bool {
+        !self.conn.is_empty()
+    }
+
+    /// Per element `ρ t A c² / L²` (N/mm) on each of its four nodes: the
+    /// element's step `L √s / c` is `2 √(m_e / κ_e)` with its nodal mass
+    /// share `m_e = s ρ A t / 4` (`s` its density scale), so a node of one
+    /// element gets the element's own step back; a node between elements
+    /// gets their mass-weighted frequency. Physical stiffness: mass scaling
+    /// does not change it. From the last forces' lengths and areas.
+    fn nodal_stiffness(&self, state: &NodalState, stiffness: &mut [f64]) {
+        self.add_nodal_stiffness(state, stiffness);
     }
 
     fn scale_mass(
@@ -836,6 +885,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         self.energy.hourglass += dh;
         self.energy.plastic += dp;
         self.drilling_energy += dd;
+        self.forces_computed = true;
         self.cached_dt = if self.conn.is_empty() {
             None
         } else {

@@ -261,6 +261,7 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
         mass_scaling_dt: s.solver.mass_scaling_dt,
         damping: s.solver.damping,
         dt_max: s.solver.dt_max,
+        fixed_dt: s.solver.fixed_dt,
         ..SolverSettings::default()
     };
     let mut solver =

@@ -593,6 +593,10 @@ pub struct SolverSection {
     /// Upper bound of the time step (s).
     #[serde(default)]
     pub dt_max: Option<f64>,
+    /// A fixed time step (s): no safety factor, no mass scaling; the run
+    /// stops, naming the element or node, where the stable limit falls below it.
+    #[serde(default)]
+    pub fixed_dt: Option<f64>,
 }
 
 impl Default for SolverSection {
@@ -603,6 +607,7 @@ impl Default for SolverSection {
             damping: 0.0,
             end_time: None,
             dt_max: None,
+            fixed_dt: None,
         }
     }
 }

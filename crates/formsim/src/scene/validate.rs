@@ -347,6 +347,15 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
     if let Some(t) = sv.dt_max {
         positive("solver.dt_max", t, "s")?;
     }
+    if let Some(t) = sv.fixed_dt {
+        positive("solver.fixed_dt", t, "s")?;
+        if sv.mass_scaling_dt.is_some() || sv.dt_max.is_some() {
+            return err(
+                "solver.fixed_dt",
+                format!("{t}: excludes solver.mass_scaling_dt and solver.dt_max"),
+            );
+        }
+    }
     if s.steps.is_empty() && sv.end_time.is_none() {
         return err(
             "solver.end_time",
