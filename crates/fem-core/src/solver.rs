@@ -880,6 +880,13 @@ impl Solver {
             limit,
             massless_nodes,
         };
+        tracing::debug!(
+            physical_mass_tonne = report.physical_mass,
+            added_mass_percent = report.added_mass_percent,
+            dt_initial = report.dt_initial,
+            massless_nodes = report.massless_nodes,
+            "set-up"
+        );
         // The forces at t = 0 are set-up, not a step.
         self.timing.reset();
         self.setup = Some(report);
@@ -1097,7 +1104,15 @@ impl Solver {
         {
             // Scale to a little above the target, so that elements shrinking
             // slowly during forming do not trigger a full pass every step.
-            self.added_mass += self.scale_mass(target * (1.0 + MASS_SCALING_HEADROOM));
+            let added = self.scale_mass(target * (1.0 + MASS_SCALING_HEADROOM));
+            self.added_mass += added;
+            tracing::debug!(
+                time = self.time,
+                step = self.step,
+                added_tonne = added,
+                added_total_tonne = self.added_mass,
+                "mass scaling during the run"
+            );
             // Mass added to moving nodes changes the kinetic energy by
             // ½ Δm |v_{n+1/2}|² (exact for the product form): book it as work.
             let st = &self.state;

@@ -15,6 +15,7 @@
 use std::fmt;
 use std::io::{self, Write};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Why a command stopped early.
 #[derive(Debug)]
@@ -49,10 +50,36 @@ pub fn write_line(args: fmt::Arguments<'_>) -> Result<(), Failure> {
     }
 }
 
+/// Set by `--quiet` (see [`init_logs`]).
+static QUIET: AtomicBool = AtomicBool::new(false);
+
 /// Whether to draw progress bars: not asked to be quiet, and standard error
 /// is a terminal.
-pub fn bars_wanted(quiet: bool) -> bool {
-    !quiet && io::IsTerminal::is_terminal(&io::stderr())
+pub fn bars_wanted() -> bool {
+    !QUIET.load(Ordering::Relaxed) && io::IsTerminal::is_terminal(&io::stderr())
+}
+
+/// Log to standard error through `tracing`: warnings by default, `-v` info
+/// (the run's stages, press steps), `-vv` debug (the engine's set-up, mass
+/// scaling), `-vvv` trace; `--quiet` errors only and no progress bars.
+/// `RUST_LOG`, when set, chooses instead.
+pub fn init_logs(verbose: u8, quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+    let level = match (quiet, verbose) {
+        (true, _) => "error",
+        (false, 0) => "warn",
+        (false, 1) => "info",
+        (false, 2) => "debug",
+        _ => "trace",
+    };
+    let filter = tracing_subscriber::EnvFilter::try_from_default_env()
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(level));
+    let _ = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(io::stderr)
+        .with_ansi(io::IsTerminal::is_terminal(&io::stderr()))
+        .with_target(true)
+        .try_init();
 }
 
 /// Write one line to standard error, ignoring failure.

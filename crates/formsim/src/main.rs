@@ -23,6 +23,14 @@ struct Cli {
     /// are the same bits on any number; `summary.json` records it.
     #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
     threads: Option<u16>,
+    /// More log messages on standard error: -v the run's stages and press
+    /// steps, -vv the engine's set-up and mass scaling, -vvv everything.
+    /// RUST_LOG (e.g. `RUST_LOG=fem_core=debug`) overrides it.
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    verbose: u8,
+    /// No progress bars, and log errors only.
+    #[arg(short, long, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -93,9 +101,6 @@ struct IdentifyArgs {
     /// Override a scene value for every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
-    /// No progress bar.
-    #[arg(long)]
-    quiet: bool,
 }
 
 #[derive(Args, Debug)]
@@ -153,9 +158,6 @@ struct RunArgs {
     /// Override a scene value, e.g. contact.law=wvs, blank.mesh.divisions=25 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
-    /// No progress bar.
-    #[arg(long)]
-    quiet: bool,
 }
 
 #[derive(Args, Debug)]
@@ -190,9 +192,6 @@ struct BatchArgs {
     /// Override a scene value for every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
-    /// No progress bars.
-    #[arg(long)]
-    quiet: bool,
 }
 
 #[derive(Args, Debug)]
@@ -328,6 +327,7 @@ fn to_params(list: &[(String, f64)]) -> Params {
 fn main() -> ExitCode {
     friction_laws::ensure_linked();
     let cli = Cli::parse();
+    cli_io::init_logs(cli.verbose, cli.quiet);
     if let Some(n) = cli.threads
         && let Err(e) = rayon::ThreadPoolBuilder::new()
             .num_threads(usize::from(n))
@@ -737,7 +737,7 @@ fn run(args: &RunArgs) -> Outcome {
     {
         note!("warning: {w}");
     }
-    let progress = cli_io::bars_wanted(args.quiet);
+    let progress = cli_io::bars_wanted();
     let result = formsim::run::run(
         &loaded,
         &formsim::run::RunOptions {
@@ -858,7 +858,7 @@ fn compare(args: &CompareArgs) -> Outcome {
         sets: args.batch.set.clone(),
     };
     // With bars on the terminal, each run's bar says when it is done.
-    let progress = cli_io::bars_wanted(args.batch.quiet);
+    let progress = cli_io::bars_wanted();
     let plan = formsim::compare::plan(&args.scene, &matrix)?;
     let labels: Vec<String> = plan.labels().map(String::from).collect();
     out_dir::prepare(
@@ -923,7 +923,7 @@ fn study(args: &StudyArgs) -> Outcome {
         tolerance: args.tolerance,
         sets: args.batch.set.clone(),
     };
-    let progress = cli_io::bars_wanted(args.batch.quiet);
+    let progress = cli_io::bars_wanted();
     let plan = study::plan(&args.scene, spec)?;
     let labels = plan.labels();
     out_dir::prepare(
@@ -1010,7 +1010,7 @@ fn identify(args: &IdentifyArgs) -> Outcome {
         tolerance: args.tolerance,
         fd_step: args.fd_step,
         out: args.out.clone(),
-        progress: cli_io::bars_wanted(args.quiet),
+        progress: cli_io::bars_wanted(),
     };
     let data = Measurements::read(&args.measurements).map_err(err)?;
     let report = identify::identify(&options, &data).map_err(err)?;

@@ -513,3 +513,43 @@ fn threads_option_sets_and_records_the_worker_threads() {
         assert!(err.contains("--threads"), "{bad}: {err}");
     }
 }
+
+/// Log levels: `-v` logs the run's stages and press steps to standard
+/// error, the default logs none of them, `-q` (before or after the
+/// command) none either; `RUST_LOG` overrides the flags.
+#[test]
+fn verbose_and_quiet_choose_the_log_level() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/block-on-plane.toml");
+    let run = |flags: &[&str], rust_log: Option<&str>| {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("run");
+        let mut args: Vec<&str> = flags.to_vec();
+        args.extend([
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_formsim"));
+        cmd.args(&args).env_remove("RUST_LOG");
+        if let Some(l) = rust_log {
+            cmd.env("RUST_LOG", l);
+        }
+        let o = cmd.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let verbose = run(&["-v"], None);
+    assert!(
+        verbose.contains("INFO") && verbose.contains("set-up done"),
+        "{verbose}"
+    );
+    for quiet in [run(&[], None), run(&["-q"], None)] {
+        assert!(!quiet.contains("INFO"), "{quiet}");
+    }
+    let debug = run(&["-q"], Some("fem_core=debug"));
+    assert!(
+        debug.contains("DEBUG") && debug.contains("set-up"),
+        "{debug}"
+    );
+}

@@ -120,10 +120,23 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         &scene.output.draw_in,
         scene.output.punch_edge_distance,
     );
+    tracing::info!(
+        scene = %scene.scene.name,
+        nodes = model.mesh.nodes.len(),
+        threads = rayon::current_num_threads(),
+        out = %out.display(),
+        "run"
+    );
     let setup = model
         .solver
         .initialize()
         .map_err(|e| loaded.key_error("solver", e.to_string()))?;
+    tracing::info!(
+        dt_initial = setup.dt_initial,
+        added_mass_percent = setup.added_mass_percent,
+        "set-up done"
+    );
+    let mut press_log = PressLog::default();
     let end = model.end_time;
     let o = &scene.output;
     let sample_every = end / (o.history_points as f64 - 1.0);
@@ -233,9 +246,12 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         let stepped = model.solver.step_toward(end);
         mark = Instant::now();
         if let Err(err) = stepped {
+            // The caller reports the stop; at -vv it shows where the log stood.
+            tracing::debug!(time = model.solver.time(), "run stopped: {err}");
             stop = Some(err.to_string());
             break;
         }
+        press_log.update(&model, stroke);
         if model.solver.steps() % 64 == 0
             && let Some(b) = &bar
         {
@@ -357,4 +373,31 @@ fn progress_bar() -> Option<indicatif::ProgressBar> {
     .progress_chars("=> ");
     bar.set_style(style);
     Some(bar)
+}
+
+/// The press step the run is in, logged (`-v`) as it changes, with a span
+/// that the engine's messages of that step carry.
+#[derive(Default)]
+struct PressLog {
+    step: Option<usize>,
+    span: Option<tracing::span::EnteredSpan>,
+}
+
+impl PressLog {
+    fn update(&mut self, model: &Model, stroke: f64) {
+        let Some(press) = model.contact().and_then(|c| c.press()) else {
+            return;
+        };
+        let k = press.current_step();
+        if self.step == Some(k) {
+            return;
+        }
+        self.step = Some(k);
+        self.span = None;
+        if let Some(s) = press.steps().get(k) {
+            let time = model.solver.time();
+            self.span = Some(tracing::info_span!("press step", name = %s.name).entered());
+            tracing::info!(time, stroke, "press step {k} `{}` starts", s.name);
+        }
+    }
 }
