@@ -6,34 +6,56 @@
 use super::LoadedScene;
 use super::SceneError;
 use super::estimate::{self, MeshSize};
-use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, Scene, SceneKind};
+use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, SceneKind};
 
 /// Check `loaded.scene`.
 ///
 /// # Errors
 /// The first key out of range, with its line.
 pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
-    let s: &Scene = &loaded.scene;
-    let err = |key: &str, message: String| Err(loaded.key_error(key, message));
-    let positive = |key: &str, v: f64, unit: &str| -> Result<(), SceneError> {
+    header(loaded)?;
+    blank(loaded)?;
+    material(loaded)?;
+    tools_and_contact(loaded)?;
+    press(loaded)?;
+    solver(loaded)?;
+    boundary_and_loads(loaded)?;
+    outputs(loaded)?;
+    guards(loaded)
+}
+
+/// The error of one key, and the two range checks every section uses.
+struct Keys<'a>(&'a LoadedScene);
+
+impl Keys<'_> {
+    fn err<T>(&self, key: &str, message: String) -> Result<T, SceneError> {
+        Err(self.0.key_error(key, message))
+    }
+
+    fn positive(&self, key: &str, v: f64, unit: &str) -> Result<(), SceneError> {
         if v.is_finite() && v > 0.0 {
             Ok(())
         } else {
-            err(key, format!("{v} {unit}: must be finite and > 0"))
+            self.err(key, format!("{v} {unit}: must be finite and > 0"))
         }
-    };
-    let non_negative = |key: &str, v: f64, unit: &str| -> Result<(), SceneError> {
+    }
+
+    fn non_negative(&self, key: &str, v: f64, unit: &str) -> Result<(), SceneError> {
         if v.is_finite() && v >= 0.0 {
             Ok(())
         } else {
-            err(key, format!("{v} {unit}: must be finite and >= 0"))
+            self.err(key, format!("{v} {unit}: must be finite and >= 0"))
         }
-    };
+    }
+}
 
+/// The scene's name (the output folder) and its units.
+fn header(loaded: &LoadedScene) -> Result<(), SceneError> {
+    let (s, keys) = (&loaded.scene, Keys(loaded));
     // The name is the default output folder `results/NAME`, which a run
     // replaces: one plain path component only.
     if !is_plain_name(&s.scene.name) {
-        return err(
+        return keys.err(
             "scene.name",
             format!(
                 "\"{}\": must be letters, digits, `-`, `_` or `.` (not only dots): it names the output folder results/NAME",
@@ -52,26 +74,44 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
         ("scene.units.time", &u.time, "s"),
     ] {
         if given != want {
-            return err(
+            return keys.err(
                 key,
                 format!("\"{given}\": formsim works in mm, N, MPa, tonne, s; write \"{want}\""),
             );
         }
     }
+    Ok(())
+}
 
+/// `[blank]`: element, section and mesh.
+fn blank(loaded: &LoadedScene) -> Result<(), SceneError> {
+    let (s, keys) = (&loaded.scene, Keys(loaded));
     // Blank.
     let b = &s.blank;
-    positive("blank.thickness", b.thickness, "mm")?;
+    shell_elements::kinds::ensure_linked();
+    if shell_elements::kinds::element(&b.element).is_none() {
+        return keys.err(
+            "blank.element",
+            format!(
+                "\"{}\" is not a registered element (registered: {})",
+                b.element,
+                shell_elements::kinds::names(
+                    shell_elements::kinds::elements().iter().map(|k| k.name)
+                )
+            ),
+        );
+    }
+    keys.positive("blank.thickness", b.thickness, "mm")?;
     if !(1..=9).contains(&b.integration_points) {
-        return err(
+        return keys.err(
             "blank.integration_points",
             format!("{}: must be in [1, 9]", b.integration_points),
         );
     }
-    non_negative("blank.hourglass", b.hourglass, "-")?;
+    keys.non_negative("blank.hourglass", b.hourglass, "-")?;
     let max_drill = shell_elements::formulation::MAX_DRILLING;
     if !(b.drilling.is_finite() && (0.0..=max_drill).contains(&b.drilling)) {
-        return err(
+        return keys.err(
             "blank.drilling",
             format!("{}: must be in [0, {max_drill}]", b.drilling),
         );
@@ -82,16 +122,16 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
             divisions,
             origin,
         } => {
-            positive("blank.mesh.size", size[0], "mm")?;
-            positive("blank.mesh.size", size[1], "mm")?;
+            keys.positive("blank.mesh.size", size[0], "mm")?;
+            keys.positive("blank.mesh.size", size[1], "mm")?;
             let (nx, ny) = divisions.pair();
             for n in [nx, ny] {
                 if !(1..=4096).contains(&n) {
-                    return err("blank.mesh.divisions", format!("{n}: must be in [1, 4096]"));
+                    return keys.err("blank.mesh.divisions", format!("{n}: must be in [1, 4096]"));
                 }
             }
             if origin.iter().any(|v| !v.is_finite()) {
-                return err(
+                return keys.err(
                     "blank.mesh.origin",
                     format!("{origin:?} mm: must be finite"),
                 );
@@ -100,13 +140,13 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
         MeshSpec::File { path, translate } => {
             let full = loaded.base_dir().join(path);
             if !full.is_file() {
-                return err(
+                return keys.err(
                     "blank.mesh.path",
                     format!("\"{path}\": no such file ({})", full.display()),
                 );
             }
             if translate.iter().any(|v| !v.is_finite()) {
-                return err(
+                return keys.err(
                     "blank.mesh.translate",
                     format!("{translate:?} mm: must be finite"),
                 );
@@ -119,36 +159,43 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
             angle_deg,
             element_size,
         } => {
-            positive("blank.mesh.radius", *radius, "mm")?;
-            positive("blank.mesh.width", *width, "mm")?;
-            positive("blank.mesh.tail", *tail, "mm")?;
-            positive("blank.mesh.element_size", *element_size, "mm")?;
+            keys.positive("blank.mesh.radius", *radius, "mm")?;
+            keys.positive("blank.mesh.width", *width, "mm")?;
+            keys.positive("blank.mesh.tail", *tail, "mm")?;
+            keys.positive("blank.mesh.element_size", *element_size, "mm")?;
             if !(*angle_deg > 0.0 && *angle_deg <= 180.0) {
-                return err(
+                return keys.err(
                     "blank.mesh.angle_deg",
                     format!("{angle_deg} deg: must be in (0, 180]"),
                 );
             }
         }
     }
+    Ok(())
+}
+
+/// `[blank.material]`: elasticity, hardening, model and r-values.
+fn material(loaded: &LoadedScene) -> Result<(), SceneError> {
+    let (s, keys) = (&loaded.scene, Keys(loaded));
+    let b = &s.blank;
     let m = &b.material;
-    positive("blank.material.youngs_modulus", m.youngs_modulus, "MPa")?;
-    positive("blank.material.density", m.density, "tonne/mm^3")?;
+    keys.positive("blank.material.youngs_modulus", m.youngs_modulus, "MPa")?;
+    keys.positive("blank.material.density", m.density, "tonne/mm^3")?;
     if !(m.poissons_ratio > -1.0 && m.poissons_ratio < 0.5) {
-        return err(
+        return keys.err(
             "blank.material.poissons_ratio",
             format!("{}: must be in (-1, 0.5)", m.poissons_ratio),
         );
     }
     match &m.hardening {
         HardeningSpec::Swift { k, eps0, n } => {
-            positive("blank.material.hardening.k", *k, "MPa")?;
-            positive("blank.material.hardening.eps0", *eps0, "-")?;
-            non_negative("blank.material.hardening.n", *n, "-")?;
+            keys.positive("blank.material.hardening.k", *k, "MPa")?;
+            keys.positive("blank.material.hardening.eps0", *eps0, "-")?;
+            keys.non_negative("blank.material.hardening.n", *n, "-")?;
         }
         HardeningSpec::Table { eps_p, sigma_y } => {
             if eps_p.len() != sigma_y.len() || eps_p.is_empty() {
-                return err(
+                return keys.err(
                     "blank.material.hardening",
                     format!(
                         "{} eps_p values and {} sigma_y values: need the same non-zero count",
@@ -159,68 +206,100 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
             }
         }
         HardeningSpec::Perfect { sigma_y } => {
-            positive("blank.material.hardening.sigma_y", *sigma_y, "MPa")?;
+            keys.positive("blank.material.hardening.sigma_y", *sigma_y, "MPa")?;
         }
         HardeningSpec::Elastic => {}
+    }
+    let model = super::schema::material_model(s);
+    match shell_elements::kinds::material(&model) {
+        None => {
+            return keys.err(
+                "blank.material.model",
+                format!(
+                    "\"{model}\" is not a registered material (registered: {})",
+                    shell_elements::kinds::names(
+                        shell_elements::kinds::materials().iter().map(|k| k.name)
+                    )
+                ),
+            );
+        }
+        Some(k) if k.anisotropic != m.r_values.is_some() => {
+            let why = if k.anisotropic {
+                "needs blank.material.r_values = [r0, r45, r90]"
+            } else {
+                "is isotropic: remove blank.material.r_values (or use model = \"hill48\")"
+            };
+            return keys.err("blank.material.model", format!("\"{model}\" {why}"));
+        }
+        Some(_) => {}
     }
     if let Some(r) = &m.r_values {
         for ((i, v), name) in r.iter().enumerate().zip(["r0", "r45", "r90"]) {
             if !(v.is_finite() && *v > 0.0) {
-                return err(
+                return keys.err(
                     &format!("blank.material.r_values[{i}]"),
                     format!("{name} = {v} (-): must be finite and > 0"),
                 );
             }
         }
     }
+    Ok(())
+}
 
+/// `[tools]` and `[contact]`.
+fn tools_and_contact(loaded: &LoadedScene) -> Result<(), SceneError> {
+    let (s, keys) = (&loaded.scene, Keys(loaded));
     // Tools and contact.
-    let tool_exists = |name: &str| s.tools.contains_key(name);
     let c = &s.contact;
-    positive("contact.penalty_scale", c.penalty_scale, "-")?;
+    keys.positive("contact.penalty_scale", c.penalty_scale, "-")?;
     if !(0.0..=1.0).contains(&c.damping) {
-        return err(
+        return keys.err(
             "contact.damping",
             format!("{}: must be in [0, 1]", c.damping),
         );
     }
-    non_negative("contact.search_margin", c.search_margin, "mm")?;
+    keys.non_negative("contact.search_margin", c.search_margin, "mm")?;
     for (i, p) in c.pairs.iter().enumerate() {
-        if !tool_exists(&p.tool) {
-            return err(
+        if !s.tools.contains_key(&p.tool) {
+            return keys.err(
                 &format!("contact.pairs[{i}].tool"),
                 format!("\"{}\": no [tools.{}] in the scene", p.tool, p.tool),
             );
         }
         if let Some(k) = p.penalty_scale {
-            positive(&format!("contact.pairs[{i}].penalty_scale"), k, "-")?;
+            keys.positive(&format!("contact.pairs[{i}].penalty_scale"), k, "-")?;
         }
     }
     for (law, table) in &c.params {
         for (name, v) in table {
             if !v.is_finite() {
-                return err(
+                return keys.err(
                     &format!("contact.params.{law}.{name}"),
                     format!("{v}: must be finite"),
                 );
             }
         }
     }
+    Ok(())
+}
 
+/// The press programme (`[[steps]]`).
+fn press(loaded: &LoadedScene) -> Result<(), SceneError> {
+    let (s, keys) = (&loaded.scene, Keys(loaded));
     // Press programme.
     for (i, step) in s.steps.iter().enumerate() {
         let key = |k: &str| format!("steps[{i}].{k}");
         match (step.duration, &step.until) {
-            (Some(d), None) => positive(&key("duration"), d, "s")?,
+            (Some(d), None) => keys.positive(&key("duration"), d, "s")?,
             (None, Some(u)) => {
-                if !tool_exists(&u.tool) {
-                    return err(&key("until.tool"), format!("\"{}\": no such tool", u.tool));
+                if !s.tools.contains_key(&u.tool) {
+                    return keys.err(&key("until.tool"), format!("\"{}\": no such tool", u.tool));
                 }
-                positive(&key("until.distance"), u.distance, "mm")?;
-                positive(&key("until.max_duration"), u.max_duration, "s")?;
+                keys.positive(&key("until.distance"), u.distance, "mm")?;
+                keys.positive(&key("until.max_duration"), u.max_duration, "s")?;
             }
             _ => {
-                return err(
+                return keys.err(
                     &format!("steps[{i}]"),
                     format!(
                         "step \"{}\": give exactly one of duration or until",
@@ -231,8 +310,8 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
         }
         for (j, motion) in step.motions.iter().enumerate() {
             let mkey = |k: &str| format!("steps[{i}].motions[{j}].{k}");
-            if !tool_exists(motion.tool()) {
-                return err(
+            if !s.tools.contains_key(motion.tool()) {
+                return keys.err(
                     &mkey("tool"),
                     format!("\"{}\": no such tool", motion.tool()),
                 );
@@ -247,7 +326,8 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                     ..
                 } => {
                     if !distance.is_finite() {
-                        return err(&mkey("distance"), format!("{distance} mm: must be finite"));
+                        return keys
+                            .err(&mkey("distance"), format!("{distance} mm: must be finite"));
                     }
                     check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
                     Some(("direction", direction))
@@ -259,7 +339,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                     ..
                 } => {
                     if !speed.is_finite() {
-                        return err(&mkey("speed"), format!("{speed} mm/s: must be finite"));
+                        return keys.err(&mkey("speed"), format!("{speed} mm/s: must be finite"));
                     }
                     check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
                     Some(("direction", direction))
@@ -271,7 +351,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                     ..
                 } => {
                     if !rate.is_finite() {
-                        return err(&mkey("rate"), format!("{rate} rad/s: must be finite"));
+                        return keys.err(&mkey("rate"), format!("{rate} rad/s: must be finite"));
                     }
                     check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
                     Some(("axis", axis))
@@ -287,21 +367,21 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                     ..
                 } => {
                     match (force, force_curve) {
-                        (Some(f), None) => non_negative(&mkey("force"), *f, "N")?,
+                        (Some(f), None) => keys.non_negative(&mkey("force"), *f, "N")?,
                         (None, Some(rows)) => {
                             check_force_curve(loaded, &mkey("force_curve"), rows)?
                         }
                         _ => {
-                            return err(
+                            return keys.err(
                                 &mkey("force"),
                                 "give either `force` (N) or `force_curve` ([compression mm, force N] rows), not both or neither".into(),
                             );
                         }
                     }
-                    positive(&mkey("mass"), *mass, "tonne")?;
-                    non_negative(&mkey("damping"), *damping, "N*s/mm")?;
+                    keys.positive(&mkey("mass"), *mass, "tonne")?;
+                    keys.non_negative(&mkey("damping"), *damping, "N*s/mm")?;
                     if !(0.0..=1.0).contains(relative_damping) {
-                        return err(
+                        return keys.err(
                             &mkey("relative_damping"),
                             format!("{relative_damping}: must be in [0, 1] (fraction of critical)"),
                         );
@@ -313,14 +393,14 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
             if let Some((key, d)) = direction {
                 let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
                 if !(n.is_finite() && n > 1e-12) {
-                    return err(&mkey(key), format!("{d:?}: must be a non-zero vector"));
+                    return keys.err(&mkey(key), format!("{d:?}: must be a non-zero vector"));
                 }
             }
         }
         if let Some(pairs) = &step.pairs {
             for (j, t) in pairs.iter().enumerate() {
-                if !tool_exists(t) {
-                    return err(
+                if !s.tools.contains_key(t) {
+                    return keys.err(
                         &format!("steps[{i}].pairs[{j}]"),
                         format!("\"{t}\": no such tool"),
                     );
@@ -328,48 +408,58 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
             }
         }
     }
+    Ok(())
+}
 
+/// `[solver]`.
+fn solver(loaded: &LoadedScene) -> Result<(), SceneError> {
+    let (s, keys) = (&loaded.scene, Keys(loaded));
     // Solver.
     let sv = &s.solver;
     if !(sv.safety_factor > 0.0 && sv.safety_factor <= 1.0) {
-        return err(
+        return keys.err(
             "solver.safety_factor",
             format!("{}: must be in (0, 1]", sv.safety_factor),
         );
     }
     if let Some(t) = sv.mass_scaling_dt {
-        positive("solver.mass_scaling_dt", t, "s")?;
+        keys.positive("solver.mass_scaling_dt", t, "s")?;
     }
-    non_negative("solver.damping", sv.damping, "1/s")?;
+    keys.non_negative("solver.damping", sv.damping, "1/s")?;
     if let Some(t) = sv.end_time {
-        positive("solver.end_time", t, "s")?;
+        keys.positive("solver.end_time", t, "s")?;
     }
     if let Some(t) = sv.dt_max {
-        positive("solver.dt_max", t, "s")?;
+        keys.positive("solver.dt_max", t, "s")?;
     }
     if let Some(t) = sv.fixed_dt {
-        positive("solver.fixed_dt", t, "s")?;
+        keys.positive("solver.fixed_dt", t, "s")?;
         if sv.mass_scaling_dt.is_some() || sv.dt_max.is_some() {
-            return err(
+            return keys.err(
                 "solver.fixed_dt",
                 format!("{t}: excludes solver.mass_scaling_dt and solver.dt_max"),
             );
         }
     }
     if s.steps.is_empty() && sv.end_time.is_none() {
-        return err(
+        return keys.err(
             "solver.end_time",
             "required when the scene has no [[steps]]".into(),
         );
     }
+    Ok(())
+}
 
+/// `[[boundary]]` and `[[loads]]`.
+fn boundary_and_loads(loaded: &LoadedScene) -> Result<(), SceneError> {
+    let (s, keys) = (&loaded.scene, Keys(loaded));
     // Boundary conditions and loads.
     for (i, bc) in s.boundary.iter().enumerate() {
         let key = |k: &str| format!("boundary[{i}].{k}");
         match bc {
             Boundary::Symmetry { axis, .. } => {
                 if axis_index(axis).is_none() {
-                    return err(
+                    return keys.err(
                         &key("axis"),
                         format!("\"{axis}\": must be \"x\", \"y\" or \"z\""),
                     );
@@ -378,7 +468,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
             Boundary::Fixed { dofs, .. } => {
                 for (j, d) in dofs.iter().enumerate() {
                     if dof_from_name(d).is_none() {
-                        return err(&format!("boundary[{i}].dofs[{j}]"), bad_dof(d));
+                        return keys.err(&format!("boundary[{i}].dofs[{j}]"), bad_dof(d));
                     }
                 }
             }
@@ -390,16 +480,16 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                 ..
             } => {
                 if dof_from_name(dof).is_none() {
-                    return err(&key("dof"), bad_dof(dof));
+                    return keys.err(&key("dof"), bad_dof(dof));
                 }
                 if motion != "velocity" && motion != "displacement" {
-                    return err(
+                    return keys.err(
                         &key("motion"),
                         format!("\"{motion}\": must be \"velocity\" or \"displacement\""),
                     );
                 }
                 if !value.is_finite() {
-                    return err(&key("value"), format!("{value}: must be finite"));
+                    return keys.err(&key("value"), format!("{value}: must be finite"));
                 }
                 check_amplitude(loaded, &key("amplitude"), amplitude.as_ref(), false)?;
             }
@@ -407,10 +497,10 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
     }
     for (i, load) in s.loads.iter().enumerate() {
         if dof_from_name(&load.dof).is_none() {
-            return err(&format!("loads[{i}].dof"), bad_dof(&load.dof));
+            return keys.err(&format!("loads[{i}].dof"), bad_dof(&load.dof));
         }
         if !load.total.is_finite() {
-            return err(
+            return keys.err(
                 &format!("loads[{i}].total"),
                 format!("{}: must be finite", load.total),
             );
@@ -426,34 +516,39 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
     for (i, sp) in s.springs.iter().enumerate() {
         let key = |k: &str| format!("springs[{i}].{k}");
         if !matches!(sp.dof.as_str(), "ux" | "uy" | "uz") {
-            return err(&key("dof"), format!("\"{}\": must be ux, uy or uz", sp.dof));
+            return keys.err(&key("dof"), format!("\"{}\": must be ux, uy or uz", sp.dof));
         }
-        positive(&key("stiffness"), sp.stiffness, "N/mm")?;
+        keys.positive(&key("stiffness"), sp.stiffness, "N/mm")?;
         if !sp.speed.is_finite() {
-            return err(&key("speed"), format!("{} mm/s: must be finite", sp.speed));
+            return keys.err(&key("speed"), format!("{} mm/s: must be finite", sp.speed));
         }
         check_amplitude(loaded, &key("amplitude"), sp.amplitude.as_ref(), false)?;
     }
+    Ok(())
+}
 
+/// `[output]`.
+fn outputs(loaded: &LoadedScene) -> Result<(), SceneError> {
+    let (s, keys) = (&loaded.scene, Keys(loaded));
     // Outputs.
     let o = &s.output;
     if let Some(t) = &o.stroke_tool
-        && !tool_exists(t)
+        && !s.tools.contains_key(t)
     {
-        return err("output.stroke_tool", format!("\"{t}\": no such tool"));
+        return keys.err("output.stroke_tool", format!("\"{t}\": no such tool"));
     }
     if !o.report_strokes.is_empty() && o.stroke_tool.is_none() {
-        return err(
+        return keys.err(
             "output.stroke_tool",
             "required with output.report_strokes".into(),
         );
     }
     for (i, r) in o.report_strokes.iter().enumerate() {
-        positive(&format!("output.report_strokes[{i}]"), *r, "mm")?;
+        keys.positive(&format!("output.report_strokes[{i}]"), *r, "mm")?;
     }
-    positive("output.symmetry_factor", o.symmetry_factor, "-")?;
+    keys.positive("output.symmetry_factor", o.symmetry_factor, "-")?;
     if o.history_points < 2 {
-        return err(
+        return keys.err(
             "output.history_points",
             format!("{}: must be >= 2", o.history_points),
         );
@@ -461,7 +556,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
     for (i, sec) in o.sections.iter().enumerate() {
         let d = [sec.to[0] - sec.from[0], sec.to[1] - sec.from[1]];
         if d[0].hypot(d[1]).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return err(
+            return keys.err(
                 &format!("output.sections[{i}].to"),
                 "the section has zero length".into(),
             );
@@ -469,14 +564,14 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
     }
     for (i, d) in o.draw_in.iter().enumerate() {
         if d.inward[0].hypot(d.inward[1]).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return err(
+            return keys.err(
                 &format!("output.draw_in[{i}].inward"),
                 "must be a non-zero vector".into(),
             );
         }
     }
     if s.scene.kind == SceneKind::Capstan && o.capstan.is_none() {
-        return err(
+        return keys.err(
             "output.capstan",
             "a capstan scene needs [output.capstan]".into(),
         );
@@ -484,13 +579,13 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
     if s.scene.kind == SceneKind::StripDraw {
         match &o.strip {
             None => {
-                return err(
+                return keys.err(
                     "output.strip",
                     "a strip-draw scene needs [output.strip]".into(),
                 );
             }
             Some(st) if !s.tools.contains_key(&st.holder) => {
-                return err(
+                return keys.err(
                     "output.strip.holder",
                     format!("\"{}\": no such tool", st.holder),
                 );
@@ -502,7 +597,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
                     .flat_map(|step| &step.motions)
                     .any(|m| matches!(m, Motion::Force { .. }) && m.tool() == st.holder) =>
             {
-                return err(
+                return keys.err(
                     "output.strip.holder",
                     format!(
                         "\"{}\": the holder must be force-controlled in some step (its force is the reference 2 mu F)",
@@ -514,21 +609,21 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
         }
     }
     for end in o.pulled_ends() {
-        non_negative(&format!("{}.average_from", end.key), end.average_from, "s")?;
+        keys.non_negative(&format!("{}.average_from", end.key), end.average_from, "s")?;
         if !matches!(end.pull_dof, "ux" | "uy" | "uz") {
-            return err(
+            return keys.err(
                 &format!("{}.pull_dof", end.key),
                 format!("\"{}\": must be ux, uy or uz", end.pull_dof),
             );
         }
     }
     if s.scene.kind == SceneKind::BlockOnPlane && o.block.is_none() {
-        return err(
+        return keys.err(
             "output.block",
             "a block-on-plane scene needs [output.block]".into(),
         );
     }
-    guards(loaded)
+    Ok(())
 }
 
 /// What cannot give a meaningful run although every key is in range: a
