@@ -18,7 +18,8 @@
 //!   callback, reading the reaction at the pulled end, instead of calling
 //!   `formsim::run::run`, which would also write result files;
 //! - at the end it reads the shells' stress resultants through the model's
-//!   `ShellHandle` to show the tension along the wrap.
+//!   shell handle (`model.shells.get`, as their concrete type) to show the
+//!   tension along the wrap.
 //!
 //! **The physics.** A thin elastic strip (0.1 mm thick, 4 mm wide,
 //! Belytschko–Tsay shells) is wrapped through `θ = 90°` over a fixed rigid
@@ -67,7 +68,6 @@
 //! ```
 
 use fem_core::{Control, Solver, Vec3};
-use formsim::scene::build::ShellHandle;
 use formsim::scene::schema::MeshSpec;
 use formsim::scene::{self, LoadedScene};
 use shell_elements::{BelytschkoTsay, J2PlaneStress, ShellSet};
@@ -175,18 +175,15 @@ fn run() {
     // (N/mm, element frame: x along the strip) times the element width,
     // summed over the two elements across the strip. The scene chose
     // Belytschko–Tsay shells and an elastic material (J2 that never
-    // yields); the handle says which concrete `ShellSet` type to ask the
-    // solver for.
-    let ShellHandle::BelytschkoTsay(id) = model.shells else {
-        panic!("scenes/capstan.toml asks for belytschko-tsay shells and an isotropic material");
-    };
+    // yields): the handle's `get` returns the shells as that `ShellSet`
+    // type (`None` for any other element or material).
     let MeshSpec::WrappedStrip { width, .. } = s.blank.mesh else {
         panic!("scenes/capstan.toml meshes a wrapped strip");
     };
     let shells: &ShellSet<BelytschkoTsay, J2PlaneStress> = model
-        .solver
-        .effect(id)
-        .expect("the handle names a ShellSet of this type");
+        .shells
+        .get(&model.solver)
+        .expect("scenes/capstan.toml asks for belytschko-tsay shells and the j2 material");
     let x = &model.solver.state().x;
     let element_width = 0.5 * width; // the generator puts two elements across
     println!(

@@ -149,7 +149,7 @@ impl Effect for Springs {
         !self.springs.is_empty()
     }
 
-    /// `2 k` per node (`k` its springs' total): [`spring_dt`] as `2 √(m / s)`.
+    /// `2 k` per node (`k` its springs' total): the Gershgorin step `√(2 m / k)` as `2 √(m / s)`.
     fn nodal_stiffness(&self, _state: &NodalState, stiffness: &mut [f64]) {
         for (s, &k) in stiffness.iter_mut().zip(&self.node_k) {
             *s += 2.0 * k;

@@ -66,6 +66,8 @@ enum Command {
     Sensitivity(SensitivityArgs),
     /// What accuracy costs in time: vary scene values around a reference, tabulate errors and CPU time.
     Study(StudyArgs),
+    /// Every registered component: friction laws, formulations, materials, shell elements, tool kinds.
+    Components,
 }
 
 #[derive(Args, Debug)]
@@ -326,6 +328,7 @@ fn to_params(list: &[(String, f64)]) -> Params {
 
 fn main() -> ExitCode {
     friction_laws::ensure_linked();
+    shell_elements::kinds::ensure_linked();
     let cli = Cli::parse();
     cli_io::init_logs(cli.verbose, cli.quiet);
     if let Some(n) = cli.threads
@@ -356,6 +359,7 @@ fn main() -> ExitCode {
         Command::Identify(args) => identify(&args),
         Command::Sensitivity(args) => sensitivity(&args),
         Command::Study(args) => study(&args),
+        Command::Components => components_list(),
     };
     match result {
         Ok(code) => code,
@@ -419,6 +423,32 @@ fn print_schema(specs: &[ParamSpec]) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// `formsim components`: every registry, one line per component.
+fn components_list() -> Outcome {
+    tools_nurbs::ensure_linked();
+    say!("Friction laws (contact.law; `formsim laws --describe NAME` for the parameters):");
+    for l in registry::laws() {
+        say!("  {:<20} {}", l.description.name, l.description.summary);
+    }
+    say!("Kinematic formulations (contact.formulation):");
+    for f in registry::formulations() {
+        say!("  {:<20} {}", f.name, f.summary);
+    }
+    say!("Materials (blank.material.model):");
+    for m in shell_elements::kinds::materials() {
+        say!("  {:<20} {}", m.name, m.summary);
+    }
+    say!("Shell elements (blank.element):");
+    for e in shell_elements::kinds::elements() {
+        say!("  {:<20} {}", e.name, e.summary);
+    }
+    say!("Tool kinds (tools.NAME.kind; `formsim tools kinds` for their facing):");
+    for k in tools_nurbs::kinds::all() {
+        say!("  {:<20} {}", k.name, k.summary);
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 fn laws(args: &LawsArgs) -> Outcome {
@@ -669,7 +699,7 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
         "  blank       {} nodes, {} {} shells, t0 = {} mm, {} points through the thickness",
         model.mesh.nodes.len(),
         model.mesh.quads.len(),
-        s.blank.element.name(),
+        s.blank.element,
         s.blank.thickness,
         s.blank.integration_points
     );

@@ -553,3 +553,20 @@ fn verbose_and_quiet_choose_the_log_level() {
         "{debug}"
     );
 }
+
+/// `formsim components` lists every registry, none empty.
+#[test]
+fn components_lists_every_registry() {
+    let o = formsim(&["components"]);
+    assert!(o.status.success());
+    let out = String::from_utf8_lossy(&o.stdout);
+    for (head, member) in [
+        ("Friction laws", "  ac "),
+        ("Kinematic formulations", "  jaumann "),
+        ("Materials", "  hill48 "),
+        ("Shell elements", "  fully-integrated "),
+        ("Tool kinds", "  s-rail-die "),
+    ] {
+        assert!(out.contains(head) && out.contains(member), "{out}");
+    }
+}

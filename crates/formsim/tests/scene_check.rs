@@ -536,3 +536,63 @@ fn force_motion_takes_force_or_a_curve() {
         .to_string();
     assert!(e.contains("force_curve[1][0]"), "{e}");
 }
+
+/// The element and the material resolve through the registry
+/// (`shell_elements::kinds`): an unregistered name, or a material whose
+/// r-values do not fit it, is one line naming the key and listing the
+/// registered names; `model` chosen explicitly builds the same shells as
+/// the default choice.
+#[test]
+fn element_and_material_resolve_through_the_registry() {
+    let load = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        scene::load(&cup(), &sets)
+    };
+    let cases = [
+        (
+            &["blank.element=bt"][..],
+            "blank.element",
+            "belytschko-tsay, fully-integrated",
+        ),
+        (
+            &["blank.material.model=vumat"][..],
+            "blank.material.model",
+            "hill48, j2",
+        ),
+        (
+            &["blank.material.model=hill48"][..],
+            "blank.material.model",
+            "needs blank.material.r_values",
+        ),
+        (
+            &[
+                "blank.material.model=j2",
+                "blank.material.r_values=[1.5, 1.2, 2.0]",
+            ][..],
+            "blank.material.model",
+            "isotropic",
+        ),
+    ];
+    for (sets, key, says) in cases {
+        let e = load(sets).unwrap_err().to_string();
+        assert!(e.contains(key) && e.contains(says), "{sets:?}: {e}");
+        assert!(!e.contains('\n'), "{e}");
+    }
+    for (sets, material) in [
+        (
+            &["blank.mesh.divisions=4", "blank.material.model=j2"][..],
+            "j2",
+        ),
+        (
+            &[
+                "blank.mesh.divisions=4",
+                "blank.material.r_values=[1.5, 1.2, 2.0]",
+            ][..],
+            "hill48",
+        ),
+    ] {
+        let model = scene::build(&load(sets).unwrap()).unwrap();
+        assert_eq!(model.shells.material, material);
+        assert_eq!(model.shells.element, "belytschko-tsay");
+    }
+}

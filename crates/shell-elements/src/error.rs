@@ -29,6 +29,10 @@ pub enum ShellError {
         /// Flow stress of the row (MPa).
         sigma_y: f64,
     },
+    /// A material or element choice that is not registered or does not fit
+    /// the values given (the message says which and lists the choices).
+    #[error("{0}")]
+    InvalidInput(String),
     /// An element that cannot be used (zero area, inverted or non-convex corner, bad node index).
     #[error("element {element}: {reason} ({measure} = {value})")]
     BadElement {

@@ -8,7 +8,8 @@
 //! the [`Material`] trait and [`J2PlaneStress`], through-thickness rules and
 //! sections ([`Section`]), per-element outputs ([`ShellElementOutput`]) and
 //! [`ShellSet`], which plugs a set of shells into `fem-core`'s solver as an
-//! [`Effect`](fem_core::Effect).
+//! [`Effect`](fem_core::Effect), and the registry of materials and elements
+//! by name ([`kinds`]).
 //!
 //! It must not know about tools, contact, friction or scenes; it sees the
 //! engine only through `fem-core`'s `Effect`, `NodalState` and `Forces`.
@@ -23,11 +24,13 @@ pub mod error;
 pub mod formulation;
 pub mod fully_integrated;
 mod geometry;
+pub mod kinds;
 pub mod lanes;
 pub mod material;
 pub mod outputs;
 pub mod section;
 pub mod shell_set;
+mod view;
 #[cfg(test)]
 mod warped_tests;
 
@@ -42,3 +45,4 @@ pub use material::{Hardening, J2History, J2PlaneStress, Material, PointUpdate, v
 pub use outputs::{LogStrain, ShellElementOutput};
 pub use section::{RuleKind, Section, ThroughThickness};
 pub use shell_set::ShellSet;
+pub use view::ShellView;

@@ -132,6 +132,8 @@ pub struct Summary {
     pub formulation: String,
     /// Shell element.
     pub element: String,
+    /// Material model (`blank.material.model`, resolved).
+    pub material: String,
     /// Number of shells.
     pub elements: usize,
     /// Number of nodes.
@@ -302,7 +304,8 @@ impl Summary {
             description: scene.scene.description.clone(),
             law: i.model.law.clone(),
             formulation: i.model.formulation.clone(),
-            element: scene.blank.element.name().to_string(),
+            element: scene.blank.element.clone(),
+            material: i.model.shells.material.to_string(),
             elements,
             nodes: i.model.mesh.nodes.len(),
             increments,

@@ -4,90 +4,21 @@
 
 use super::LoadedScene;
 use super::SceneError;
-use super::schema::{AmplitudeSpec, Boundary, ElementKind, HardeningSpec, Motion, Scene};
+use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, Motion, Scene};
 use super::validate::{axis_index, dof_from_name};
 use crate::components::{LawSource, point_integrator};
 use contact::{BlankGeometry, ContactEffect, ContactPair, FRICTIONLESS, PairSpec, PenaltySettings};
 use fem_core::{
-    Amplitude, BoundaryCondition, Dofs, EffectId, Mesh, MotionKind, NodalLoad, NodalState, Press,
-    PressStep, Solver, SolverSettings, StepEnd, ToolMotion, Vec3,
+    Amplitude, BoundaryCondition, Dofs, EffectId, Mesh, MotionKind, NodalLoad, Press, PressStep,
+    Solver, SolverSettings, StepEnd, ToolMotion, Vec3,
 };
 use plugins_api::{Params, TangentMode, ToolSurface};
-use shell_elements::material::Hill48PlaneStress;
-use shell_elements::{
-    BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, LogStrain, Material, Section,
-    ShellFormulation, ShellSet,
-};
+pub use shell_elements::ShellView;
+use shell_elements::kinds::{self, MaterialRequest, ShellRequest};
+use shell_elements::{Hardening, Section};
 
-/// Read access to the blank's shells, whichever element the scene chose.
-pub trait ShellView {
-    /// Number of elements.
-    fn len(&self) -> usize;
-    /// True when there are no elements.
-    fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-    /// Current thickness of element `e` (mm).
-    fn thickness(&self, e: usize) -> f64;
-    /// Flow stress at the outer fibres `[bottom, top]` (MPa).
-    fn outer_flow_stress(&self, e: usize) -> [f64; 2];
-    /// Logarithmic membrane strain of element `e`.
-    fn membrane_strain(&self, e: usize, state: &NodalState) -> LogStrain;
-    /// Largest von Mises stress over the element's integration points
-    /// (MPa); von Mises whatever the material (a Hill'48 blank's own
-    /// equivalent stress is not this field).
-    fn von_mises_max(&self, e: usize) -> f64;
-    /// Largest equivalent plastic strain over the element's integration points (-).
-    fn plastic_strain_max(&self, e: usize) -> f64;
-}
-
-impl<E: ShellFormulation, M: Material> ShellView for ShellSet<E, M> {
-    fn len(&self) -> usize {
-        ShellSet::len(self)
-    }
-    fn thickness(&self, e: usize) -> f64 {
-        ShellSet::thickness(self, e)
-    }
-    fn outer_flow_stress(&self, e: usize) -> [f64; 2] {
-        ShellSet::outer_flow_stress(self, e)
-    }
-    fn membrane_strain(&self, e: usize, state: &NodalState) -> LogStrain {
-        ShellSet::membrane_strain(self, e, state)
-    }
-    fn von_mises_max(&self, e: usize) -> f64 {
-        let n = self.section().rule.n;
-        let mut m: f64 = 0.0;
-        for p in 0..E::IN_PLANE_POINTS {
-            for k in 0..n {
-                m = m.max(shell_elements::von_mises(&self.stress(e, p, k)));
-            }
-        }
-        m
-    }
-    fn plastic_strain_max(&self, e: usize) -> f64 {
-        let n = self.section().rule.n;
-        let mut m: f64 = 0.0;
-        for p in 0..E::IN_PLANE_POINTS {
-            for k in 0..n {
-                m = m.max(self.plastic_strain(e, p, k));
-            }
-        }
-        m
-    }
-}
-
-/// Which shell effect holds the blank.
-#[derive(Debug, Clone, Copy)]
-pub enum ShellHandle {
-    /// Belytschko–Tsay shells, J2.
-    BelytschkoTsay(EffectId),
-    /// Fully integrated shells, J2.
-    FullyIntegrated(EffectId),
-    /// Belytschko–Tsay shells, Hill'48.
-    BelytschkoTsayHill(EffectId),
-    /// Fully integrated shells, Hill'48.
-    FullyIntegratedHill(EffectId),
-}
+/// The shell effect that holds the blank, with its element and material.
+pub type ShellHandle = shell_elements::kinds::Shells;
 
 /// The tool whose travel is the stroke.
 #[derive(Debug, Clone, Copy)]
@@ -135,7 +66,9 @@ impl std::fmt::Debug for Model {
 impl Model {
     /// The blank's shells.
     pub fn shells(&self) -> &dyn ShellView {
-        shells_of(&self.solver, self.shells)
+        self.shells
+            .view(&self.solver)
+            .expect("the model's shells are in its solver")
     }
 
     /// The contact effect.
@@ -144,30 +77,15 @@ impl Model {
     }
 }
 
-/// The shell effect behind `handle`, read through [`ShellView`].
-fn shells_of(solver: &Solver, handle: ShellHandle) -> &dyn ShellView {
-    fn get<E: ShellFormulation, M: Material>(solver: &Solver, id: EffectId) -> &dyn ShellView {
-        solver
-            .effect::<ShellSet<E, M>>(id)
-            .expect("the model's shell effect has this type")
-    }
-    match handle {
-        ShellHandle::BelytschkoTsay(id) => get::<BelytschkoTsay, J2PlaneStress>(solver, id),
-        ShellHandle::FullyIntegrated(id) => get::<FullyIntegrated, J2PlaneStress>(solver, id),
-        ShellHandle::BelytschkoTsayHill(id) => get::<BelytschkoTsay, Hill48PlaneStress>(solver, id),
-        ShellHandle::FullyIntegratedHill(id) => {
-            get::<FullyIntegrated, Hill48PlaneStress>(solver, id)
-        }
-    }
-}
-
-/// The blank's material and shells, added to `solver`: J2, or Hill'48 when
-/// `blank.material.r_values` is given (see [`super::material`]).
+/// The blank's material and shells, added to `solver`: the material model
+/// and the element resolved through the registry
+/// (`shell_elements::kinds`; `formsim components` lists them).
 fn add_shells(
     loaded: &LoadedScene,
     solver: &mut Solver,
     mesh: &Mesh,
 ) -> Result<ShellHandle, SceneError> {
+    kinds::ensure_linked();
     let s: &Scene = &loaded.scene;
     let m = &s.blank.material;
     let hardening = match &m.hardening {
@@ -187,62 +105,50 @@ fn add_shells(
         .and_then(|sec| sec.with_rule(shell_elements::RuleKind::Gauss, s.blank.integration_points))
         .and_then(|sec| sec.with_hourglass(s.blank.hourglass))
         .map_err(|e| loaded.key_error("blank", e.to_string()))?;
-    let bad_material =
-        |e: shell_elements::ShellError| loaded.key_error("blank.material", e.to_string());
-    let (young, nu, rho) = (m.youngs_modulus, m.poissons_ratio, m.density);
-    let Some(r) = m.r_values else {
-        let material = J2PlaneStress::new(young, nu, rho, hardening).map_err(bad_material)?;
-        return Ok(match add_set(loaded, solver, mesh, section, material)? {
-            (ElementKind::BelytschkoTsay, id) => ShellHandle::BelytschkoTsay(id),
-            (ElementKind::FullyIntegrated, id) => ShellHandle::FullyIntegrated(id),
-        });
+    let model = super::schema::material_model(s);
+    let kind = kinds::material(&model).ok_or_else(|| {
+        loaded.key_error(
+            "blank.material.model",
+            format!(
+                "\"{model}\" is not a registered material (registered: {})",
+                kinds::names(kinds::materials().iter().map(|k| k.name))
+            ),
+        )
+    })?;
+    let rolling_angle = match m.r_values {
+        Some(_) => Some(
+            super::material::rolling_angle(mesh)
+                .map_err(|e| loaded.key_error("blank.material.r_values", e))?,
+        ),
+        None => None,
     };
-    let angle = super::material::rolling_angle(mesh)
-        .map_err(|e| loaded.key_error("blank.material.r_values", e))?;
-    let material = Hill48PlaneStress::new(young, nu, rho, hardening, r)
-        .and_then(|m| m.with_rolling_angle(angle))
-        .map_err(bad_material)?;
-    Ok(match add_set(loaded, solver, mesh, section, material)? {
-        (ElementKind::BelytschkoTsay, id) => ShellHandle::BelytschkoTsayHill(id),
-        (ElementKind::FullyIntegrated, id) => ShellHandle::FullyIntegratedHill(id),
+    let b = &s.blank;
+    let request = MaterialRequest {
+        young: m.youngs_modulus,
+        poisson: m.poissons_ratio,
+        density: m.density,
+        hardening,
+        r_values: m.r_values,
+        rolling_angle,
+        shells: ShellRequest {
+            name: "blank",
+            element: &b.element,
+            nodes: &mesh.nodes,
+            quads: &mesh.quads,
+            section,
+            warping_correction: b.warping_correction,
+            drilling: b.drilling,
+        },
+    };
+    (kind.build)(&request, solver).map_err(|e| {
+        let key = match e {
+            shell_elements::ShellError::InvalidInput(_) if kinds::element(&b.element).is_none() => {
+                "blank.element"
+            }
+            _ => "blank.material",
+        };
+        loaded.key_error(key, e.to_string())
     })
-}
-
-/// The blank's shell set of the scene's element and `material`, added to `solver`.
-fn add_set<M: Material>(
-    loaded: &LoadedScene,
-    solver: &mut Solver,
-    mesh: &Mesh,
-    section: Section,
-    material: M,
-) -> Result<(ElementKind, EffectId), SceneError> {
-    let b = &loaded.scene.blank;
-    let bad = |key: &str, e: shell_elements::ShellError| loaded.key_error(key, e.to_string());
-    let id = match b.element {
-        ElementKind::BelytschkoTsay => {
-            let form = BelytschkoTsay {
-                warping_correction: b.warping_correction,
-                ..BelytschkoTsay::default()
-            }
-            .with_drilling(b.drilling)
-            .map_err(|e| bad("blank.drilling", e))?;
-            let set = ShellSet::new("blank", &mesh.nodes, &mesh.quads, section, form, material)
-                .map_err(|e| bad("blank", e))?;
-            solver.add_effect(set)
-        }
-        ElementKind::FullyIntegrated => {
-            let form = FullyIntegrated {
-                warping_correction: b.warping_correction,
-                ..FullyIntegrated::default()
-            }
-            .with_drilling(b.drilling)
-            .map_err(|e| bad("blank.drilling", e))?;
-            let set = ShellSet::new("blank", &mesh.nodes, &mesh.quads, section, form, material)
-                .map_err(|e| bad("blank", e))?;
-            solver.add_effect(set)
-        }
-    };
-    Ok((b.element, id))
 }
 
 /// Build the model of `loaded`.

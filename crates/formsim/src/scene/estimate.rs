@@ -8,7 +8,7 @@
 //! is refused before anything large is allocated; a mesh file is counted
 //! once read. The added mass needs the built model ([`mass_scaling_warnings`]).
 
-use super::schema::{ElementKind, MeshSpec, Scene};
+use super::schema::{MeshSpec, Scene, material_model};
 use super::{LoadedScene, SceneError};
 use fem_core::{Mesh, SetupReport};
 
@@ -47,21 +47,6 @@ pub const FRAMES_DISK_CAP: f64 = 64.0 * GIB;
 /// 15.2 s, `element_cycles_per_s` = 4.954e6 (before that work: 0.44 µs,
 /// 2.264e6 on a loaded host).
 pub const MICROSECONDS_PER_ELEMENT_CYCLE: f64 = 0.20;
-
-/// The fully integrated shell's cost per element cycle relative to
-/// Belytschko–Tsay's, measured on the same cup (its first 3 ms, 6,000
-/// increments, `--set solver.end_time=3e-3`, 2 threads, after issue 15):
-/// 2.830e6 against 5.277e6 element cycles/s (the shells' share grew as
-/// contact got cheaper; 1.2 before).
-pub const FULLY_INTEGRATED_COST: f64 = 1.9;
-
-/// Hill'48's (`blank.material.r_values`) cost per element cycle relative
-/// to J2's, everything included, measured on the square cup
-/// (`scenes/square-cup-hill.toml` against `scenes/square-cup.toml`, 2
-/// threads, one after the other, 2026-11-25, after issue 15): 2.357e6
-/// against 4.954e6 element cycles/s (the material's return runs lane by
-/// lane, about 9× J2's lane kernel; contact is shared; 1.6 before).
-pub const HILL48_COST: f64 = 2.1;
 
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
@@ -279,10 +264,9 @@ pub fn history_row_bytes(tools: usize) -> f64 {
 /// square cup at 200, 400 and 800 divisions (both elements, 5 and 9 points)
 /// and of the block on a plane at 400 (within 25 %).
 pub fn estimate(scene: &Scene, mesh: MeshSize) -> Estimate {
-    let ip = match scene.blank.element {
-        ElementKind::BelytschkoTsay => 1.0,
-        ElementKind::FullyIntegrated => 4.0,
-    };
+    let element = shell_elements::kinds::element(&scene.blank.element);
+    let material = shell_elements::kinds::material(&material_model(scene));
+    let ip = element.map_or(1, |k| k.in_plane_points) as f64;
     let points = ip * scene.blank.integration_points as f64;
     let model_bytes = BASE_BYTES
         + mesh.nodes * (NODE_BYTES + PAIR_NODE_BYTES * pair_count(scene))
@@ -294,13 +278,7 @@ pub fn estimate(scene: &Scene, mesh: MeshSize) -> Estimate {
     let increments = (end / dt).ceil();
     let frames = (scene.output.frames as f64).min(increments);
     let frame_bytes = mesh.nodes * FRAME_NODE_BYTES + mesh.elements * FRAME_ELEMENT_BYTES;
-    let cost = match scene.blank.element {
-        ElementKind::BelytschkoTsay => 1.0,
-        ElementKind::FullyIntegrated => FULLY_INTEGRATED_COST,
-    } * match scene.blank.material.r_values {
-        Some(_) => HILL48_COST,
-        None => 1.0,
-    };
+    let cost = element.map_or(1.0, |k| k.relative_cost) * material.map_or(1.0, |k| k.relative_cost);
     Estimate {
         mesh,
         model_bytes,
@@ -570,8 +548,8 @@ mod tests {
         assert_eq!(history_row_bytes(3), 208.0 + 3.0 * 40.0);
     }
 
-    /// A Hill'48 blank's run time is estimated at [`HILL48_COST`] times
-    /// J2's, all else equal.
+    /// A Hill'48 blank's run time is estimated at its registered relative
+    /// cost (`shell_elements::kinds`) times J2's, all else equal.
     #[test]
     fn hill_blanks_cost_more_per_element_cycle() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
@@ -582,7 +560,9 @@ mod tests {
             estimate(&iso.scene, mesh(&iso)),
             estimate(&hill.scene, mesh(&hill)),
         );
-        assert!((b.run_time_s / a.run_time_s / HILL48_COST - 1.0).abs() < 1e-12);
+        let hill48 = shell_elements::kinds::material("hill48").unwrap();
+        assert!(hill48.relative_cost > 1.0);
+        assert!((b.run_time_s / a.run_time_s / hill48.relative_cost - 1.0).abs() < 1e-12);
     }
 
     #[test]

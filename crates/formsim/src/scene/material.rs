@@ -97,7 +97,6 @@ mod tests {
         assert!(e.contains("normal to global x"), "{e}");
     }
 
-    use crate::scene::build::ShellHandle;
     use crate::scene::{build, load, resolved};
 
     fn scene(name: &str) -> std::path::PathBuf {
@@ -127,11 +126,12 @@ mod tests {
         ] {
             let loaded = load(&scene(name), &over).unwrap();
             let model = build(&loaded).unwrap();
-            let got = match model.shells {
-                ShellHandle::BelytschkoTsay(_) => "bt-j2",
-                ShellHandle::FullyIntegrated(_) => "fi-j2",
-                ShellHandle::BelytschkoTsayHill(_) => "bt-hill",
-                ShellHandle::FullyIntegratedHill(_) => "fi-hill",
+            let got = match (model.shells.element, model.shells.material) {
+                ("belytschko-tsay", "j2") => "bt-j2",
+                ("fully-integrated", "j2") => "fi-j2",
+                ("belytschko-tsay", "hill48") => "bt-hill",
+                ("fully-integrated", "hill48") => "fi-hill",
+                other => panic!("{other:?}"),
             };
             assert_eq!(got, want, "{name} {over:?}");
             let lines = resolved::dotted_lines(&loaded.scene).unwrap();

@@ -97,9 +97,10 @@ pub struct Blank {
     pub mesh: MeshSpec,
     /// Initial thickness (mm).
     pub thickness: f64,
+    /// A registered shell element (`formsim components`):
     /// `belytschko-tsay` (default) or `fully-integrated`.
-    #[serde(default)]
-    pub element: ElementKind,
+    #[serde(default = "default_element")]
+    pub element: String,
     /// Through-thickness integration points (default 5).
     #[serde(default = "default_points")]
     pub integration_points: usize,
@@ -134,25 +135,8 @@ fn default_warping_correction() -> bool {
     shell_elements::BelytschkoTsay::default().warping_correction
 }
 
-/// Shell element formulation.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ElementKind {
-    /// One-point Belytschko–Tsay with hourglass control.
-    #[default]
-    BelytschkoTsay,
-    /// 2×2 fully integrated shell with assumed transverse shear.
-    FullyIntegrated,
-}
-
-impl ElementKind {
-    /// The name used in the scene file.
-    pub fn name(self) -> &'static str {
-        match self {
-            ElementKind::BelytschkoTsay => "belytschko-tsay",
-            ElementKind::FullyIntegrated => "fully-integrated",
-        }
-    }
+fn default_element() -> String {
+    "belytschko-tsay".into()
 }
 
 /// `[blank.mesh]`.
@@ -234,6 +218,21 @@ pub struct Material {
     /// projected onto the blank. Absent: isotropic J2 (von Mises).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub r_values: Option<[f64; 3]>,
+    /// A registered material model (`formsim components`): `j2` or
+    /// `hill48`. Absent: `hill48` with `r_values`, else `j2`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
+}
+
+/// The material model a scene asks for: `blank.material.model`, else
+/// `hill48` with r-values and `j2` without.
+pub fn material_model(scene: &Scene) -> String {
+    let m = &scene.blank.material;
+    match (&m.model, m.r_values) {
+        (Some(name), _) => name.clone(),
+        (None, Some(_)) => "hill48".into(),
+        (None, None) => "j2".into(),
+    }
 }
 
 /// Hardening curve `σ_y(ε_p)`.

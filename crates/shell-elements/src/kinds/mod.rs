@@ -1,0 +1,254 @@
+//! Materials and shell elements by registration, as friction laws and tool
+//! kinds are: each material a scene's `blank.material.model` may name is a
+//! [`MaterialKind`], each `blank.element` an [`ElementKind`], submitted to
+//! the registry (`inventory`) from their own files in this folder.
+//!
+//! - A new **material** is one file here: its `MaterialKind` (name, summary,
+//!   keys) and a builder that makes the material from a
+//!   [`MaterialRequest`] and hands it to [`add_shells`].
+//! - A new **element** is one file here (its `ElementKind`) plus one arm of
+//!   [`add_shells`], the one place where an element's name becomes a type:
+//!   the element loop stays monomorphised over the element and the material.
+//!
+//! [`materials`] and [`elements`] list them (`formsim components`);
+//! [`ensure_linked`] keeps this crate's registrations in a binary that names
+//! nothing else of it.
+
+mod elements;
+mod hill48;
+mod j2;
+
+use crate::{BelytschkoTsay, FullyIntegrated, Hardening, Material, Section, ShellError, ShellSet};
+use crate::{ShellFormulation, ShellView};
+use fem_core::{EffectId, Solver, Vec3};
+
+/// A registered material model.
+#[derive(Debug)]
+pub struct MaterialKind {
+    /// The name a scene gives as `blank.material.model`.
+    pub name: &'static str,
+    /// One line: what it models and the keys it reads (units).
+    pub summary: &'static str,
+    /// Whether it reads `blank.material.r_values` (and needs them).
+    pub anisotropic: bool,
+    /// A whole run's cost per element cycle relative to `j2`'s, for the
+    /// run-time estimate (measured; the material's file says where).
+    pub relative_cost: f64,
+    /// Make the material and add the blank's shells of `request.shells.element`.
+    pub build: fn(&MaterialRequest<'_>, &mut Solver) -> Result<Shells, ShellError>,
+}
+
+/// A registered shell element.
+#[derive(Debug)]
+pub struct ElementKind {
+    /// The name a scene gives as `blank.element`.
+    pub name: &'static str,
+    /// One line: the formulation and its integration.
+    pub summary: &'static str,
+    /// Integration points in the plane (for the memory estimate).
+    pub in_plane_points: usize,
+    /// A whole run's cost per element cycle relative to Belytschko–Tsay's,
+    /// for the run-time estimate (measured; the element's file says where).
+    pub relative_cost: f64,
+}
+
+inventory::collect!(MaterialKind);
+inventory::collect!(ElementKind);
+
+/// What a material's builder receives: the scene's `[blank.material]` values
+/// and the shells to make.
+#[derive(Debug)]
+pub struct MaterialRequest<'a> {
+    /// Young's modulus (MPa).
+    pub young: f64,
+    /// Poisson's ratio (-).
+    pub poisson: f64,
+    /// Density (tonne/mm³).
+    pub density: f64,
+    /// Hardening curve.
+    pub hardening: Hardening,
+    /// Lankford coefficients `[r0, r45, r90]`, when the scene gives them.
+    pub r_values: Option<[f64; 3]>,
+    /// Angle from the elements' first axis to the rolling direction (rad),
+    /// when the scene gives r-values.
+    pub rolling_angle: Option<f64>,
+    /// The shells.
+    pub shells: ShellRequest<'a>,
+}
+
+/// The blank's shells, whatever the material.
+#[derive(Debug)]
+pub struct ShellRequest<'a> {
+    /// The effect's name (`blank`).
+    pub name: &'a str,
+    /// The element asked for ([`ElementKind::name`]).
+    pub element: &'a str,
+    /// Initial nodal positions (mm).
+    pub nodes: &'a [Vec3],
+    /// Quadrilaterals (node indices).
+    pub quads: &'a [[u32; 4]],
+    /// Thickness, through-thickness rule and hourglass control.
+    pub section: Section,
+    /// Warping correction of the element's frame.
+    pub warping_correction: bool,
+    /// Drilling-penalty factor (-).
+    pub drilling: f64,
+}
+
+/// The shells a builder added: their effect, and read access through
+/// [`ShellView`] whatever their concrete type.
+#[derive(Debug, Clone, Copy)]
+pub struct Shells {
+    /// The effect.
+    pub id: EffectId,
+    /// Its element ([`ElementKind::name`]).
+    pub element: &'static str,
+    /// Its material ([`MaterialKind::name`]).
+    pub material: &'static str,
+    view: fn(&Solver, EffectId) -> Option<&dyn ShellView>,
+}
+
+impl Shells {
+    /// The shells in `solver`, read through [`ShellView`] (`None` if `solver`
+    /// is not the one they were added to).
+    pub fn view<'s>(&self, solver: &'s Solver) -> Option<&'s dyn ShellView> {
+        (self.view)(solver, self.id)
+    }
+
+    /// The shells as their concrete type, when it is `ShellSet<E, M>`.
+    pub fn get<'s, E: ShellFormulation, M: Material>(
+        &self,
+        solver: &'s Solver,
+    ) -> Option<&'s ShellSet<E, M>> {
+        solver.effect(self.id)
+    }
+}
+
+fn view_of<E: ShellFormulation, M: Material>(
+    solver: &Solver,
+    id: EffectId,
+) -> Option<&dyn ShellView> {
+    solver
+        .effect::<ShellSet<E, M>>(id)
+        .map(|s| s as &dyn ShellView)
+}
+
+/// Add the shells of `request.element` with `material` to `solver`: the one
+/// place where an element's name becomes its type (a new element adds its
+/// arm here). `material_name` is the material's registered name.
+///
+/// # Errors
+/// An element not registered (the message lists those that are); the
+/// element's or the shell set's own checks.
+pub fn add_shells<M: Material>(
+    request: &ShellRequest<'_>,
+    material: M,
+    material_name: &'static str,
+    solver: &mut Solver,
+) -> Result<Shells, ShellError> {
+    let r = request;
+    match r.element {
+        "belytschko-tsay" => {
+            let form = BelytschkoTsay {
+                warping_correction: r.warping_correction,
+                ..BelytschkoTsay::default()
+            }
+            .with_drilling(r.drilling)?;
+            add(r, form, material, "belytschko-tsay", material_name, solver)
+        }
+        "fully-integrated" => {
+            let form = FullyIntegrated {
+                warping_correction: r.warping_correction,
+                ..FullyIntegrated::default()
+            }
+            .with_drilling(r.drilling)?;
+            add(r, form, material, "fully-integrated", material_name, solver)
+        }
+        other => Err(ShellError::InvalidInput(format!(
+            "element \"{other}\" is not registered (registered: {})",
+            names(elements().iter().map(|k| k.name))
+        ))),
+    }
+}
+
+fn add<E: ShellFormulation, M: Material>(
+    r: &ShellRequest<'_>,
+    form: E,
+    material: M,
+    element: &'static str,
+    material_name: &'static str,
+    solver: &mut Solver,
+) -> Result<Shells, ShellError> {
+    let set = ShellSet::new(r.name, r.nodes, r.quads, r.section, form, material)?;
+    Ok(Shells {
+        id: solver.add_effect(set),
+        element,
+        material: material_name,
+        view: view_of::<E, M>,
+    })
+}
+
+/// Every registered material, sorted by name.
+pub fn materials() -> Vec<&'static MaterialKind> {
+    let mut v: Vec<_> = inventory::iter::<MaterialKind>.into_iter().collect();
+    v.sort_by_key(|k| k.name);
+    v
+}
+
+/// Every registered element, sorted by name.
+pub fn elements() -> Vec<&'static ElementKind> {
+    let mut v: Vec<_> = inventory::iter::<ElementKind>.into_iter().collect();
+    v.sort_by_key(|k| k.name);
+    v
+}
+
+/// The material named `name`.
+pub fn material(name: &str) -> Option<&'static MaterialKind> {
+    inventory::iter::<MaterialKind>
+        .into_iter()
+        .find(|k| k.name == name)
+}
+
+/// The element named `name`.
+pub fn element(name: &str) -> Option<&'static ElementKind> {
+    inventory::iter::<ElementKind>
+        .into_iter()
+        .find(|k| k.name == name)
+}
+
+/// `a, b, c` for messages.
+pub fn names<'a>(it: impl Iterator<Item = &'a str>) -> String {
+    it.collect::<Vec<_>>().join(", ")
+}
+
+/// Keep this crate's registrations in the final binary (call once at
+/// start-up from a binary that names nothing else of the registry).
+pub fn ensure_linked() {
+    elements::ensure_linked();
+    j2::ensure_linked();
+    hill48::ensure_linked();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Both registries hold the built-ins, each name once.
+    #[test]
+    fn registries_are_not_empty_and_names_are_unique() {
+        ensure_linked();
+        let m: Vec<_> = materials().iter().map(|k| k.name).collect();
+        let e: Vec<_> = elements().iter().map(|k| k.name).collect();
+        assert!(m.contains(&"j2") && m.contains(&"hill48"), "{m:?}");
+        assert!(
+            e.contains(&"belytschko-tsay") && e.contains(&"fully-integrated"),
+            "{e:?}"
+        );
+        for list in [&m, &e] {
+            let mut d = list.clone();
+            d.dedup();
+            assert_eq!(&d, list);
+        }
+        assert!(material("nope").is_none() && element("nope").is_none());
+    }
+}
