@@ -158,9 +158,6 @@ fn add_shells(
 /// each attached to the scene key it comes from.
 pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     let s: &Scene = &loaded.scene;
-    let base = loaded.base_dir();
-
-    // Mesh.
     let mesh = super::blank_mesh::build_mesh(loaded)?;
     let settings = SolverSettings {
         safety_factor: s.solver.safety_factor,
@@ -172,13 +169,46 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     };
     let mut solver =
         Solver::new(&mesh, settings).map_err(|e| loaded.key_error("solver", e.to_string()))?;
-
-    // Material and shells.
     let shells = add_shells(loaded, &mut solver, &mesh)?;
+    let (tool_names, tools) = build_tools(loaded)?;
+    let press = press_programme(loaded, &tool_names, &tools, &pair_entries(s))?;
+    let end_time = s
+        .solver
+        .end_time
+        .or_else(|| press.as_ref().map(Press::nominal_duration))
+        .expect("validated: end_time or steps");
+    let (contact, law, formulation) = if tools.is_empty() {
+        (None, s.contact.law.clone(), s.contact.formulation.clone())
+    } else {
+        let (id, law, formulation) =
+            add_contact(loaded, &mut solver, &mesh, tools, press, &tool_names)?;
+        (Some(id), law, formulation)
+    };
+    add_boundary_and_loads(loaded, &mut solver, &mesh)?;
+    let stroke = stroke_tool(loaded, &tool_names)?;
+    Ok(Model {
+        solver,
+        shells,
+        contact,
+        tool_names,
+        mesh,
+        thickness0: s.blank.thickness,
+        end_time,
+        stroke,
+        law,
+        formulation,
+    })
+}
 
-    // Tools (in the table's key order).
+/// The scene's tools, boxed for the contact effect.
+type Tools = Vec<Box<dyn ToolSurface>>;
+
+/// The tools, in the table's key order, with their names.
+fn build_tools(loaded: &LoadedScene) -> Result<(Vec<String>, Tools), SceneError> {
+    let s: &Scene = &loaded.scene;
+    let base = loaded.base_dir();
     let mut tool_names = Vec::new();
-    let mut tools: Vec<Box<dyn ToolSurface>> = Vec::new();
+    let mut tools: Tools = Vec::new();
     for (name, value) in &s.tools {
         let key = format!("tools.{name}");
         let table = value
@@ -189,77 +219,29 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
         tool_names.push(name.clone());
         tools.push(Box::new(tool));
     }
-    let tool_index = |name: &str| tool_names.iter().position(|n| n == name);
+    Ok((tool_names, tools))
+}
 
-    // Press programme.
-    let entries = pair_entries(s);
+/// The index of the tool named `name`.
+fn index_of(tool_names: &[String], name: &str) -> Option<usize> {
+    tool_names.iter().position(|n| n == name)
+}
+
+/// The press programme (`[[steps]]`): `None` for a scene without steps.
+fn press_programme(
+    loaded: &LoadedScene,
+    tool_names: &[String],
+    tools: &[Box<dyn ToolSurface>],
+    entries: &[super::schema::PairEntry],
+) -> Result<Option<Press>, SceneError> {
+    let s: &Scene = &loaded.scene;
     let mut press_steps = Vec::new();
     for step in &s.steps {
-        let (end, duration) = match (step.duration, &step.until) {
-            (Some(d), _) => (StepEnd::Duration(d), d),
-            (None, Some(u)) => (
-                StepEnd::Travel {
-                    tool: tool_index(&u.tool).expect("validated"),
-                    distance: u.distance,
-                    max_duration: u.max_duration,
-                },
-                u.max_duration,
-            ),
-            (None, None) => unreachable!("validated"),
-        };
+        let (end, duration) = step_end(step, tool_names);
         let mut motions = Vec::new();
         for motion in &step.motions {
-            let tool = tool_index(motion.tool()).expect("validated");
-            let amp = |a: &Option<AmplitudeSpec>| a.as_ref().map(|a| step_amplitude(a, duration));
-            let m = match motion {
-                Motion::Hold { .. } => ToolMotion::Hold,
-                Motion::Travel {
-                    direction,
-                    distance,
-                    amplitude,
-                    ..
-                } => ToolMotion::Travel {
-                    direction: unit(direction),
-                    distance: *distance,
-                    amplitude: amp(amplitude),
-                },
-                Motion::Velocity {
-                    direction,
-                    speed,
-                    amplitude,
-                    ..
-                } => ToolMotion::Velocity {
-                    direction: unit(direction),
-                    speed: *speed,
-                    amplitude: amp(amplitude),
-                },
-                Motion::Spin {
-                    axis,
-                    rate,
-                    amplitude,
-                    ..
-                } => ToolMotion::Spin {
-                    axis: unit(axis),
-                    rate: *rate,
-                    amplitude: amp(amplitude),
-                },
-                Motion::Force {
-                    direction,
-                    amplitude,
-                    mass,
-                    damping,
-                    relative_damping,
-                    ..
-                } => ToolMotion::Force {
-                    direction: unit(direction),
-                    force: motion.force_law().expect("validated: force or force_curve"),
-                    amplitude: amp(amplitude),
-                    mass: *mass,
-                    damping: *damping,
-                    relative_damping: *relative_damping,
-                },
-            };
-            motions.push((tool, m));
+            let tool = index_of(tool_names, motion.tool()).expect("validated");
+            motions.push((tool, tool_motion(motion, duration)));
         }
         let active_pairs = step.pairs.as_ref().map(|tools_on| {
             entries
@@ -276,119 +258,223 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
             active_pairs,
         });
     }
-    let press = if press_steps.is_empty() {
-        None
-    } else {
-        let poses: Vec<_> = tools.iter().map(|t| t.pose()).collect();
-        Some(
-            Press::new(&tool_names, &poses, press_steps)
-                .map_err(|e| loaded.key_error("steps", e.to_string()))?,
-        )
-    };
-    let end_time = s
-        .solver
-        .end_time
-        .or_else(|| press.as_ref().map(Press::nominal_duration))
-        .expect("validated: end_time or steps");
-
-    // Contact pairs.
-    let n_nodes = mesh.nodes.len();
-    let mut contact = None;
-    let mut law_name = s.contact.law.clone();
-    let mut formulation_name = s.contact.formulation.clone();
-    if !tools.is_empty() {
-        let geometry = BlankGeometry::new(n_nodes, &mesh.quads)
-            .map_err(|e| loaded.key_error("blank.mesh", e.to_string()))?;
-        let m = &s.blank.material;
-        let bulk = m.youngs_modulus / (3.0 * (1.0 - 2.0 * m.poissons_ratio));
-        let mut pairs = Vec::new();
-        for (k, entry) in entries.iter().enumerate() {
-            let key = if s.contact.pairs.is_empty() {
-                "contact".to_string()
-            } else {
-                format!("contact.pairs[{k}]")
-            };
-            let law = entry.law.clone().unwrap_or_else(|| s.contact.law.clone());
-            let formulation = entry
-                .formulation
-                .clone()
-                .unwrap_or_else(|| s.contact.formulation.clone());
-            let (source, params_key) = match &s.contact.plugin {
-                Some(p) if entry.law.is_none() => {
-                    (LawSource::Plugin(base.join(p)), "plugin".to_string())
-                }
-                _ => (LawSource::Named(law.clone()), law.clone()),
-            };
-            let frictionless = matches!(&source, LawSource::Named(n) if n == FRICTIONLESS);
-            if k == 0 {
-                law_name = match &source {
-                    LawSource::Named(n) => n.clone(),
-                    LawSource::Plugin(p) => p.display().to_string(),
-                };
-                formulation_name = if frictionless {
-                    "none".into()
-                } else {
-                    formulation.clone()
-                };
-            }
-            let mut params = Params::new();
-            if let Some(table) = s.contact.params.get(&params_key) {
-                for (name, v) in table {
-                    params.set(name, *v);
-                }
-            }
-            let tool = tool_index(&entry.tool).expect("validated");
-            let spec = pair_spec(s, entry, tool, bulk);
-            let pair = if frictionless {
-                if let Some((name, _)) = params.0.iter().next() {
-                    return Err(loaded.key_error(
-                        &format!("contact.params.{FRICTIONLESS}.{name}"),
-                        "a frictionless pair takes no parameters",
-                    ));
-                }
-                ContactPair::frictionless(&spec, &geometry, &mesh.nodes)
-            } else {
-                let integrator =
-                    point_integrator(&source, &params, &formulation, TangentMode::None).map_err(
-                        |e| {
-                            let message = e.to_string();
-                            let key =
-                                if message.contains("unknown law") || message.contains("plugin") {
-                                    if entry.law.is_some() {
-                                        format!("{key}.law")
-                                    } else if s.contact.plugin.is_some() {
-                                        "contact.plugin".to_string()
-                                    } else {
-                                        "contact.law".to_string()
-                                    }
-                                } else if message.contains("formulation") {
-                                    if entry.formulation.is_some() {
-                                        format!("{key}.formulation")
-                                    } else {
-                                        "contact.formulation".to_string()
-                                    }
-                                } else {
-                                    format!("contact.params.{params_key}")
-                                };
-                            loaded.key_error(&key, message)
-                        },
-                    )?;
-                ContactPair::new(&spec, integrator, &geometry, &mesh.nodes)
-            };
-            pairs.push(pair.map_err(|e| loaded.key_error(&key, e.to_string()))?);
-        }
-        let effect = ContactEffect::new(
-            tools,
-            press,
-            pairs,
-            geometry,
-            vec![s.blank.thickness; n_nodes],
-        )
-        .map_err(|e| loaded.key_error("contact", e.to_string()))?;
-        contact = Some(solver.add_effect(effect));
+    if press_steps.is_empty() {
+        return Ok(None);
     }
+    let poses: Vec<_> = tools.iter().map(|t| t.pose()).collect();
+    Press::new(tool_names, &poses, press_steps)
+        .map(Some)
+        .map_err(|e| loaded.key_error("steps", e.to_string()))
+}
 
-    // Boundary conditions and loads.
+/// How a press step ends, and its duration (the longest, for a travel).
+fn step_end(step: &super::schema::Step, tool_names: &[String]) -> (StepEnd, f64) {
+    match (step.duration, &step.until) {
+        (Some(d), _) => (StepEnd::Duration(d), d),
+        (None, Some(u)) => (
+            StepEnd::Travel {
+                tool: index_of(tool_names, &u.tool).expect("validated"),
+                distance: u.distance,
+                max_duration: u.max_duration,
+            },
+            u.max_duration,
+        ),
+        (None, None) => unreachable!("validated"),
+    }
+}
+
+/// A tool's motion in a press step of `duration` (s).
+fn tool_motion(motion: &Motion, duration: f64) -> ToolMotion {
+    let amp = |a: &Option<AmplitudeSpec>| a.as_ref().map(|a| step_amplitude(a, duration));
+    match motion {
+        Motion::Hold { .. } => ToolMotion::Hold,
+        Motion::Travel {
+            direction,
+            distance,
+            amplitude,
+            ..
+        } => ToolMotion::Travel {
+            direction: unit(direction),
+            distance: *distance,
+            amplitude: amp(amplitude),
+        },
+        Motion::Velocity {
+            direction,
+            speed,
+            amplitude,
+            ..
+        } => ToolMotion::Velocity {
+            direction: unit(direction),
+            speed: *speed,
+            amplitude: amp(amplitude),
+        },
+        Motion::Spin {
+            axis,
+            rate,
+            amplitude,
+            ..
+        } => ToolMotion::Spin {
+            axis: unit(axis),
+            rate: *rate,
+            amplitude: amp(amplitude),
+        },
+        Motion::Force {
+            direction,
+            amplitude,
+            mass,
+            damping,
+            relative_damping,
+            ..
+        } => ToolMotion::Force {
+            direction: unit(direction),
+            force: motion.force_law().expect("validated: force or force_curve"),
+            amplitude: amp(amplitude),
+            mass: *mass,
+            damping: *damping,
+            relative_damping: *relative_damping,
+        },
+    }
+}
+
+/// The contact effect: one pair per entry of `[contact]`, the tools and
+/// the press; also the first pair's law and formulation (for reports).
+fn add_contact(
+    loaded: &LoadedScene,
+    solver: &mut Solver,
+    mesh: &Mesh,
+    tools: Vec<Box<dyn ToolSurface>>,
+    press: Option<Press>,
+    tool_names: &[String],
+) -> Result<(EffectId, String, String), SceneError> {
+    let s: &Scene = &loaded.scene;
+    let n_nodes = mesh.nodes.len();
+    let geometry = BlankGeometry::new(n_nodes, &mesh.quads)
+        .map_err(|e| loaded.key_error("blank.mesh", e.to_string()))?;
+    let m = &s.blank.material;
+    let bulk = m.youngs_modulus / (3.0 * (1.0 - 2.0 * m.poissons_ratio));
+    let mut pairs = Vec::new();
+    let mut names = (s.contact.law.clone(), s.contact.formulation.clone());
+    for (k, entry) in pair_entries(s).iter().enumerate() {
+        let (pair, law, formulation) =
+            contact_pair(loaded, k, entry, tool_names, &geometry, mesh, bulk)?;
+        if k == 0 {
+            names = (law, formulation);
+        }
+        pairs.push(pair);
+    }
+    let effect = ContactEffect::new(
+        tools,
+        press,
+        pairs,
+        geometry,
+        vec![s.blank.thickness; n_nodes],
+    )
+    .map_err(|e| loaded.key_error("contact", e.to_string()))?;
+    Ok((solver.add_effect(effect), names.0, names.1))
+}
+
+/// Pair `k` of `[contact]`, with the law and formulation it reports.
+fn contact_pair(
+    loaded: &LoadedScene,
+    k: usize,
+    entry: &super::schema::PairEntry,
+    tool_names: &[String],
+    geometry: &BlankGeometry,
+    mesh: &Mesh,
+    bulk: f64,
+) -> Result<(ContactPair, String, String), SceneError> {
+    let s: &Scene = &loaded.scene;
+    let key = if s.contact.pairs.is_empty() {
+        "contact".to_string()
+    } else {
+        format!("contact.pairs[{k}]")
+    };
+    let law = entry.law.clone().unwrap_or_else(|| s.contact.law.clone());
+    let formulation = entry
+        .formulation
+        .clone()
+        .unwrap_or_else(|| s.contact.formulation.clone());
+    let (source, params_key) = match &s.contact.plugin {
+        Some(p) if entry.law.is_none() => (
+            LawSource::Plugin(loaded.base_dir().join(p)),
+            "plugin".to_string(),
+        ),
+        _ => (LawSource::Named(law.clone()), law.clone()),
+    };
+    let frictionless = matches!(&source, LawSource::Named(n) if n == FRICTIONLESS);
+    let law_name = match &source {
+        LawSource::Named(n) => n.clone(),
+        LawSource::Plugin(p) => p.display().to_string(),
+    };
+    let formulation_name = if frictionless {
+        "none".to_string()
+    } else {
+        formulation.clone()
+    };
+    let mut params = Params::new();
+    if let Some(table) = s.contact.params.get(&params_key) {
+        for (name, v) in table {
+            params.set(name, *v);
+        }
+    }
+    let tool = index_of(tool_names, &entry.tool).expect("validated");
+    let spec = pair_spec(s, entry, tool, bulk);
+    let pair = if frictionless {
+        if let Some((name, _)) = params.0.iter().next() {
+            return Err(loaded.key_error(
+                &format!("contact.params.{FRICTIONLESS}.{name}"),
+                "a frictionless pair takes no parameters",
+            ));
+        }
+        ContactPair::frictionless(&spec, geometry, &mesh.nodes)
+    } else {
+        let integrator = point_integrator(&source, &params, &formulation, TangentMode::None)
+            .map_err(|e| {
+                let message = e.to_string();
+                let at = law_error_key(s, entry, &key, &params_key, &message);
+                loaded.key_error(&at, message)
+            })?;
+        ContactPair::new(&spec, integrator, geometry, &mesh.nodes)
+    };
+    let pair = pair.map_err(|e| loaded.key_error(&key, e.to_string()))?;
+    Ok((pair, law_name, formulation_name))
+}
+
+/// The scene key a friction law's error belongs to: the law (or plugin),
+/// the formulation, or the law's parameters.
+fn law_error_key(
+    s: &Scene,
+    entry: &super::schema::PairEntry,
+    key: &str,
+    params_key: &str,
+    message: &str,
+) -> String {
+    if message.contains("unknown law") || message.contains("plugin") {
+        if entry.law.is_some() {
+            format!("{key}.law")
+        } else if s.contact.plugin.is_some() {
+            "contact.plugin".to_string()
+        } else {
+            "contact.law".to_string()
+        }
+    } else if message.contains("formulation") {
+        if entry.formulation.is_some() {
+            format!("{key}.formulation")
+        } else {
+            "contact.formulation".to_string()
+        }
+    } else {
+        format!("contact.params.{params_key}")
+    }
+}
+
+/// Boundary conditions, nodal loads and anchor springs.
+fn add_boundary_and_loads(
+    loaded: &LoadedScene,
+    solver: &mut Solver,
+    mesh: &Mesh,
+) -> Result<(), SceneError> {
+    let s: &Scene = &loaded.scene;
     for (i, bc) in s.boundary.iter().enumerate() {
         let key = format!("boundary[{i}]");
         let condition = match bc {
@@ -465,12 +551,19 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
         .map_err(|e| loaded.key_error(&key, e.to_string()))?;
         solver.add_effect(springs);
     }
+    Ok(())
+}
 
-    // Stroke tool: its first travel or velocity direction.
-    let stroke = match &s.output.stroke_tool {
+/// The stroke tool (`output.stroke_tool`): its first travel or velocity direction.
+fn stroke_tool(
+    loaded: &LoadedScene,
+    tool_names: &[String],
+) -> Result<Option<StrokeTool>, SceneError> {
+    let s: &Scene = &loaded.scene;
+    Ok(match &s.output.stroke_tool {
         None => None,
         Some(name) => {
-            let index = tool_index(name).expect("validated");
+            let index = index_of(tool_names, name).expect("validated");
             let direction = s
                 .steps
                 .iter()
@@ -492,19 +585,6 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
                 })?;
             Some(StrokeTool { index, direction })
         }
-    };
-
-    Ok(Model {
-        solver,
-        shells,
-        contact,
-        tool_names,
-        mesh,
-        thickness0: s.blank.thickness,
-        end_time,
-        stroke,
-        law: law_name,
-        formulation: formulation_name,
     })
 }
 
