@@ -782,6 +782,7 @@ impl Solver {
         if let Some(s) = self.setup {
             return Ok(s);
         }
+        let _span = tracing::debug_span!("set-up", nodes = self.state.len()).entered();
         self.initialized = true;
         self.share_fields()?;
         self.constraints.sort_by_key(|c| (c.node, c.dof));

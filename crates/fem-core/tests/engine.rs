@@ -154,18 +154,7 @@ impl Effect for Wobble {
 // (fem_core::energy). Tolerance 1e-11 relative: round-off over 20,000 steps.
 #[test]
 fn energy_balances_at_a_varying_step() {
-    let omega = (K / M).sqrt();
-    let period = 2.0 * PI / omega;
-    let settings = SolverSettings {
-        safety_factor: 1.0,
-        ..Default::default()
-    };
-    let (mut s, _) = chain(3, K, M, settings);
-    s.add_effect(Wobble {
-        base: period / 40.0,
-        time: 0.0,
-        omega: 2.0 * PI / (0.37 * period),
-    });
+    let (mut s, period) = wobbling_chain(3, 40.0);
     s.state_mut().x[3].x += 0.5;
     s.state_mut().x[1].x -= 0.2;
     let mut worst = 0.0f64;
@@ -180,19 +169,26 @@ fn energy_balances_at_a_varying_step() {
     assert!(worst < 1e-11, "worst balance error {worst:e}");
 }
 
-fn oscillator_variable(steps_per_period: f64) -> f64 {
+/// A chain of `n` springs whose step `Wobble` varies by ±30 % around
+/// `period / steps_per_period` (`period` of one mass on one spring, returned).
+fn wobbling_chain(n: usize, steps_per_period: f64) -> (Solver, f64) {
     let omega = (K / M).sqrt();
     let period = 2.0 * PI / omega;
     let settings = SolverSettings {
         safety_factor: 1.0,
         ..Default::default()
     };
-    let (mut s, _) = chain(1, K, M, settings);
+    let (mut s, _) = chain(n, K, M, settings);
     s.add_effect(Wobble {
         base: period / steps_per_period,
         time: 0.0,
         omega: 2.0 * PI / (0.37 * period),
     });
+    (s, period)
+}
+
+fn oscillator_variable(steps_per_period: f64) -> f64 {
+    let (mut s, period) = wobbling_chain(1, steps_per_period);
     let u0 = 0.5;
     s.state_mut().x[1].x += u0;
     let mut samples = vec![(0.0, u0)];
