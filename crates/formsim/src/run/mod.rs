@@ -10,6 +10,7 @@
 
 pub mod out_dir;
 pub mod post;
+mod recorder;
 pub mod reference;
 pub mod summary;
 pub mod timing;
@@ -20,7 +21,8 @@ pub mod write;
 use crate::output::OutputError;
 use crate::scene::validate::dof_from_name;
 use crate::scene::{LoadedScene, Model, SceneError};
-use post::{Post, Snapshot};
+use post::Snapshot;
+use recorder::Recorder;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -114,12 +116,6 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         source: e,
     })?;
     let mut model = crate::scene::build(loaded)?;
-    let post = Post::new(
-        &model.mesh,
-        &scene.output.sections,
-        &scene.output.draw_in,
-        scene.output.punch_edge_distance,
-    );
     tracing::info!(
         scene = %scene.scene.name,
         nodes = model.mesh.nodes.len(),
@@ -136,124 +132,58 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         added_mass_percent = setup.added_mass_percent,
         "set-up done"
     );
-    let mut press_log = PressLog::default();
-    let end = model.end_time;
-    let o = &scene.output;
-    let sample_every = end / (o.history_points as f64 - 1.0);
-    let frame_every = if o.frames > 0 {
-        end / o.frames as f64
-    } else {
-        f64::INFINITY
-    };
-    let mut next_sample = 0.0;
-    let mut next_frame = 0.0;
-    let mut history = Vec::with_capacity(o.history_points + 2);
-    let mut tool_history = Vec::with_capacity(o.history_points + 2);
-    let axes = tools_report::press_axes(&model);
-    let mut frames: Vec<(f64, String)> = Vec::new();
-    let mut strokes: Vec<f64> = o.report_strokes.clone();
-    strokes.sort_by(f64::total_cmp);
-    let mut states: Vec<(f64, Snapshot)> = Vec::new();
-    let mut ki_max: f64 = 0.0;
-    let mut hg_max: f64 = 0.0;
-    let mut force_max: f64 = 0.0;
-    let mut pull_sum = (0.0, 0usize);
-    // The strip's holder: force delivered and prescribed, summed while drawing.
-    let strip_holder = strip_holder(loaded, &model);
-    let mut holder_sum = (0.0, 0.0);
-    let mut clamp_seen = false;
+    let mut rec = Recorder::new(loaded, &model, out)?;
     let bar = match &options.progress {
         Progress::Hidden => None,
         Progress::Terminal => progress_bar(),
         Progress::Bar(b) => Some(b.clone()),
     };
     let started = Instant::now();
-    let mut stop: Option<String> = None;
-    let vtk_dir = out.join("vtk");
-    if o.frames > 0 {
-        std::fs::create_dir_all(&vtk_dir).map_err(|e| OutputError::Io {
-            path: vtk_dir.clone(),
-            source: e,
-        })?;
+    let stop = step_loop(&mut model, &mut rec, bar.as_ref());
+    match (&options.progress, &bar) {
+        (Progress::Bar(b), _) => {
+            b.finish_with_message(if stop.is_some() { "stopped" } else { "done" })
+        }
+        (_, Some(b)) => b.finish_and_clear(),
+        _ => {}
     }
-    let pull = pulled_set(loaded);
-    let dt0 = setup.dt_initial;
-    // The loop's time outside `Solver::step` (sampling, snapshots, frames,
-    // progress): from `mark` to each step, and after the last.
-    let mut output_s = 0.0;
+    let wall = started.elapsed().as_secs_f64();
+    let stop = stop.transpose()?;
+    finish(loaded, &model, &setup, rec, out, wall, stop)
+}
+
+/// Record, step, record … until the end or a solver error (its message);
+/// an output error while recording ends the loop as `Some(Err)`.
+fn step_loop(
+    model: &mut Model,
+    rec: &mut Recorder<'_>,
+    bar: Option<&indicatif::ProgressBar>,
+) -> Option<Result<String, RunError>> {
+    let end = model.end_time;
+    let mut press_log = PressLog::default();
     let mut mark = Instant::now();
     loop {
-        let time = model.solver.time();
-        let (stroke, force) = stroke_and_force(&model, o.symmetry_factor);
-        force_max = force_max.max(force);
-        let e = *model.solver.ledger();
-        let forming = match model.stroke {
-            Some(_) => stroke >= o.forming_starts_at,
-            None => time >= 0.1 * end,
+        let (stroke, force, e) = match rec.record(model) {
+            Ok(v) => v,
+            Err(err) => return Some(Err(err)),
         };
-        if forming && e.internal > 0.0 {
-            ki_max = ki_max.max(e.kinetic / e.internal);
-            hg_max = hg_max.max(e.hourglass / e.internal);
-        }
-        if let Some(c) = model.contact() {
-            clamp_seen |= c.pairs().iter().any(|p| p.clamped);
-        }
-        if let Some((set, dof, from)) = &pull
-            && time >= *from
-        {
-            let (f, _) = model
-                .solver
-                .reaction(set)
-                .map_err(|e| loaded.key_error("output", e.to_string()))?;
-            pull_sum.0 += f[*dof].abs();
-            pull_sum.1 += 1;
-            if let (Some(i), Some(c)) = (strip_holder, model.contact()) {
-                holder_sum.0 -= c.reactions()[i].dot(&axes[i]);
-                holder_sum.1 += c.press().and_then(|p| p.applied_force(i)).unwrap_or(0.0);
-            }
-        }
-        if time >= next_sample || time >= end {
-            history.push(HistoryRow {
-                time,
-                stroke,
-                punch_force: force,
-                energy: e,
-                dt: model.solver.dt_next(),
-            });
-            tool_history.push(tools_report::sample(&model, &axes, time, stroke));
-            next_sample += sample_every;
-        }
-        while let Some(&r) = strokes.first() {
-            if stroke >= r - 1e-4 {
-                states.push((r, post.snapshot(&model, time, stroke, force)));
-                strokes.remove(0);
-            } else {
-                break;
-            }
-        }
-        if o.frames > 0 && (time >= next_frame || time >= end) {
-            let name = format!("blank_{:04}.vtu", frames.len());
-            write::frame(&vtk_dir.join(&name), &model, time, stroke)?;
-            // Relative to blank.pvd, which sits beside vtk/.
-            frames.push((time, format!("vtk/{name}")));
-            next_frame += frame_every;
-        }
-        if time >= end {
-            break;
+        if model.solver.time() >= end {
+            rec.output_s += mark.elapsed().as_secs_f64();
+            return None;
         }
         // The steps `Solver::run_until(end, …)` takes, landing on `end`.
-        output_s += mark.elapsed().as_secs_f64();
+        rec.output_s += mark.elapsed().as_secs_f64();
         let stepped = model.solver.step_toward(end);
         mark = Instant::now();
         if let Err(err) = stepped {
             // The caller reports the stop; at -vv it shows where the log stood.
             tracing::debug!(time = model.solver.time(), "run stopped: {err}");
-            stop = Some(err.to_string());
-            break;
+            rec.output_s += mark.elapsed().as_secs_f64();
+            return Some(Ok(err.to_string()));
         }
-        press_log.update(&model, stroke);
-        if model.solver.steps() % 64 == 0
-            && let Some(b) = &bar
+        press_log.update(model, stroke);
+        if model.solver.steps().is_multiple_of(64)
+            && let Some(b) = bar
         {
             b.set_position((1000.0 * model.solver.time() / end) as u64);
             b.set_message(format!(
@@ -268,53 +198,58 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
             ));
         }
     }
-    match (&options.progress, &bar) {
-        (Progress::Bar(b), _) => {
-            b.finish_with_message(if stop.is_some() { "stopped" } else { "done" })
-        }
-        (_, Some(b)) => b.finish_and_clear(),
-        _ => {}
-    }
-    output_s += mark.elapsed().as_secs_f64();
-    let wall = started.elapsed().as_secs_f64();
+}
+
+/// The final snapshot, `summary.json` and every file; the solver's stop,
+/// if any, as the error (after writing).
+fn finish(
+    loaded: &LoadedScene,
+    model: &Model,
+    setup: &fem_core::SetupReport,
+    rec: Recorder<'_>,
+    out: &std::path::Path,
+    wall: f64,
+    stop: Option<String>,
+) -> Result<RunResult, RunError> {
+    let o = &loaded.scene.output;
     let finish = Instant::now();
     let time = model.solver.time();
-    let (stroke, force) = stroke_and_force(&model, o.symmetry_factor);
-    let last = post.snapshot(&model, time, stroke, force);
+    let (stroke, force) = stroke_and_force(model, o.symmetry_factor);
+    let last = rec.post.snapshot(model, time, stroke, force);
     if o.frames > 0 {
-        write::pvd(&out.join("blank.pvd"), &frames)?;
+        write::pvd(&out.join("blank.pvd"), &rec.frames)?;
     }
-    let timing = timing::Timing::new(&model, output_s, finish.elapsed().as_secs_f64());
+    let timing = timing::Timing::new(model, rec.output_s, finish.elapsed().as_secs_f64());
     let summary = summary::Summary::new(summary::Inputs {
         loaded,
-        model: &model,
-        setup: &setup,
+        model,
+        setup,
         wall,
         last: &last,
-        states: &states,
-        force_max,
-        ki_max,
-        hg_max,
-        capstan: (pull_sum.1 > 0).then(|| pull_sum.0 / pull_sum.1 as f64),
-        holder: (pull_sum.1 > 0 && strip_holder.is_some()).then(|| {
-            let n = pull_sum.1 as f64;
-            (holder_sum.0 / n, holder_sum.1 / n)
+        states: &rec.states,
+        force_max: rec.force_max,
+        ki_max: rec.ki_max,
+        hg_max: rec.hg_max,
+        capstan: (rec.pull_sum.1 > 0).then(|| rec.pull_sum.0 / rec.pull_sum.1 as f64),
+        holder: (rec.pull_sum.1 > 0 && rec.strip_holder.is_some()).then(|| {
+            let n = rec.pull_sum.1 as f64;
+            (rec.holder_sum.0 / n, rec.holder_sum.1 / n)
         }),
-        clamp_seen,
+        clamp_seen: rec.clamp_seen,
         stopped: stop.clone(),
-        dt0,
+        dt0: setup.dt_initial,
         timing,
     });
     let mut result = RunResult {
         summary,
-        history,
-        tool_history,
+        history: rec.history,
+        tool_history: rec.tool_history,
         last,
-        states,
+        states: rec.states,
         write_s: 0.0,
     };
     let writing = Instant::now();
-    write::all(out, &result, &model, o.plots)?;
+    write::all(out, &result, model, o.plots)?;
     result.write_s = writing.elapsed().as_secs_f64();
     if let Some(message) = stop {
         return Err(RunError::Solver {

@@ -1,0 +1,162 @@
+//! What the run loop records between steps: histories on their schedule,
+//! snapshots at the report strokes, VTK frames, and the running maxima and
+//! sums `summary.json` needs.
+
+use super::post::{Post, Snapshot};
+use super::{
+    HistoryRow, RunError, pulled_set, strip_holder, stroke_and_force, tools_report, write,
+};
+use crate::output::OutputError;
+use crate::scene::{LoadedScene, Model};
+use fem_core::EnergyLedger;
+use std::path::{Path, PathBuf};
+
+/// The recorder of one run (see the module docs).
+pub(super) struct Recorder<'a> {
+    loaded: &'a LoadedScene,
+    pub post: Post,
+    vtk_dir: PathBuf,
+    sample_every: f64,
+    frame_every: f64,
+    next_sample: f64,
+    next_frame: f64,
+    axes: Vec<plugins_api::Vec3>,
+    strokes: Vec<f64>,
+    pull: Option<(String, usize, f64)>,
+    /// The strip's holder (its tool index), whose delivered and prescribed
+    /// forces are summed while drawing.
+    pub strip_holder: Option<usize>,
+    pub history: Vec<HistoryRow>,
+    pub tool_history: Vec<tools_report::ToolRow>,
+    pub frames: Vec<(f64, String)>,
+    pub states: Vec<(f64, Snapshot)>,
+    pub ki_max: f64,
+    pub hg_max: f64,
+    pub force_max: f64,
+    pub pull_sum: (f64, usize),
+    pub holder_sum: (f64, f64),
+    pub clamp_seen: bool,
+    /// The loop's seconds outside `Solver::step` (sampling, snapshots,
+    /// frames, progress).
+    pub output_s: f64,
+}
+
+impl<'a> Recorder<'a> {
+    /// A recorder for `model`, writing frames under `out/vtk` (created when
+    /// the scene asks for frames).
+    pub fn new(loaded: &'a LoadedScene, model: &Model, out: &Path) -> Result<Self, RunError> {
+        let o = &loaded.scene.output;
+        let end = model.end_time;
+        let vtk_dir = out.join("vtk");
+        if o.frames > 0 {
+            std::fs::create_dir_all(&vtk_dir).map_err(|e| OutputError::Io {
+                path: vtk_dir.clone(),
+                source: e,
+            })?;
+        }
+        let mut strokes = o.report_strokes.clone();
+        strokes.sort_by(f64::total_cmp);
+        Ok(Self {
+            loaded,
+            post: Post::new(&model.mesh, &o.sections, &o.draw_in, o.punch_edge_distance),
+            vtk_dir,
+            sample_every: end / (o.history_points as f64 - 1.0),
+            frame_every: if o.frames > 0 {
+                end / o.frames as f64
+            } else {
+                f64::INFINITY
+            },
+            next_sample: 0.0,
+            next_frame: 0.0,
+            axes: tools_report::press_axes(model),
+            strokes,
+            pull: pulled_set(loaded),
+            strip_holder: strip_holder(loaded, model),
+            history: Vec::with_capacity(o.history_points + 2),
+            tool_history: Vec::with_capacity(o.history_points + 2),
+            frames: Vec::new(),
+            states: Vec::new(),
+            ki_max: 0.0,
+            hg_max: 0.0,
+            force_max: 0.0,
+            pull_sum: (0.0, 0),
+            holder_sum: (0.0, 0.0),
+            clamp_seen: false,
+            output_s: 0.0,
+        })
+    }
+
+    /// Record the model as it is now; returns its stroke, punch force and
+    /// energy ledger (for the progress bar).
+    pub fn record(&mut self, model: &Model) -> Result<(f64, f64, EnergyLedger), RunError> {
+        let o = &self.loaded.scene.output;
+        let end = model.end_time;
+        let time = model.solver.time();
+        let (stroke, force) = stroke_and_force(model, o.symmetry_factor);
+        self.force_max = self.force_max.max(force);
+        let e = *model.solver.ledger();
+        let forming = match model.stroke {
+            Some(_) => stroke >= o.forming_starts_at,
+            None => time >= 0.1 * end,
+        };
+        if forming && e.internal > 0.0 {
+            self.ki_max = self.ki_max.max(e.kinetic / e.internal);
+            self.hg_max = self.hg_max.max(e.hourglass / e.internal);
+        }
+        if let Some(c) = model.contact() {
+            self.clamp_seen |= c.pairs().iter().any(|p| p.clamped);
+        }
+        self.pulled(model, time)?;
+        if time >= self.next_sample || time >= end {
+            self.history.push(HistoryRow {
+                time,
+                stroke,
+                punch_force: force,
+                energy: e,
+                dt: model.solver.dt_next(),
+            });
+            self.tool_history
+                .push(tools_report::sample(model, &self.axes, time, stroke));
+            self.next_sample += self.sample_every;
+        }
+        while let Some(&r) = self.strokes.first() {
+            if stroke >= r - 1e-4 {
+                self.states
+                    .push((r, self.post.snapshot(model, time, stroke, force)));
+                self.strokes.remove(0);
+            } else {
+                break;
+            }
+        }
+        if o.frames > 0 && (time >= self.next_frame || time >= end) {
+            let name = format!("blank_{:04}.vtu", self.frames.len());
+            write::frame(&self.vtk_dir.join(&name), model, time, stroke)?;
+            // Relative to blank.pvd, which sits beside vtk/.
+            self.frames.push((time, format!("vtk/{name}")));
+            self.next_frame += self.frame_every;
+        }
+        Ok((stroke, force, e))
+    }
+
+    /// The pulled set's reaction and the strip holder's forces, summed from
+    /// the time the pull starts.
+    fn pulled(&mut self, model: &Model, time: f64) -> Result<(), RunError> {
+        let Some((set, dof, from)) = &self.pull else {
+            return Ok(());
+        };
+        if time < *from {
+            return Ok(());
+        }
+        let (f, _) = model
+            .solver
+            .reaction(set)
+            .map_err(|e| self.loaded.key_error("output", e.to_string()))?;
+        self.pull_sum.0 += f[*dof].abs();
+        self.pull_sum.1 += 1;
+        if let (Some(i), Some(c)) = (self.strip_holder, model.contact()) {
+            self.holder_sum.0 -= c.reactions()[i].dot(&self.axes[i]);
+            self.holder_sum.1 += c.press().and_then(|p| p.applied_force(i)).unwrap_or(0.0);
+        }
+        Ok(())
+    }
+}
