@@ -118,11 +118,6 @@ pub fn read(path: &Path) -> Result<History, HistoryError> {
 /// # Errors
 /// As [`read`].
 pub fn parse(text: &str, file: &str) -> Result<History, HistoryError> {
-    let err = |line: usize, message: String| HistoryError {
-        file: file.to_string(),
-        line,
-        message,
-    };
     let mut rows = text
         .lines()
         .enumerate()
@@ -130,184 +125,258 @@ pub fn parse(text: &str, file: &str) -> Result<History, HistoryError> {
         .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
     let (header_line, header) = rows
         .next()
-        .ok_or_else(|| err(0, "empty file: no header line".into()))?;
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let known = known_columns();
-    let mut index: HashMap<&str, usize> = HashMap::new();
-    for (i, name) in names.iter().enumerate() {
-        if !known.iter().any(|k| k == name) {
-            return Err(err(
-                header_line,
-                format!("unknown column `{name}`; known: {}", known.join(",")),
-            ));
-        }
-        if index.insert(name, i).is_some() {
-            return Err(err(header_line, format!("column `{name}` appears twice")));
-        }
-    }
-    for col in REQUIRED {
-        if !index.contains_key(col) {
-            return Err(err(
-                header_line,
-                format!(
-                    "missing required column `{col}` (required: {})",
-                    REQUIRED.join(",")
-                ),
-            ));
-        }
-    }
-    let group = |cols: &[String]| -> Result<bool, HistoryError> {
-        let n = cols
-            .iter()
-            .filter(|c| index.contains_key(c.as_str()))
-            .count();
-        if n != 0 && n != cols.len() {
-            return Err(err(
-                header_line,
-                format!("columns {} must be given together", cols.join(",")),
-            ));
-        }
-        Ok(n == cols.len())
-    };
-    let vec_cols = |p: &str| ["x", "y", "z"].map(|a| format!("{p}_{a}")).to_vec();
-    let mat_cols = |p: &str| {
-        MATRIX
-            .iter()
-            .map(|ij| format!("{p}_{ij}"))
-            .collect::<Vec<_>>()
-    };
-    let present = Present {
-        spin: group(&vec_cols("w"))?,
-        vel_grad: group(&mat_cols("l"))?,
-        def_grad: group(&mat_cols("f"))?,
-        tool_rotation: group(&vec_cols("r"))?,
-        flow_stress: index.contains_key("sigma_y"),
-        temperature: index.contains_key("temperature"),
-    };
-
+        .ok_or_else(|| at(file, 0, "empty file: no header line".into()))?;
+    let cols = Columns::of(header, header_line, file)?;
     let mut out = History {
         times: Vec::new(),
         lines: Vec::new(),
         steps: Vec::new(),
-        present,
+        present: cols.present,
     };
-    let mut t_prev = 0.0;
-    let mut n_prev: Option<Vec3> = None;
-    let mut f_prev = Mat3::identity();
-    for (line, row) in rows {
-        let fields: Vec<&str> = row.split(',').map(str::trim).collect();
-        if fields.len() != names.len() {
-            return Err(err(
+    let mut prev = Previous {
+        t: 0.0,
+        n: None,
+        f: Mat3::identity(),
+    };
+    for (line, text) in rows {
+        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
+        if fields.len() != cols.count {
+            return Err(at(
+                file,
                 line,
-                format!("{} fields, the header has {}", fields.len(), names.len()),
+                format!("{} fields, the header has {}", fields.len(), cols.count),
             ));
         }
-        let get = |col: &str| -> Result<f64, HistoryError> {
-            let raw = fields[index[col]];
-            let v: f64 = raw
-                .parse()
-                .map_err(|_| err(line, format!("column `{col}`: `{raw}` is not a number")))?;
-            if v.is_finite() {
-                Ok(v)
-            } else {
-                Err(err(line, format!("column `{col}`: {v} is not finite")))
+        let row = Row {
+            fields,
+            cols: &cols,
+            line,
+            file,
+        };
+        let (t, step) = row.step(&mut prev)?;
+        out.times.push(t);
+        out.lines.push(line);
+        out.steps.push(step);
+    }
+    if out.steps.is_empty() {
+        return Err(at(
+            file,
+            header_line,
+            "no data rows after the header".into(),
+        ));
+    }
+    Ok(out)
+}
+
+/// The error at `line` of `file`.
+fn at(file: &str, line: usize, message: String) -> HistoryError {
+    HistoryError {
+        file: file.to_string(),
+        line,
+        message,
+    }
+}
+
+/// The header: each column's index and which optional groups are present.
+struct Columns<'a> {
+    count: usize,
+    index: HashMap<&'a str, usize>,
+    present: Present,
+}
+
+impl<'a> Columns<'a> {
+    /// Read and check the header line (`line` of `file`).
+    fn of(header: &'a str, line: usize, file: &str) -> Result<Self, HistoryError> {
+        let names: Vec<&str> = header.split(',').map(str::trim).collect();
+        let known = known_columns();
+        let mut index: HashMap<&str, usize> = HashMap::new();
+        for (i, name) in names.iter().enumerate() {
+            if !known.iter().any(|k| k == name) {
+                return Err(at(
+                    file,
+                    line,
+                    format!("unknown column `{name}`; known: {}", known.join(",")),
+                ));
             }
-        };
-        let get_vec = |p: &str| -> Result<Vec3, HistoryError> {
-            Ok(Vec3::new(
-                get(&format!("{p}_x"))?,
-                get(&format!("{p}_y"))?,
-                get(&format!("{p}_z"))?,
-            ))
-        };
-        let get_mat = |p: &str| -> Result<Mat3, HistoryError> {
-            let mut m = Mat3::zeros();
-            for (k, ij) in MATRIX.iter().enumerate() {
-                m[(k / 3, k % 3)] = get(&format!("{p}_{ij}"))?;
+            if index.insert(name, i).is_some() {
+                return Err(at(file, line, format!("column `{name}` appears twice")));
             }
-            Ok(m)
-        };
-        let t = get("t")?;
-        if t <= t_prev {
-            return Err(err(
-                line,
-                format!(
-                    "column `t`: time {t} s must exceed the previous {t_prev} s (strictly increasing, first > 0)"
-                ),
-            ));
         }
-        let dt = t - t_prev;
-        let p = get("p")?;
+        for col in REQUIRED {
+            if !index.contains_key(col) {
+                return Err(at(
+                    file,
+                    line,
+                    format!(
+                        "missing required column `{col}` (required: {})",
+                        REQUIRED.join(",")
+                    ),
+                ));
+            }
+        }
+        let group = |cols: &[String]| -> Result<bool, HistoryError> {
+            let n = cols
+                .iter()
+                .filter(|c| index.contains_key(c.as_str()))
+                .count();
+            if n != 0 && n != cols.len() {
+                return Err(at(
+                    file,
+                    line,
+                    format!("columns {} must be given together", cols.join(",")),
+                ));
+            }
+            Ok(n == cols.len())
+        };
+        let vec_cols = |p: &str| ["x", "y", "z"].map(|a| format!("{p}_{a}")).to_vec();
+        let mat_cols = |p: &str| {
+            MATRIX
+                .iter()
+                .map(|ij| format!("{p}_{ij}"))
+                .collect::<Vec<_>>()
+        };
+        let present = Present {
+            spin: group(&vec_cols("w"))?,
+            vel_grad: group(&mat_cols("l"))?,
+            def_grad: group(&mat_cols("f"))?,
+            tool_rotation: group(&vec_cols("r"))?,
+            flow_stress: index.contains_key("sigma_y"),
+            temperature: index.contains_key("temperature"),
+        };
+        Ok(Self {
+            count: names.len(),
+            index,
+            present,
+        })
+    }
+}
+
+/// What a row carries over to the next: time, normal, deformation gradient.
+struct Previous {
+    t: f64,
+    n: Option<Vec3>,
+    f: Mat3,
+}
+
+/// One data row, split into fields.
+struct Row<'a> {
+    fields: Vec<&'a str>,
+    cols: &'a Columns<'a>,
+    line: usize,
+    file: &'a str,
+}
+
+impl Row<'_> {
+    fn err(&self, message: String) -> HistoryError {
+        at(self.file, self.line, message)
+    }
+
+    fn get(&self, col: &str) -> Result<f64, HistoryError> {
+        let raw = self.fields[self.cols.index[col]];
+        let v: f64 = raw
+            .parse()
+            .map_err(|_| self.err(format!("column `{col}`: `{raw}` is not a number")))?;
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(format!("column `{col}`: {v} is not finite")))
+        }
+    }
+
+    fn get_vec(&self, p: &str) -> Result<Vec3, HistoryError> {
+        Ok(Vec3::new(
+            self.get(&format!("{p}_x"))?,
+            self.get(&format!("{p}_y"))?,
+            self.get(&format!("{p}_z"))?,
+        ))
+    }
+
+    fn get_mat(&self, p: &str) -> Result<Mat3, HistoryError> {
+        let mut m = Mat3::zeros();
+        for (k, ij) in MATRIX.iter().enumerate() {
+            m[(k / 3, k % 3)] = self.get(&format!("{p}_{ij}"))?;
+        }
+        Ok(m)
+    }
+
+    /// The row's time and step, checked against the previous row (updated).
+    fn step(&self, prev: &mut Previous) -> Result<(f64, StepInput), HistoryError> {
+        let present = &self.cols.present;
+        let t = self.get("t")?;
+        if t <= prev.t {
+            return Err(self.err(format!(
+                "column `t`: time {t} s must exceed the previous {} s (strictly increasing, first > 0)",
+                prev.t
+            )));
+        }
+        let dt = t - prev.t;
+        let p = self.get("p")?;
         if p < 0.0 {
-            return Err(err(
-                line,
-                format!("column `p`: pressure {p} MPa must be >= 0 (0 = open contact)"),
-            ));
+            return Err(self.err(format!(
+                "column `p`: pressure {p} MPa must be >= 0 (0 = open contact)"
+            )));
         }
-        let du = get_vec("du")?;
-        let n_raw = get_vec("n")?;
-        let len = n_raw.norm();
-        if (len - 1.0).abs() > 1e-3 {
-            return Err(err(
-                line,
-                format!("columns n_x,n_y,n_z: |n| = {len} is not a unit normal"),
-            ));
-        }
-        let n = n_raw / len;
+        let du = self.get_vec("du")?;
+        let n = self.normal()?;
         let vel_grad = if present.vel_grad {
-            get_mat("l")?
+            self.get_mat("l")?
         } else if present.spin {
-            skew(&get_vec("w")?)
+            skew(&self.get_vec("w")?)
         } else {
             Mat3::zeros()
         };
         let f_new = if present.def_grad {
-            let f = get_mat("f")?;
+            let f = self.get_mat("f")?;
             if f.determinant() <= 0.0 {
-                return Err(err(
-                    line,
-                    format!(
-                        "columns f_11..f_33: det F = {} must be > 0",
-                        f.determinant()
-                    ),
-                ));
+                return Err(self.err(format!(
+                    "columns f_11..f_33: det F = {} must be > 0",
+                    f.determinant()
+                )));
             }
             f
         } else {
-            cayley(&(vel_grad * dt)) * f_prev
+            cayley(&(vel_grad * dt)) * prev.f
         };
         let tool_rotation = if present.tool_rotation {
-            rotation_from_vector(&get_vec("r")?)
+            rotation_from_vector(&self.get_vec("r")?)
         } else {
             Mat3::identity()
         };
         let kin = StepKinematics {
             dt,
-            n_old: n_prev.unwrap_or(n),
+            n_old: prev.n.unwrap_or(n),
             n_new: n,
             tool_rotation,
             vel_grad,
-            f_old: f_prev,
+            f_old: prev.f,
             f_new,
         };
         let mut step = StepInput::new(p, du, kin);
         if present.flow_stress {
-            step.flow_stress = get("sigma_y")?;
+            step.flow_stress = self.get("sigma_y")?;
         }
         if present.temperature {
-            step.temperature = get("temperature")?;
+            step.temperature = self.get("temperature")?;
         }
-        out.times.push(t);
-        out.lines.push(line);
-        out.steps.push(step);
-        t_prev = t;
-        n_prev = Some(n);
-        f_prev = f_new;
+        *prev = Previous {
+            t,
+            n: Some(n),
+            f: f_new,
+        };
+        Ok((t, step))
     }
-    if out.steps.is_empty() {
-        return Err(err(header_line, "no data rows after the header".into()));
+
+    /// The unit normal of the row (within 1e-3 of unit length, normalised).
+    fn normal(&self) -> Result<Vec3, HistoryError> {
+        let n_raw = self.get_vec("n")?;
+        let len = n_raw.norm();
+        if (len - 1.0).abs() > 1e-3 {
+            return Err(self.err(format!(
+                "columns n_x,n_y,n_z: |n| = {len} is not a unit normal"
+            )));
+        }
+        Ok(n_raw / len)
     }
-    Ok(out)
 }
 
 #[cfg(test)]
