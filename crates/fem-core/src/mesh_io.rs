@@ -84,16 +84,16 @@ fn parse_inp(text: &str, file: &str) -> Result<Mesh, FemError> {
 }
 
 fn parse_inp_numbered(text: &str, file: &str) -> Result<MeshFile, FemError> {
-    let at = At { file };
-    let mut nodes = Vec::new();
-    let mut node_ids = Vec::new();
-    let mut node_index: HashMap<i64, u32> = HashMap::new();
-    // (file id, node ids, line)
-    let mut elems: Vec<(i64, [i64; 4], usize)> = Vec::new();
-    let mut elem_index: HashMap<i64, u32> = HashMap::new();
-    // set name -> (is node set, [(id, line)])
-    let mut sets: BTreeMap<(bool, String), Vec<(i64, usize)>> = BTreeMap::new();
-    let mut block = InpBlock::None;
+    let mut r = InpReader {
+        at: At { file },
+        nodes: Vec::new(),
+        node_ids: Vec::new(),
+        node_index: HashMap::new(),
+        elems: Vec::new(),
+        elem_index: HashMap::new(),
+        sets: BTreeMap::new(),
+        block: InpBlock::None,
+    };
     for (k, raw) in text.lines().enumerate() {
         let line_no = k + 1;
         let line = raw.trim();
@@ -101,50 +101,7 @@ fn parse_inp_numbered(text: &str, file: &str) -> Result<MeshFile, FemError> {
             continue;
         }
         if let Some(kw) = line.strip_prefix('*') {
-            let mut parts = kw.split(',').map(str::trim);
-            let name = parts.next().unwrap_or("").to_ascii_uppercase();
-            let mut params: HashMap<String, String> = HashMap::new();
-            for p in parts.filter(|p| !p.is_empty()) {
-                let (key, value) = p.split_once('=').unwrap_or((p, ""));
-                params.insert(key.trim().to_ascii_uppercase(), value.trim().to_string());
-            }
-            block = match name.as_str() {
-                "NODE" => InpBlock::Node,
-                "ELEMENT" => {
-                    let ty = params.get("TYPE").map(|t| t.to_ascii_uppercase());
-                    match ty {
-                        Some(t) if INP_SHELLS.contains(&t.as_str()) => InpBlock::Element {
-                            elset: params.get("ELSET").cloned(),
-                        },
-                        Some(t) => {
-                            return Err(at.err(
-                                line_no,
-                                format!(
-                                    "*ELEMENT TYPE={t} is not a 4-node shell; use one of {}",
-                                    INP_SHELLS.join(", ")
-                                ),
-                            ));
-                        }
-                        None => return Err(at.err(line_no, "*ELEMENT without TYPE=")),
-                    }
-                }
-                "NSET" | "ELSET" => {
-                    let node = name == "NSET";
-                    let key = if node { "NSET" } else { "ELSET" };
-                    let Some(set) = params.get(key).filter(|s| !s.is_empty()) else {
-                        return Err(at.err(line_no, format!("*{name} without {key}=")));
-                    };
-                    InpBlock::Set {
-                        node,
-                        name: set.clone(),
-                        generate: params.contains_key("GENERATE"),
-                    }
-                }
-                _ => InpBlock::Skip,
-            };
-            if let InpBlock::Set { node, name, .. } = &block {
-                sets.entry((*node, name.clone())).or_default();
-            }
+            r.keyword(line_no, kw)?;
             continue;
         }
         let fields: Vec<&str> = line
@@ -152,143 +109,261 @@ fn parse_inp_numbered(text: &str, file: &str) -> Result<MeshFile, FemError> {
             .map(str::trim)
             .filter(|f| !f.is_empty())
             .collect();
-        let int = |s: &str, what: &str| -> Result<i64, FemError> {
-            s.parse::<i64>()
-                .map_err(|_| at.err(line_no, format!("{what} `{s}` is not an integer")))
-        };
-        match &block {
-            InpBlock::None => {
-                return Err(at.err(line_no, "data line before any keyword"));
-            }
-            InpBlock::Skip => {}
-            InpBlock::Node => {
-                if fields.len() < 3 {
-                    return Err(at.err(line_no, "a *NODE line needs `id, x, y[, z]`"));
-                }
-                let id = int(fields[0], "node id")?;
-                let mut p = Vec3::zeros();
-                for (a, f) in fields[1..fields.len().min(4)].iter().enumerate() {
-                    p[a] = f.parse::<f64>().map_err(|_| {
-                        at.err(
-                            line_no,
-                            format!("node {id}: coordinate `{f}` is not a number"),
-                        )
-                    })?;
-                    if !p[a].is_finite() {
+        r.data(line_no, &fields)?;
+    }
+    r.finish()
+}
+
+/// The state of an `.inp` file read line by line.
+struct InpReader<'a> {
+    at: At<'a>,
+    nodes: Vec<Vec3>,
+    node_ids: Vec<i64>,
+    node_index: HashMap<i64, u32>,
+    /// (file id, node ids, line)
+    elems: Vec<(i64, [i64; 4], usize)>,
+    elem_index: HashMap<i64, u32>,
+    /// (is node set, name) -> [(id, line)]
+    sets: BTreeMap<(bool, String), Vec<(i64, usize)>>,
+    block: InpBlock,
+}
+
+impl InpReader<'_> {
+    /// A `*KEYWORD, KEY=VALUE, …` line: the block the data lines that follow belong to.
+    fn keyword(&mut self, line_no: usize, kw: &str) -> Result<(), FemError> {
+        let at = &self.at;
+        let mut parts = kw.split(',').map(str::trim);
+        let name = parts.next().unwrap_or("").to_ascii_uppercase();
+        let mut params: HashMap<String, String> = HashMap::new();
+        for p in parts.filter(|p| !p.is_empty()) {
+            let (key, value) = p.split_once('=').unwrap_or((p, ""));
+            params.insert(key.trim().to_ascii_uppercase(), value.trim().to_string());
+        }
+        self.block = match name.as_str() {
+            "NODE" => InpBlock::Node,
+            "ELEMENT" => {
+                let ty = params.get("TYPE").map(|t| t.to_ascii_uppercase());
+                match ty {
+                    Some(t) if INP_SHELLS.contains(&t.as_str()) => InpBlock::Element {
+                        elset: params.get("ELSET").cloned(),
+                    },
+                    Some(t) => {
                         return Err(at.err(
                             line_no,
-                            format!("node {id}: coordinate `{f}` is not finite"),
+                            format!(
+                                "*ELEMENT TYPE={t} is not a 4-node shell; use one of {}",
+                                INP_SHELLS.join(", ")
+                            ),
                         ));
                     }
+                    None => return Err(at.err(line_no, "*ELEMENT without TYPE=")),
                 }
-                if node_index.insert(id, nodes.len() as u32).is_some() {
-                    return Err(at.err(line_no, format!("node id {id} is defined twice")));
-                }
-                nodes.push(p);
-                node_ids.push(id);
             }
+            "NSET" | "ELSET" => {
+                let node = name == "NSET";
+                let key = if node { "NSET" } else { "ELSET" };
+                let Some(set) = params.get(key).filter(|s| !s.is_empty()) else {
+                    return Err(at.err(line_no, format!("*{name} without {key}=")));
+                };
+                InpBlock::Set {
+                    node,
+                    name: set.clone(),
+                    generate: params.contains_key("GENERATE"),
+                }
+            }
+            _ => InpBlock::Skip,
+        };
+        if let InpBlock::Set { node, name, .. } = &self.block {
+            self.sets.entry((*node, name.clone())).or_default();
+        }
+        Ok(())
+    }
+
+    fn int(&self, line_no: usize, s: &str, what: &str) -> Result<i64, FemError> {
+        s.parse::<i64>().map_err(|_| {
+            self.at
+                .err(line_no, format!("{what} `{s}` is not an integer"))
+        })
+    }
+
+    /// A data line of the current block.
+    fn data(&mut self, line_no: usize, fields: &[&str]) -> Result<(), FemError> {
+        match &self.block {
+            InpBlock::None => Err(self.at.err(line_no, "data line before any keyword")),
+            InpBlock::Skip => Ok(()),
+            InpBlock::Node => self.node(line_no, fields),
             InpBlock::Element { elset } => {
-                if fields.len() != 5 {
-                    return Err(at.err(
-                        line_no,
-                        format!(
-                            "a 4-node shell line needs `id, n1, n2, n3, n4`, found {} fields",
-                            fields.len()
-                        ),
-                    ));
-                }
-                let id = int(fields[0], "element id")?;
-                let mut conn = [0i64; 4];
-                for (c, f) in conn.iter_mut().zip(&fields[1..]) {
-                    *c = int(f, "node id")?;
-                }
-                if elem_index.insert(id, elems.len() as u32).is_some() {
-                    return Err(at.err(line_no, format!("element id {id} is defined twice")));
-                }
-                elems.push((id, conn, line_no));
-                if let Some(name) = elset {
-                    sets.entry((false, name.clone()))
-                        .or_default()
-                        .push((id, line_no));
-                }
+                let elset = elset.clone();
+                self.element(line_no, fields, elset)
             }
             InpBlock::Set {
                 node,
                 name,
                 generate,
             } => {
-                let list = sets.entry((*node, name.clone())).or_default();
-                if *generate {
-                    if !(2..=3).contains(&fields.len()) {
-                        return Err(at.err(line_no, "a GENERATE line needs `first, last[, step]`"));
-                    }
-                    let a = int(fields[0], "first id")?;
-                    let b = int(fields[1], "last id")?;
-                    let s = if fields.len() == 3 {
-                        int(fields[2], "step")?
-                    } else {
-                        1
-                    };
-                    if s <= 0 || b < a {
-                        return Err(at.err(
-                            line_no,
-                            format!("GENERATE {a}, {b}, {s}: need last >= first and step > 0"),
-                        ));
-                    }
-                    let mut i = a;
-                    while i <= b {
-                        list.push((i, line_no));
-                        i += s;
-                    }
+                let ids = if *generate {
+                    self.generated(line_no, fields)?
                 } else {
-                    for f in &fields {
-                        list.push((int(f, "id (set references are not supported)")?, line_no));
-                    }
-                }
+                    fields
+                        .iter()
+                        .map(|f| self.int(line_no, f, "id (set references are not supported)"))
+                        .collect::<Result<Vec<_>, _>>()?
+                };
+                let list = self.sets.entry((*node, name.clone())).or_default();
+                list.extend(ids.into_iter().map(|i| (i, line_no)));
+                Ok(())
             }
         }
     }
-    let mut quads = Vec::with_capacity(elems.len());
-    for (id, conn, line) in &elems {
-        let mut q = [0u32; 4];
-        for (qi, c) in q.iter_mut().zip(conn) {
-            *qi = *node_index.get(c).ok_or_else(|| {
-                at.err(*line, format!("element {id}: node id {c} is not defined"))
+
+    /// `id, x, y[, z]`.
+    fn node(&mut self, line_no: usize, fields: &[&str]) -> Result<(), FemError> {
+        let at = &self.at;
+        if fields.len() < 3 {
+            return Err(at.err(line_no, "a *NODE line needs `id, x, y[, z]`"));
+        }
+        let id = self.int(line_no, fields[0], "node id")?;
+        let mut p = Vec3::zeros();
+        for (a, f) in fields[1..fields.len().min(4)].iter().enumerate() {
+            p[a] = f.parse::<f64>().map_err(|_| {
+                at.err(
+                    line_no,
+                    format!("node {id}: coordinate `{f}` is not a number"),
+                )
             })?;
+            if !p[a].is_finite() {
+                return Err(at.err(
+                    line_no,
+                    format!("node {id}: coordinate `{f}` is not finite"),
+                ));
+            }
         }
-        quads.push(q);
+        if self
+            .node_index
+            .insert(id, self.nodes.len() as u32)
+            .is_some()
+        {
+            return Err(at.err(line_no, format!("node id {id} is defined twice")));
+        }
+        self.nodes.push(p);
+        self.node_ids.push(id);
+        Ok(())
     }
-    let mut mesh = Mesh {
-        nodes,
-        quads,
-        ..Default::default()
-    };
-    for ((is_node, name), ids) in sets {
-        let (index, what) = if is_node {
-            (&node_index, "node")
+
+    /// `id, n1, n2, n3, n4`, added to `elset` when the block names one.
+    fn element(
+        &mut self,
+        line_no: usize,
+        fields: &[&str],
+        elset: Option<String>,
+    ) -> Result<(), FemError> {
+        if fields.len() != 5 {
+            return Err(self.at.err(
+                line_no,
+                format!(
+                    "a 4-node shell line needs `id, n1, n2, n3, n4`, found {} fields",
+                    fields.len()
+                ),
+            ));
+        }
+        let id = self.int(line_no, fields[0], "element id")?;
+        let mut conn = [0i64; 4];
+        for (c, f) in conn.iter_mut().zip(&fields[1..]) {
+            *c = self.int(line_no, f, "node id")?;
+        }
+        if self
+            .elem_index
+            .insert(id, self.elems.len() as u32)
+            .is_some()
+        {
+            return Err(self
+                .at
+                .err(line_no, format!("element id {id} is defined twice")));
+        }
+        self.elems.push((id, conn, line_no));
+        if let Some(name) = elset {
+            self.sets
+                .entry((false, name))
+                .or_default()
+                .push((id, line_no));
+        }
+        Ok(())
+    }
+
+    /// The ids of a `GENERATE` line, `first, last[, step]`.
+    fn generated(&self, line_no: usize, fields: &[&str]) -> Result<Vec<i64>, FemError> {
+        if !(2..=3).contains(&fields.len()) {
+            return Err(self
+                .at
+                .err(line_no, "a GENERATE line needs `first, last[, step]`"));
+        }
+        let a = self.int(line_no, fields[0], "first id")?;
+        let b = self.int(line_no, fields[1], "last id")?;
+        let s = if fields.len() == 3 {
+            self.int(line_no, fields[2], "step")?
         } else {
-            (&elem_index, "element")
+            1
         };
-        let mut list = Vec::with_capacity(ids.len());
-        for (id, line) in ids {
-            list.push(*index.get(&id).ok_or_else(|| {
-                at.err(line, format!("set `{name}`: {what} id {id} is not defined"))
-            })?);
+        if s <= 0 || b < a {
+            return Err(self.at.err(
+                line_no,
+                format!("GENERATE {a}, {b}, {s}: need last >= first and step > 0"),
+            ));
         }
-        list.sort_unstable();
-        list.dedup();
-        if is_node {
-            mesh.node_sets.insert(name, list);
-        } else {
-            mesh.element_sets.insert(name, list);
+        let mut ids = Vec::new();
+        let mut i = a;
+        while i <= b {
+            ids.push(i);
+            i += s;
         }
+        Ok(ids)
     }
-    add_missing_all(&mut mesh);
-    Ok(MeshFile {
-        mesh,
-        node_ids,
-        element_ids: elems.iter().map(|e| e.0).collect(),
-    })
+
+    /// The mesh: elements and sets resolved to indices, `all` sets added.
+    fn finish(self) -> Result<MeshFile, FemError> {
+        let at = &self.at;
+        let mut quads = Vec::with_capacity(self.elems.len());
+        for (id, conn, line) in &self.elems {
+            let mut q = [0u32; 4];
+            for (qi, c) in q.iter_mut().zip(conn) {
+                *qi = *self.node_index.get(c).ok_or_else(|| {
+                    at.err(*line, format!("element {id}: node id {c} is not defined"))
+                })?;
+            }
+            quads.push(q);
+        }
+        let mut mesh = Mesh {
+            nodes: self.nodes,
+            quads,
+            ..Default::default()
+        };
+        for ((is_node, name), ids) in self.sets {
+            let (index, what) = if is_node {
+                (&self.node_index, "node")
+            } else {
+                (&self.elem_index, "element")
+            };
+            let mut list = Vec::with_capacity(ids.len());
+            for (id, line) in ids {
+                list.push(*index.get(&id).ok_or_else(|| {
+                    at.err(line, format!("set `{name}`: {what} id {id} is not defined"))
+                })?);
+            }
+            list.sort_unstable();
+            list.dedup();
+            if is_node {
+                mesh.node_sets.insert(name, list);
+            } else {
+                mesh.element_sets.insert(name, list);
+            }
+        }
+        add_missing_all(&mut mesh);
+        Ok(MeshFile {
+            mesh,
+            node_ids: self.node_ids,
+            element_ids: self.elems.iter().map(|e| e.0).collect(),
+        })
+    }
 }
 
 fn add_missing_all(mesh: &mut Mesh) {
