@@ -440,137 +440,36 @@ fn parse_msh(text: &str, file: &str) -> Result<Mesh, FemError> {
 }
 
 fn parse_msh_numbered(text: &str, file: &str) -> Result<MeshFile, FemError> {
-    let mut ls = Lines {
-        it: text.lines().enumerate().peekable(),
-        at: At { file },
-        last: 0,
+    let mut r = MshReader {
+        ls: Lines {
+            it: text.lines().enumerate().peekable(),
+            at: At { file },
+            last: 0,
+        },
+        names: HashMap::new(),
+        ent_phys: HashMap::new(),
+        nodes: Vec::new(),
+        node_ids: Vec::new(),
+        node_index: HashMap::new(),
+        quads_raw: Vec::new(),
+        ent_nodes: HashMap::new(),
     };
-    let mut names: HashMap<(i32, i32), String> = HashMap::new();
-    // (dim, entity tag) -> physical tags
-    let mut ent_phys: HashMap<(i32, i32), Vec<i32>> = HashMap::new();
-    let mut nodes = Vec::new();
-    let mut node_ids = Vec::new();
-    let mut node_index: HashMap<u64, u32> = HashMap::new();
-    // quads (file node tags) with line numbers, entity tag and element tag
-    let mut quads_raw: Vec<([u64; 4], usize, i32, u64)> = Vec::new();
-    // (dim, entity) -> node tags of lower-dimensional elements
-    let mut ent_nodes: HashMap<(i32, i32), Vec<(u64, usize)>> = HashMap::new();
     let mut seen_format = false;
-    while let Ok((_, l)) = ls.next_line() {
+    while let Ok((_, l)) = r.ls.next_line() {
         match l {
             "$MeshFormat" => {
-                let (n2, l2) = ls.next_line()?;
-                let f: Vec<&str> = l2.split_whitespace().collect();
-                if f.len() < 2 || !f[0].starts_with("4.1") || f[1] != "0" {
-                    return Err(ls.at.err(
-                        n2,
-                        format!("need Gmsh format `4.1 0 8` (ASCII), found `{l2}`"),
-                    ));
-                }
+                r.format()?;
                 seen_format = true;
             }
-            "$PhysicalNames" => {
-                let (_, c) = ls.numbers::<usize>(1, "the number of physical names")?;
-                for _ in 0..c[0] {
-                    let (n2, l2) = ls.next_line()?;
-                    let mut it = l2.splitn(3, char::is_whitespace);
-                    let dim = it.next().and_then(|s| s.parse::<i32>().ok());
-                    let tag = it.next().and_then(|s| s.parse::<i32>().ok());
-                    let name = it.next().map(|s| s.trim().trim_matches('"').to_string());
-                    match (dim, tag, name) {
-                        (Some(d), Some(t), Some(nm)) => {
-                            names.insert((d, t), nm);
-                        }
-                        _ => {
-                            return Err(ls
-                                .at
-                                .err(n2, format!("expected `dim tag \"name\"`, found `{l2}`")));
-                        }
-                    }
-                }
-            }
-            "$Entities" => {
-                let (_, c) =
-                    ls.numbers::<usize>(4, "numPoints numCurves numSurfaces numVolumes")?;
-                for (dim, &count) in c.iter().take(4).enumerate() {
-                    for _ in 0..count {
-                        let (n2, v) =
-                            ls.numbers::<f64>(if dim == 0 { 5 } else { 8 }, "an entity")?;
-                        let k = if dim == 0 { 4 } else { 7 };
-                        let np = v[k] as usize;
-                        if v.len() < k + 1 + np {
-                            return Err(ls
-                                .at
-                                .err(n2, "entity line shorter than its physical tags"));
-                        }
-                        let phys = v[k + 1..k + 1 + np].iter().map(|&t| t as i32).collect();
-                        ent_phys.insert((dim as i32, v[0] as i32), phys);
-                    }
-                }
-            }
-            "$Nodes" => {
-                let (_, h) =
-                    ls.numbers::<u64>(4, "numEntityBlocks numNodes minNodeTag maxNodeTag")?;
-                for _ in 0..h[0] {
-                    let (n2, b) =
-                        ls.numbers::<i64>(4, "entityDim entityTag parametric numNodesInBlock")?;
-                    let count = b[3] as usize;
-                    let mut tags = Vec::with_capacity(count);
-                    for _ in 0..count {
-                        let (_, t) = ls.numbers::<u64>(1, "a node tag")?;
-                        tags.push(t[0]);
-                    }
-                    for tag in tags {
-                        let (n3, p) = ls.numbers::<f64>(3, "node coordinates x y z")?;
-                        if !p[..3].iter().all(|c| c.is_finite()) {
-                            return Err(ls
-                                .at
-                                .err(n3, format!("node {tag}: coordinates are not finite")));
-                        }
-                        if node_index.insert(tag, nodes.len() as u32).is_some() {
-                            return Err(ls.at.err(n3, format!("node tag {tag} is defined twice")));
-                        }
-                        nodes.push(Vec3::new(p[0], p[1], p[2]));
-                        node_ids.push(tag as i64);
-                    }
-                    let _ = n2;
-                }
-            }
-            "$Elements" => {
-                let (_, h) = ls
-                    .numbers::<u64>(4, "numEntityBlocks numElements minElementTag maxElementTag")?;
-                for _ in 0..h[0] {
-                    let (n2, b) =
-                        ls.numbers::<i64>(4, "entityDim entityTag elementType numElementsInBlock")?;
-                    let (dim, ent, ty, count) = (b[0] as i32, b[1] as i32, b[2], b[3] as usize);
-                    if dim == 2 && ty != 3 {
-                        return Err(ls.at.err(
-                            n2,
-                            format!("surface {ent}: element type {ty} is not a 4-node quad (type 3); mesh with quads (Recombine)"),
-                        ));
-                    }
-                    for _ in 0..count {
-                        let (n3, e) = ls.numbers::<u64>(2, "an element line")?;
-                        if dim == 2 {
-                            if e.len() != 5 {
-                                return Err(ls.at.err(
-                                    n3,
-                                    format!("element {}: a quad needs 4 node tags", e[0]),
-                                ));
-                            }
-                            quads_raw.push(([e[1], e[2], e[3], e[4]], n3, ent, e[0]));
-                        } else if dim < 2 {
-                            let list = ent_nodes.entry((dim, ent)).or_default();
-                            list.extend(e[1..].iter().map(|&t| (t, n3)));
-                        }
-                    }
-                }
-            }
+            "$PhysicalNames" => r.physical_names()?,
+            "$Entities" => r.entities()?,
+            "$Nodes" => r.nodes()?,
+            "$Elements" => r.elements()?,
             s if s.starts_with('$') && !s.starts_with("$End") => {
                 // Unknown section: skip to its end.
                 let end = format!("$End{}", &s[1..]);
                 loop {
-                    let (_, l2) = ls.next_line()?;
+                    let (_, l2) = r.ls.next_line()?;
                     if l2 == end {
                         break;
                     }
@@ -580,65 +479,240 @@ fn parse_msh_numbered(text: &str, file: &str) -> Result<MeshFile, FemError> {
         }
     }
     if !seen_format {
-        return Err(ls.at.err(1, "no $MeshFormat section: not a Gmsh .msh file"));
+        return Err(r
+            .ls
+            .at
+            .err(1, "no $MeshFormat section: not a Gmsh .msh file"));
     }
-    let resolve = |tag: u64, line: usize| -> Result<u32, FemError> {
-        node_index
-            .get(&tag)
-            .copied()
-            .ok_or_else(|| ls.at.err(line, format!("node tag {tag} is not defined")))
-    };
-    let mut mesh = Mesh {
-        nodes,
-        ..Default::default()
-    };
-    let group_name = |dim: i32, tag: i32| {
-        names
-            .get(&(dim, tag))
-            .cloned()
-            .unwrap_or_else(|| format!("{dim}:{tag}"))
-    };
-    for (e, (conn, line, ent, _)) in quads_raw.iter().enumerate() {
-        let mut q = [0u32; 4];
-        for (qi, &c) in q.iter_mut().zip(conn) {
-            *qi = resolve(c, *line)?;
+    r.finish()
+}
+
+/// The state of a Gmsh 4.1 file read section by section.
+struct MshReader<'a> {
+    ls: Lines<'a>,
+    names: HashMap<(i32, i32), String>,
+    /// (dim, entity tag) -> physical tags
+    ent_phys: HashMap<(i32, i32), Vec<i32>>,
+    nodes: Vec<Vec3>,
+    node_ids: Vec<i64>,
+    node_index: HashMap<u64, u32>,
+    /// quads (file node tags) with line numbers, entity tag and element tag
+    quads_raw: Vec<([u64; 4], usize, i32, u64)>,
+    /// (dim, entity) -> node tags of lower-dimensional elements
+    ent_nodes: HashMap<(i32, i32), Vec<(u64, usize)>>,
+}
+
+impl MshReader<'_> {
+    /// `$MeshFormat`: only `4.1 0 8` (ASCII).
+    fn format(&mut self) -> Result<(), FemError> {
+        let (n2, l2) = self.ls.next_line()?;
+        let f: Vec<&str> = l2.split_whitespace().collect();
+        if f.len() < 2 || !f[0].starts_with("4.1") || f[1] != "0" {
+            return Err(self.ls.at.err(
+                n2,
+                format!("need Gmsh format `4.1 0 8` (ASCII), found `{l2}`"),
+            ));
         }
-        mesh.quads.push(q);
-        for &p in ent_phys.get(&(2, *ent)).into_iter().flatten() {
-            let name = group_name(2, p);
-            mesh.element_sets
-                .entry(name.clone())
-                .or_default()
-                .push(e as u32);
-            mesh.node_sets
-                .entry(name)
-                .or_default()
-                .extend_from_slice(&q);
-        }
+        Ok(())
     }
-    for (&(dim, ent), list) in &ent_nodes {
-        for &p in ent_phys.get(&(dim, ent)).into_iter().flatten() {
-            let name = group_name(dim, p);
-            for &(tag, line) in list {
-                let i = resolve(tag, line)?;
-                mesh.node_sets.entry(name.clone()).or_default().push(i);
+
+    /// `$PhysicalNames`: `dim tag "name"` lines.
+    fn physical_names(&mut self) -> Result<(), FemError> {
+        let (_, c) = self
+            .ls
+            .numbers::<usize>(1, "the number of physical names")?;
+        for _ in 0..c[0] {
+            let (n2, l2) = self.ls.next_line()?;
+            let mut it = l2.splitn(3, char::is_whitespace);
+            let dim = it.next().and_then(|s| s.parse::<i32>().ok());
+            let tag = it.next().and_then(|s| s.parse::<i32>().ok());
+            let name = it.next().map(|s| s.trim().trim_matches('"').to_string());
+            match (dim, tag, name) {
+                (Some(d), Some(t), Some(nm)) => {
+                    self.names.insert((d, t), nm);
+                }
+                _ => {
+                    return Err(self
+                        .ls
+                        .at
+                        .err(n2, format!("expected `dim tag \"name\"`, found `{l2}`")));
+                }
             }
         }
+        Ok(())
     }
-    for set in mesh
-        .node_sets
-        .values_mut()
-        .chain(mesh.element_sets.values_mut())
-    {
-        set.sort_unstable();
-        set.dedup();
+
+    /// `$Entities`: each entity's physical tags.
+    fn entities(&mut self) -> Result<(), FemError> {
+        let (_, c) = self
+            .ls
+            .numbers::<usize>(4, "numPoints numCurves numSurfaces numVolumes")?;
+        for (dim, &count) in c.iter().take(4).enumerate() {
+            for _ in 0..count {
+                let (n2, v) = self
+                    .ls
+                    .numbers::<f64>(if dim == 0 { 5 } else { 8 }, "an entity")?;
+                let k = if dim == 0 { 4 } else { 7 };
+                let np = v[k] as usize;
+                if v.len() < k + 1 + np {
+                    return Err(self
+                        .ls
+                        .at
+                        .err(n2, "entity line shorter than its physical tags"));
+                }
+                let phys = v[k + 1..k + 1 + np].iter().map(|&t| t as i32).collect();
+                self.ent_phys.insert((dim as i32, v[0] as i32), phys);
+            }
+        }
+        Ok(())
     }
-    add_missing_all(&mut mesh);
-    Ok(MeshFile {
-        mesh,
-        node_ids,
-        element_ids: quads_raw.iter().map(|q| q.3 as i64).collect(),
-    })
+
+    /// `$Nodes`: blocks of tags, then their coordinates.
+    fn nodes(&mut self) -> Result<(), FemError> {
+        let (_, h) = self
+            .ls
+            .numbers::<u64>(4, "numEntityBlocks numNodes minNodeTag maxNodeTag")?;
+        for _ in 0..h[0] {
+            let (_, b) = self
+                .ls
+                .numbers::<i64>(4, "entityDim entityTag parametric numNodesInBlock")?;
+            let count = b[3] as usize;
+            let mut tags = Vec::with_capacity(count);
+            for _ in 0..count {
+                let (_, t) = self.ls.numbers::<u64>(1, "a node tag")?;
+                tags.push(t[0]);
+            }
+            for tag in tags {
+                let (n3, p) = self.ls.numbers::<f64>(3, "node coordinates x y z")?;
+                if !p[..3].iter().all(|c| c.is_finite()) {
+                    return Err(self
+                        .ls
+                        .at
+                        .err(n3, format!("node {tag}: coordinates are not finite")));
+                }
+                if self
+                    .node_index
+                    .insert(tag, self.nodes.len() as u32)
+                    .is_some()
+                {
+                    return Err(self
+                        .ls
+                        .at
+                        .err(n3, format!("node tag {tag} is defined twice")));
+                }
+                self.nodes.push(Vec3::new(p[0], p[1], p[2]));
+                self.node_ids.push(tag as i64);
+            }
+        }
+        Ok(())
+    }
+
+    /// `$Elements`: quads on surfaces, the nodes of points and curves.
+    fn elements(&mut self) -> Result<(), FemError> {
+        let (_, h) = self
+            .ls
+            .numbers::<u64>(4, "numEntityBlocks numElements minElementTag maxElementTag")?;
+        for _ in 0..h[0] {
+            let (n2, b) = self
+                .ls
+                .numbers::<i64>(4, "entityDim entityTag elementType numElementsInBlock")?;
+            let (dim, ent, ty, count) = (b[0] as i32, b[1] as i32, b[2], b[3] as usize);
+            if dim == 2 && ty != 3 {
+                return Err(self.ls.at.err(
+                    n2,
+                    format!("surface {ent}: element type {ty} is not a 4-node quad (type 3); mesh with quads (Recombine)"),
+                ));
+            }
+            for _ in 0..count {
+                let (n3, e) = self.ls.numbers::<u64>(2, "an element line")?;
+                if dim == 2 {
+                    if e.len() != 5 {
+                        return Err(self
+                            .ls
+                            .at
+                            .err(n3, format!("element {}: a quad needs 4 node tags", e[0])));
+                    }
+                    self.quads_raw
+                        .push(([e[1], e[2], e[3], e[4]], n3, ent, e[0]));
+                } else if dim < 2 {
+                    let list = self.ent_nodes.entry((dim, ent)).or_default();
+                    list.extend(e[1..].iter().map(|&t| (t, n3)));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The mesh: quads and physical groups resolved to indices, `all` sets added.
+    fn finish(self) -> Result<MeshFile, FemError> {
+        let MshReader {
+            ls,
+            names,
+            ent_phys,
+            nodes,
+            node_ids,
+            node_index,
+            quads_raw,
+            ent_nodes,
+        } = self;
+        let resolve = |tag: u64, line: usize| -> Result<u32, FemError> {
+            node_index
+                .get(&tag)
+                .copied()
+                .ok_or_else(|| ls.at.err(line, format!("node tag {tag} is not defined")))
+        };
+        let group_name = |dim: i32, tag: i32| {
+            names
+                .get(&(dim, tag))
+                .cloned()
+                .unwrap_or_else(|| format!("{dim}:{tag}"))
+        };
+        let mut mesh = Mesh {
+            nodes: nodes,
+            ..Default::default()
+        };
+        for (e, (conn, line, ent, _)) in quads_raw.iter().enumerate() {
+            let mut q = [0u32; 4];
+            for (qi, &c) in q.iter_mut().zip(conn) {
+                *qi = resolve(c, *line)?;
+            }
+            mesh.quads.push(q);
+            for &p in ent_phys.get(&(2, *ent)).into_iter().flatten() {
+                let name = group_name(2, p);
+                mesh.element_sets
+                    .entry(name.clone())
+                    .or_default()
+                    .push(e as u32);
+                mesh.node_sets
+                    .entry(name)
+                    .or_default()
+                    .extend_from_slice(&q);
+            }
+        }
+        for (&(dim, ent), list) in &ent_nodes {
+            for &p in ent_phys.get(&(dim, ent)).into_iter().flatten() {
+                let name = group_name(dim, p);
+                for &(tag, line) in list {
+                    let i = resolve(tag, line)?;
+                    mesh.node_sets.entry(name.clone()).or_default().push(i);
+                }
+            }
+        }
+        for set in mesh
+            .node_sets
+            .values_mut()
+            .chain(mesh.element_sets.values_mut())
+        {
+            set.sort_unstable();
+            set.dedup();
+        }
+        add_missing_all(&mut mesh);
+        Ok(MeshFile {
+            mesh,
+            node_ids: node_ids,
+            element_ids: quads_raw.iter().map(|q| q.3 as i64).collect(),
+        })
+    }
 }
 
 #[cfg(test)]
