@@ -668,7 +668,7 @@ impl MshReader<'_> {
                 .unwrap_or_else(|| format!("{dim}:{tag}"))
         };
         let mut mesh = Mesh {
-            nodes: nodes,
+            nodes,
             ..Default::default()
         };
         for (e, (conn, line, ent, _)) in quads_raw.iter().enumerate() {
@@ -709,7 +709,7 @@ impl MshReader<'_> {
         add_missing_all(&mut mesh);
         Ok(MeshFile {
             mesh,
-            node_ids: node_ids,
+            node_ids,
             element_ids: quads_raw.iter().map(|q| q.3 as i64).collect(),
         })
     }
