@@ -563,26 +563,23 @@ impl ContactPair {
     /// [`ContactPair::stable_dt`], for the limit of the effects on a node
     /// together, see `fem_core::nodal_limit`).
     pub fn add_nodal_stiffness(&self, area: &[f64], stiffness: &mut [f64]) {
-        let k_t = self.stick_stiffness();
-        for &k in &self.batch.points {
-            let k = k as usize;
-            let node = self.nodes[k] as usize;
-            let s = self.stiffness[k] + k_t * area[node];
-            if s > 0.0 {
-                stiffness[node] += s;
-            }
+        for (node, s) in self.touching_springs(area) {
+            stiffness[node] += s;
         }
     }
 
-    /// `(node, penalty + stick stiffness (N/mm))` of every touching point with a positive spring.
+    /// `(node, penalty + stick stiffness (N/mm))` of every point touching in
+    /// the last step (those whose forces [`ContactPair::add_forces`] adds)
+    /// with a positive spring.
     fn touching_springs<'a>(&'a self, area: &'a [f64]) -> impl Iterator<Item = (usize, f64)> + 'a {
         let k_t = self.stick_stiffness();
-        self.nodes
+        self.batch
+            .points
             .iter()
-            .zip(&self.stiffness)
-            .zip(&self.status)
-            .filter(|(_, status)| **status != PointStatus::Open)
-            .map(move |((&node, &k_n), _)| (node as usize, k_n + k_t * area[node as usize]))
+            .map(move |&k| {
+                let node = self.nodes[k as usize] as usize;
+                (node, self.stiffness[k as usize] + k_t * area[node])
+            })
             .filter(|&(_, stiff)| stiff > 0.0)
     }
 

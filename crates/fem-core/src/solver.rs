@@ -1031,26 +1031,11 @@ impl Solver {
         best
     }
 
-    /// Where `limit` sits, in words: `element E of `effect` (what)`, or
-    /// `node N (effect s N/mm + … together)` for a combined limit.
-    fn describe_limit(&mut self, limit: &DtLimit) -> String {
-        if limit.combined {
-            let node = limit.stable.element;
-            let who = self.nodal.contributors(&self.effects, &self.state, node);
-            format!("node {node} ({who}, together)")
-        } else {
-            format!(
-                "element {} of `{}` ({})",
-                limit.stable.element,
-                self.effect_name(limit.effect),
-                limit.stable.what
-            )
-        }
-    }
-
-    /// The collapse error for a step `dt` below the floor, with its limit.
-    fn collapse(&mut self, dt: f64, limit: Option<DtLimit>) -> FemError {
-        let (effect, element, what) = match limit {
+    /// Who limits the step: the effect's name (for a combined limit, the
+    /// effects on the node with their stiffness, `name s N/mm + …`), the
+    /// element (or node) and the cause; `dt_max` when the setting does.
+    fn limit_source(&mut self, limit: Option<DtLimit>) -> (String, usize, &'static str) {
+        match limit {
             Some(l) if l.combined => {
                 let who = self
                     .nodal
@@ -1063,7 +1048,23 @@ impl Solver {
                 l.stable.what,
             ),
             None => ("dt_max".to_string(), 0, "settings"),
-        };
+        }
+    }
+
+    /// Where `limit` sits, in words: `element E of `effect` (what)`, or
+    /// `node N (effect s N/mm + … together)` for a combined limit.
+    fn describe_limit(&mut self, limit: DtLimit) -> String {
+        let (who, element, what) = self.limit_source(Some(limit));
+        if limit.combined {
+            format!("node {element} ({who}, together)")
+        } else {
+            format!("element {element} of `{who}` ({what})")
+        }
+    }
+
+    /// The collapse error for a step `dt` below the floor, with its limit.
+    fn collapse(&mut self, dt: f64, limit: Option<DtLimit>) -> FemError {
+        let (effect, element, what) = self.limit_source(limit);
         FemError::TimeStepCollapse {
             time: self.time,
             step: self.step,
@@ -1087,7 +1088,7 @@ impl Solver {
                     step: self.step,
                     dt: fixed,
                     stable: l.stable.dt,
-                    location: self.describe_limit(&l),
+                    location: self.describe_limit(l),
                 });
             }
             return Ok((fixed, limit));

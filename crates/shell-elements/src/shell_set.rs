@@ -531,38 +531,6 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
         }
     }
 
-    /// See [`Effect::nodal_stiffness`] for `ShellSet`. Before the first
-    /// forces (no lengths yet) the element frames come from `state`.
-    fn add_nodal_stiffness(&self, state: &NodalState, stiffness: &mut [f64]) {
-        let rho_c2 = self.material.density() * self.wave_speed * self.wave_speed;
-        let mut add = |e: usize, q: &[u32; 4], length: f64, area: f64| {
-            if length > 0.0 {
-                let k = rho_c2 * area * self.thickness[e] / (length * length);
-                for &n in q {
-                    stiffness[n as usize] += k;
-                }
-            }
-        };
-        if !self.forces_computed {
-            for (e, q) in self.conn.iter().enumerate() {
-                let fr = Frame::new(&q.map(|n| v3(&state.x[n as usize])));
-                add(e, q, fr.char_length(), fr.area);
-            }
-            return;
-        }
-        let nb = self.conn.len() / 4;
-        for (b, r) in self.results_x4.iter().enumerate() {
-            for l in 0..4 {
-                let e = 4 * b + l;
-                add(e, &self.conn[e], r.length.0[l], r.area.0[l]);
-            }
-        }
-        for (j, r) in self.results.iter().enumerate() {
-            let e = 4 * nb + j;
-            add(e, &self.conn[e], r.length, r.area);
-        }
-    }
-
     fn element_dt(&self, e: usize, length: f64) -> f64 {
         length * self.density_scale[e].sqrt() / self.wave_speed
     }
@@ -647,9 +615,36 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
     /// share `m_e = s ρ A t / 4` (`s` its density scale), so a node of one
     /// element gets the element's own step back; a node between elements
     /// gets their mass-weighted frequency. Physical stiffness: mass scaling
-    /// does not change it. From the last forces' lengths and areas.
+    /// does not change it. From the last forces' lengths and areas (before
+    /// the first forces, from the element frames of `state`).
     fn nodal_stiffness(&self, state: &NodalState, stiffness: &mut [f64]) {
-        self.add_nodal_stiffness(state, stiffness);
+        let rho_c2 = self.material.density() * self.wave_speed * self.wave_speed;
+        let mut add = |e: usize, q: &[u32; 4], length: f64, area: f64| {
+            if length > 0.0 {
+                let k = rho_c2 * area * self.thickness[e] / (length * length);
+                for &n in q {
+                    stiffness[n as usize] += k;
+                }
+            }
+        };
+        if !self.forces_computed {
+            for (e, q) in self.conn.iter().enumerate() {
+                let fr = Frame::new(&q.map(|n| v3(&state.x[n as usize])));
+                add(e, q, fr.char_length(), fr.area);
+            }
+            return;
+        }
+        let nb = self.conn.len() / 4;
+        for (b, r) in self.results_x4.iter().enumerate() {
+            for l in 0..4 {
+                let e = 4 * b + l;
+                add(e, &self.conn[e], r.length.0[l], r.area.0[l]);
+            }
+        }
+        for (j, r) in self.results.iter().enumerate() {
+            let e = 4 * nb + j;
+            add(e, &self.conn[e], r.length, r.area);
+        }
     }
 
     fn scale_mass(

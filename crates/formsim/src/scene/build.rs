@@ -85,7 +85,6 @@ fn add_shells(
     solver: &mut Solver,
     mesh: &Mesh,
 ) -> Result<ShellHandle, SceneError> {
-    kinds::ensure_linked();
     let s: &Scene = &loaded.scene;
     let m = &s.blank.material;
     let hardening = match &m.hardening {
@@ -105,16 +104,8 @@ fn add_shells(
         .and_then(|sec| sec.with_rule(shell_elements::RuleKind::Gauss, s.blank.integration_points))
         .and_then(|sec| sec.with_hourglass(s.blank.hourglass))
         .map_err(|e| loaded.key_error("blank", e.to_string()))?;
-    let model = super::schema::material_model(s);
-    let kind = kinds::material(&model).ok_or_else(|| {
-        loaded.key_error(
-            "blank.material.model",
-            format!(
-                "\"{model}\" is not a registered material (registered: {})",
-                kinds::names(kinds::materials().iter().map(|k| k.name))
-            ),
-        )
-    })?;
+    let kind = kinds::material(&super::schema::material_model(s))
+        .expect("validated: a registered material model");
     let rolling_angle = match m.r_values {
         Some(_) => Some(
             super::material::rolling_angle(mesh)
@@ -141,10 +132,10 @@ fn add_shells(
         },
     };
     (kind.build)(&request, solver).map_err(|e| {
+        // The element and the model were checked against the registries;
+        // what is left is the mesh's elements or the material's values.
         let key = match e {
-            shell_elements::ShellError::InvalidInput(_) if kinds::element(&b.element).is_none() => {
-                "blank.element"
-            }
+            shell_elements::ShellError::BadElement { .. } => "blank",
             _ => "blank.material",
         };
         loaded.key_error(key, e.to_string())
