@@ -359,7 +359,7 @@ pub mod __private {
 
     /// Install, once per copy of `std`, the panic hook described in the
     /// [module docs](super): silent inside a shim, the previous hook elsewhere.
-    fn install_quiet_hook() {
+    pub fn install_quiet_hook() {
         static INSTALLED: Once = Once::new();
         INSTALLED.call_once(|| {
             let previous = std::panic::take_hook();
@@ -380,7 +380,7 @@ pub mod __private {
 
     /// Run plugin code: its value, or the text of its panic
     /// (`panicked: MESSAGE (at FILE:LINE:COLUMN)`), caught without printing.
-    fn guarded<R>(f: impl FnOnce() -> R) -> Result<R, String> {
+    pub fn guarded<R>(f: impl FnOnce() -> R) -> Result<R, String> {
         IN_SHIM.with(|in_shim| {
             let outer = in_shim.replace(true);
             let result = catch_unwind(AssertUnwindSafe(f));
@@ -405,7 +405,8 @@ pub mod __private {
     // SAFETY: as for `Sync`: immutable 'static data.
     unsafe impl Send for StaticTable {}
 
-    const fn text_ok(s: &str, is_name: bool) -> bool {
+    /// Whether `s` has no NUL byte (and, for a name, is a non-empty scene key).
+    pub const fn text_ok(s: &str, is_name: bool) -> bool {
         let b = s.as_bytes();
         if is_name && b.is_empty() {
             return false;
@@ -450,7 +451,8 @@ pub mod __private {
         }
     }
 
-    fn leak_c(s: &str) -> Option<*const c_char> {
+    /// `s` as a NUL-terminated C string leaked for the life of the process.
+    pub fn leak_c(s: &str) -> Option<*const c_char> {
         let c = CString::new(s).ok()?;
         Some(Box::leak(c.into_boxed_c_str()).as_ptr())
     }
@@ -514,7 +516,8 @@ pub mod __private {
         }
     }
 
-    fn set_error(message: String) {
+    /// Keep `message` for the `last_error` of this thread.
+    pub fn set_error(message: String) {
         LAST_ERROR.with(|e| *e.borrow_mut() = message);
     }
 

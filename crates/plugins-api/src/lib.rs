@@ -21,11 +21,13 @@
 
 pub mod abi;
 pub mod conformance;
+mod dylib;
 pub mod error;
 pub mod formulation;
 pub mod kinematics;
 pub mod law;
 pub mod loader;
+pub mod material;
 pub mod needs;
 pub mod params;
 pub mod registry;

@@ -27,17 +27,18 @@
 //! taken it) or [`DynamicLaw::last_error`].
 
 use std::cell::RefCell;
-use std::ffi::{CStr, c_char, c_void};
-use std::path::{Path, PathBuf};
+use std::ffi::{c_char, c_void};
+use std::path::Path;
 use std::sync::{Arc, Mutex, PoisonError};
 
 use libloading::Library;
 
 use crate::abi::{
-    __private::PANIC_PREFIX, AbiCriticalShear, AbiParamSpec, AbiShearInputs, CreateFn,
-    CriticalShearFn, DestroyFn, ENTRY_SYMBOL, ENTRY_SYMBOL_NAME, EntryFn, FrictionPluginV1,
-    LastErrorFn, STATUS_ERROR, STATUS_OK, STATUS_PANIC, StickStiffnessFn,
+    __private::PANIC_PREFIX, AbiCriticalShear, AbiShearInputs, CreateFn, CriticalShearFn,
+    DestroyFn, ENTRY_SYMBOL, ENTRY_SYMBOL_NAME, EntryFn, FrictionPluginV1, LastErrorFn,
+    STATUS_ERROR, STATUS_OK, STATUS_PANIC, StickStiffnessFn,
 };
+use crate::dylib;
 use crate::law::LawDescription;
 use crate::params::check_values;
 use crate::{
@@ -55,12 +56,6 @@ const KNOWN_NEEDS: PointNeeds = PointNeeds(
         | PointNeeds::DEFORMATION_GRADIENT.0
         | PointNeeds::TOOL_ROTATION.0,
 );
-
-/// Upper bound on a plugin's parameter count, to reject corrupt tables.
-const MAX_PARAMS: usize = 256;
-
-/// Size of the host buffers that receive plugin error messages (bytes).
-const ERROR_BUFFER: usize = 1024;
 
 /// The last failure of a [`DynamicLaw`] call on a thread, and the law
 /// (the address of its handle) it belongs to.
@@ -137,23 +132,7 @@ impl Shared {
     /// The plugin's last error message on this thread, or `fallback`.
     #[cold]
     fn plugin_message(&self, fallback: &str) -> String {
-        let mut buf = [0 as c_char; ERROR_BUFFER];
-        // SAFETY: `buf` is writable for its length (the `last_error` contract).
-        let len = unsafe { (self.info.functions.last_error)(buf.as_mut_ptr(), buf.len()) };
-        if len == 0 {
-            return fallback.to_string();
-        }
-        buf[ERROR_BUFFER - 1] = 0;
-        // SAFETY: `last_error` NUL-terminates what it writes into `buf` (ABI
-        // contract); the last byte is forced to NUL in case it does not.
-        let text = unsafe { CStr::from_ptr(buf.as_ptr()) }
-            .to_string_lossy()
-            .into_owned();
-        if len > text.len() {
-            format!("{text}…")
-        } else {
-            text
-        }
+        dylib::plugin_message(self.info.functions.last_error, fallback)
     }
 }
 
@@ -210,29 +189,7 @@ impl PluginLibrary {
             path: shown.clone(),
             reason,
         };
-        match std::fs::metadata(path) {
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                return Err(error("file not found".into()));
-            }
-            Err(e) => return Err(error(format!("cannot read the file: {e}"))),
-            Ok(m) if m.is_dir() => {
-                return Err(error("is a directory, not a shared library".into()));
-            }
-            Ok(_) => {}
-        }
-        let mut load_path = PathBuf::from(path);
-        if path.parent().is_none_or(|p| p.as_os_str().is_empty()) {
-            load_path = Path::new(".").join(path);
-        }
-        let load_text = load_path
-            .to_str()
-            .ok_or_else(|| error("the path is not valid UTF-8".into()))?
-            .to_string();
-
-        // SAFETY: loading runs the library's initialisers; per the contract
-        // documented above, the caller trusts the file.
-        let library = unsafe { Library::new(load_text) }
-            .map_err(|e| error(format!("cannot be loaded as a shared library: {e}")))?;
+        let library = dylib::open_library(path).map_err(error)?;
 
         // SAFETY: `formsim_friction_plugin_v1` has type `EntryFn` in every
         // library that defines it (ABI v1 contract); we copy the function
@@ -241,7 +198,11 @@ impl PluginLibrary {
             .ok()
             .map(|s| *s);
         let Some(entry) = entry else {
-            return Err(error(not_a_plugin_reason(&library)));
+            return Err(error(dylib::missing_entry_reason(
+                &library,
+                "friction",
+                "formsim_friction_plugin_v",
+            )));
         };
         let table = entry();
         if table.is_null() {
@@ -343,7 +304,7 @@ impl PluginLibrary {
         check_values(name, specs, values)?;
         let shared = &self.shared;
         let mut handle: *mut c_void = std::ptr::null_mut();
-        let mut buf = [0 as c_char; ERROR_BUFFER];
+        let mut buf = [0 as c_char; dylib::ERROR_BUFFER];
         // SAFETY: `values` holds `values.len()` readable values, `handle` and
         // `buf` are writable (the `create` contract).
         let status = unsafe {
@@ -356,17 +317,7 @@ impl PluginLibrary {
             )
         };
         if status != STATUS_OK {
-            buf[ERROR_BUFFER - 1] = 0;
-            // SAFETY: `create` NUL-terminates its message in `buf` (ABI
-            // contract); the last byte is forced to NUL in case it does not.
-            let message = unsafe { CStr::from_ptr(buf.as_ptr()) }
-                .to_string_lossy()
-                .into_owned();
-            let message = if message.is_empty() {
-                "no message".to_string()
-            } else {
-                message
-            };
+            let message = dylib::buffer_message(&mut buf);
             return Err(match status {
                 STATUS_ERROR => FrictionError::InvalidParameters {
                     component: name.to_string(),
@@ -412,55 +363,6 @@ impl PluginLibrary {
     }
 }
 
-/// Why a library without the v1 entry symbol is refused; mentions another
-/// major version's symbol if the library has one.
-fn not_a_plugin_reason(library: &Library) -> String {
-    let mut reason = format!(
-        "this library is not a formsim friction plugin: symbol `{ENTRY_SYMBOL_NAME}` not found"
-    );
-    for major in (0..=16u32).filter(|&m| m != 1) {
-        let symbol = format!("formsim_friction_plugin_v{major}");
-        // SAFETY: only the presence of the symbol is tested; it is never
-        // called or dereferenced, so its type does not matter.
-        if unsafe { library.get::<*const c_void>(symbol.as_str()) }.is_ok() {
-            reason.push_str(&format!(
-                " (it exports `{symbol}`: plugin ABI major version {major}, this formsim expects {ABI_VERSION}: \
-                 rebuild the plugin against plugins-api {})",
-                env!("CARGO_PKG_VERSION")
-            ));
-            break;
-        }
-    }
-    reason
-}
-
-/// The message for a table whose `abi_version` is not ours.
-fn version_mismatch(found: u32) -> String {
-    format!(
-        "plugin ABI version {found}, this formsim expects {ABI_VERSION}: rebuild the plugin against plugins-api {}",
-        env!("CARGO_PKG_VERSION")
-    )
-}
-
-/// Copy a NUL-terminated UTF-8 text of the table.
-///
-/// # Safety
-/// `ptr` is null or points to a NUL-terminated string.
-unsafe fn text(ptr: *const c_char, what: &str) -> Result<String, String> {
-    if ptr.is_null() {
-        return Err(format!("invalid table: {what} is a null pointer"));
-    }
-    // SAFETY: non-null and NUL-terminated (function contract).
-    let c = unsafe { CStr::from_ptr(ptr) };
-    c.to_str()
-        .map(str::to_string)
-        .map_err(|_| format!("invalid table: {what} is not valid UTF-8"))
-}
-
-fn leak(s: String) -> &'static str {
-    Box::leak(s.into_boxed_str())
-}
-
 /// Read, check and copy a plugin table.
 ///
 /// # Safety
@@ -472,7 +374,7 @@ unsafe fn read_table(table: *const FrictionPluginV1) -> Result<TableInfo, String
     // readable per the function contract.
     let abi_version = unsafe { std::ptr::addr_of!((*table).abi_version).read() };
     if abi_version != ABI_VERSION {
-        return Err(version_mismatch(abi_version));
+        return Err(dylib::version_mismatch(abi_version));
     }
     // SAFETY: the version matches, so the whole v1 table is readable.
     let t = unsafe { table.read() };
@@ -487,18 +389,14 @@ unsafe fn read_table(table: *const FrictionPluginV1) -> Result<TableInfo, String
         last_error: t.last_error.ok_or_else(|| missing("last_error"))?,
     };
     // SAFETY: table strings are null or NUL-terminated (ABI contract).
-    let name = unsafe { text(t.name, "the law name") }?;
-    if name.is_empty()
-        || !name
-            .bytes()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == b'-' || c == b'_')
-    {
+    let name = unsafe { dylib::text(t.name, "the law name") }?;
+    if !dylib::is_key(&name) {
         return Err(format!(
             "invalid table: law name `{name}` must be made of a-z, 0-9, `-`, `_`"
         ));
     }
     // SAFETY: as above.
-    let summary = unsafe { text(t.summary, "the summary") }?;
+    let summary = unsafe { dylib::text(t.summary, "the summary") }?;
     let needs = PointNeeds(t.needs);
     if !KNOWN_NEEDS.contains(needs) {
         return Err(format!(
@@ -513,73 +411,14 @@ unsafe fn read_table(table: *const FrictionPluginV1) -> Result<TableInfo, String
             t.work_dependent
         ));
     }
-    if t.n_params > MAX_PARAMS {
-        return Err(format!(
-            "invalid table: {} parameters (at most {MAX_PARAMS})",
-            t.n_params
-        ));
-    }
-    let raw: &[AbiParamSpec] = if t.n_params == 0 {
-        &[]
-    } else if t.params.is_null() {
-        return Err("invalid table: the parameter array is a null pointer".into());
-    } else {
-        // SAFETY: non-null, `n_params` entries (ABI contract), bounded above.
-        unsafe { std::slice::from_raw_parts(t.params, t.n_params) }
-    };
-    let mut owned = Vec::with_capacity(raw.len());
-    for (i, p) in raw.iter().enumerate() {
-        // SAFETY: parameter strings are null or NUL-terminated (ABI contract).
-        let pname = unsafe { text(p.name, &format!("the name of parameter {i}")) }?;
-        // SAFETY: as above.
-        let unit = unsafe { text(p.unit, &format!("the unit of parameter `{pname}`")) }?;
-        // SAFETY: as above.
-        let doc = unsafe { text(p.doc, &format!("the doc of parameter `{pname}`")) }?;
-        if pname.is_empty()
-            || owned
-                .iter()
-                .any(|(n, ..): &(String, String, String, &AbiParamSpec)| *n == pname)
-        {
-            return Err(format!(
-                "invalid table: parameter name `{pname}` is empty or repeated"
-            ));
-        }
-        if p.min.is_nan() || p.max.is_nan() || p.min > p.max {
-            return Err(format!(
-                "invalid table: parameter `{pname}` has range [{}, {}]",
-                p.min, p.max
-            ));
-        }
-        owned.push((pname, unit, doc, p));
-    }
-    let mut params = Vec::with_capacity(owned.len());
-    for (pname, unit, doc, p) in owned {
-        let spec = ParamSpec {
-            name: leak(pname),
-            unit: leak(unit),
-            default: (p.has_default != 0).then_some(p.default_value),
-            min: p.min,
-            min_exclusive: p.min_exclusive != 0,
-            max: p.max,
-            doc: leak(doc),
-        };
-        if let Some(d) = spec.default
-            && !spec.accepts(d)
-        {
-            return Err(format!(
-                "invalid table: default {d} {} of parameter `{}` is outside its range {}",
-                spec.unit,
-                spec.name,
-                spec.range_text()
-            ));
-        }
-        params.push(spec);
-    }
+    // SAFETY: `params` is null or holds `n_params` entries whose strings are
+    // null or NUL-terminated (ABI contract).
+    let params = unsafe { dylib::read_params(t.params, t.n_params) }?;
     Ok(TableInfo {
         abi_version,
-        name: leak(name),
-        summary: leak(summary),
-        params: Box::leak(params.into_boxed_slice()),
+        name: dylib::leak(name),
+        summary: dylib::leak(summary),
+        params,
         needs,
         work_dependent: t.work_dependent == 1,
         functions,
@@ -724,6 +563,7 @@ impl FrictionLaw for DynamicLaw {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::abi::AbiParamSpec;
 
     fn good_table() -> FrictionPluginV1 {
         *crate::abi::tests::table()

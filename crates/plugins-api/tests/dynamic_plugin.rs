@@ -18,57 +18,16 @@ use plugins_api::{
 
 // ---------------------------------------------------------------- fixtures
 
-fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .canonicalize()
-        .expect("workspace root")
-}
-
-/// The target directory cargo builds into: `CARGO_TARGET_DIR` if set (relative
-/// to the workspace root, where the build runs), else `<workspace>/target`.
-fn target_dir() -> PathBuf {
-    match std::env::var_os("CARGO_TARGET_DIR") {
-        Some(dir) => workspace_root().join(dir),
-        None => workspace_root().join("target"),
-    }
-}
-
-fn dylib_name(crate_name: &str) -> String {
-    format!(
-        "{}{}{}",
-        std::env::consts::DLL_PREFIX,
-        crate_name.replace('-', "_"),
-        std::env::consts::DLL_SUFFIX
-    )
-}
+mod support;
+use support::{build_plugins, dylib_name};
 
 /// Paths of the freshly built `exp-decay` and `test-panicky` libraries (one
 /// `cargo build` per test binary).
 fn plugins() -> &'static (PathBuf, PathBuf) {
     static BUILT: OnceLock<(PathBuf, PathBuf)> = OnceLock::new();
     BUILT.get_or_init(|| {
-        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-        let out = Command::new(cargo)
-            .args(["build", "-p", "exp-decay", "-p", "test-panicky"])
-            .current_dir(workspace_root())
-            .output()
-            .expect("run cargo build");
-        assert!(
-            out.status.success(),
-            "cargo build of the plugins failed:\n{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let debug = target_dir().join("debug");
-        let paths = (
-            debug.join(dylib_name("exp-decay")),
-            debug.join(dylib_name("test-panicky")),
-        );
-        assert!(
-            paths.0.is_file() && paths.1.is_file(),
-            "built libraries not found: {paths:?}"
-        );
-        paths
+        let p = build_plugins(&["exp-decay", "test-panicky"]);
+        (p[0].clone(), p[1].clone())
     })
 }
 

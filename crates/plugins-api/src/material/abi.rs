@@ -1,0 +1,465 @@
+//! The versioned C-ABI table that dynamic material plugins export, and the
+//! [`export_material!`](crate::export_material) macro that generates it.
+//!
+//! A plugin `cdylib` exports one C function, [`ENTRY_SYMBOL_NAME`]
+//! (`formsim_material_plugin_v1`), returning a pointer to a static
+//! [`MaterialPluginV1`]: the name, summary and parameter schema, the number
+//! of state variables per point, whether the model is isotropic, and
+//! `extern "C"` functions (create, destroy, elastic constants, initial state,
+//! batched update, last error). Versioning, strings, panics and the quiet
+//! panic hook are those of the friction table ([`crate::abi`]); both tables
+//! carry [`crate::ABI_VERSION`] as their first field.
+//!
+//! # The batch
+//!
+//! [`UpdateFn`] receives an [`AbiMaterialBatch`]: `n` points as flat arrays,
+//! three values per point for the increments and stresses, `n_state` per
+//! point for the state, one per point for each result. The stresses and the
+//! state are updated in place.
+//!
+//! The shim the macro generates refuses a non-finite value among a point's
+//! inputs (increment, stress, state) with [`STATUS_ERROR`] before the
+//! material sees it, and catches a panic ([`STATUS_PANIC`]); either way it
+//! writes the index of the failing point to `*failed_point`, and the points
+//! from that one on are left as they came in.
+
+use std::ffi::{c_char, c_void};
+
+use super::{Elastic, PointResult};
+use crate::abi::{AbiParamSpec, CreateFn, DestroyFn, LastErrorFn};
+pub use crate::abi::{STATUS_ERROR, STATUS_OK, STATUS_PANIC};
+
+/// Name of the exported entry function of ABI major version 1, NUL-terminated.
+pub const ENTRY_SYMBOL: &[u8] = b"formsim_material_plugin_v1\0";
+
+/// [`ENTRY_SYMBOL`] as text, for messages.
+pub const ENTRY_SYMBOL_NAME: &str = "formsim_material_plugin_v1";
+
+/// `n` points of one call, as flat arrays (see the [module docs](self)).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct AbiMaterialBatch {
+    /// Number of points.
+    pub n: usize,
+    /// `3n` strain increments `[Δε_xx, Δε_yy, Δγ_xy]` (-), read.
+    pub deps: *const f64,
+    /// `3n` stresses `[σ_xx, σ_yy, σ_xy]` (MPa), read and written.
+    pub stress: *mut f64,
+    /// `n × n_state` state variables, point after point, read and written
+    /// (may be null if `n_state == 0`).
+    pub state: *mut f64,
+    /// `n` results, written.
+    pub result: *mut PointResult,
+}
+
+/// `elastic`: write the elastic constants and density of a handle to `*out`.
+///
+/// # Safety
+/// `handle` is a live handle of this table's `create`; `out` is writable.
+pub type ElasticFn = unsafe extern "C" fn(handle: *const c_void, out: *mut Elastic) -> i32;
+
+/// `initial_state`: fill the `n_state` values at `state` for a virgin point
+/// and write its flow stress (MPa) to `*flow_stress`.
+///
+/// # Safety
+/// `handle` is live; `state` is writable for `n_state` values (may be null
+/// if `n_state == 0`); `flow_stress` is writable.
+pub type InitialStateFn =
+    unsafe extern "C" fn(handle: *const c_void, state: *mut f64, flow_stress: *mut f64) -> i32;
+
+/// `update`: advance the points of `*batch` by one step. Returns
+/// [`STATUS_OK`], or [`STATUS_ERROR`]/[`STATUS_PANIC`] with the index of the
+/// failing point in `*failed_point` and its message for `last_error`. Calls
+/// with the same handle may run concurrently on several threads (on
+/// different points).
+///
+/// # Safety
+/// `handle` is live; the arrays of `*batch` are valid for their documented
+/// lengths and do not overlap; `failed_point` is writable.
+pub type UpdateFn = unsafe extern "C" fn(
+    handle: *const c_void,
+    batch: *const AbiMaterialBatch,
+    failed_point: *mut usize,
+) -> i32;
+
+/// The table a version-1 material plugin exports through [`ENTRY_SYMBOL`]:
+/// `extern "C" fn formsim_material_plugin_v1() -> *const MaterialPluginV1`.
+/// Null function pointers are refused by the loader.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct MaterialPluginV1 {
+    /// [`crate::ABI_VERSION`] the plugin was built against. Always first.
+    pub abi_version: u32,
+    /// Material name as typed in scenes, NUL-terminated.
+    pub name: *const c_char,
+    /// One-line summary, NUL-terminated.
+    pub summary: *const c_char,
+    /// Parameter schema, `n_params` entries, in the order `create` receives the values.
+    pub params: *const AbiParamSpec,
+    /// Number of entries of `params`.
+    pub n_params: usize,
+    /// State variables per point (at most [`super::MAX_STATE`]).
+    pub n_state: usize,
+    /// `1` if the response is isotropic in the plane, else `0`.
+    pub isotropic: u8,
+    /// As the friction table's [`CreateFn`]: the material from its values.
+    pub create: Option<CreateFn>,
+    /// As the friction table's [`DestroyFn`].
+    pub destroy: Option<DestroyFn>,
+    /// See [`ElasticFn`].
+    pub elastic: Option<ElasticFn>,
+    /// See [`InitialStateFn`].
+    pub initial_state: Option<InitialStateFn>,
+    /// See [`UpdateFn`].
+    pub update: Option<UpdateFn>,
+    /// As the friction table's [`LastErrorFn`].
+    pub last_error: Option<LastErrorFn>,
+}
+
+/// Type of the exported entry function.
+pub type EntryFn = extern "C" fn() -> *const MaterialPluginV1;
+
+/// Generate the C-ABI table and the exported entry function
+/// `formsim_material_plugin_v1` for a type implementing
+/// [`UserMaterial`](crate::material::UserMaterial). Use it once per `cdylib`
+/// crate, at its root:
+///
+/// ```ignore
+/// plugins_api::export_material!(J2Voce);
+/// ```
+///
+/// The texts are checked at compile time (no NUL byte, the name made of
+/// `a-z 0-9 - _`), and so is `N_STATE ≤ MAX_STATE`.
+#[macro_export]
+macro_rules! export_material {
+    ($material:ty) => {
+        const _: () = $crate::material::abi::__private::check::<$material>();
+
+        /// Entry point of this formsim material plugin (ABI version 1): a
+        /// pointer to its static C-ABI table.
+        #[unsafe(no_mangle)]
+        pub extern "C" fn formsim_material_plugin_v1()
+        -> *const $crate::material::abi::MaterialPluginV1 {
+            static TABLE: ::std::sync::OnceLock<$crate::material::abi::__private::StaticTable> =
+                ::std::sync::OnceLock::new();
+            $crate::material::abi::__private::entry::<$material>(&TABLE)
+        }
+    };
+}
+
+/// Support code of [`export_material!`](crate::export_material); not a stable API.
+#[doc(hidden)]
+pub mod __private {
+    use std::ffi::{c_char, c_void};
+    use std::panic::catch_unwind;
+    use std::sync::OnceLock;
+
+    use super::{AbiMaterialBatch, MaterialPluginV1, STATUS_ERROR, STATUS_OK, STATUS_PANIC};
+    use crate::abi::__private::{
+        copy_out, guarded, install_quiet_hook, last_error, leak_c, set_error, text_ok,
+    };
+    use crate::abi::AbiParamSpec;
+    use crate::material::{Elastic, MAX_STATE, PointResult, UserMaterial};
+
+    /// A leaked, immutable table that may live in a `static`.
+    pub struct StaticTable(&'static MaterialPluginV1);
+
+    // SAFETY: the table and what it points to (leaked strings and parameter
+    // array, function pointers) is immutable 'static data.
+    unsafe impl Sync for StaticTable {}
+    // SAFETY: as for `Sync`.
+    unsafe impl Send for StaticTable {}
+
+    /// Compile-time checks of `T` (evaluated in a `const _`).
+    pub const fn check<T: UserMaterial>() {
+        assert!(
+            text_ok(T::NAME, true),
+            "UserMaterial::NAME must be non-empty and made of lowercase ASCII letters, digits, `-` and `_`"
+        );
+        assert!(
+            text_ok(T::SUMMARY, false),
+            "UserMaterial::SUMMARY must not contain a NUL byte"
+        );
+        assert!(
+            T::N_STATE <= MAX_STATE,
+            "UserMaterial::N_STATE exceeds MAX_STATE"
+        );
+        let mut i = 0;
+        while i < T::PARAMS.len() {
+            let p = &T::PARAMS[i];
+            assert!(
+                text_ok(p.name, true),
+                "parameter names must be non-empty and made of lowercase ASCII letters, digits, `-` and `_`"
+            );
+            assert!(
+                text_ok(p.unit, false) && text_ok(p.doc, false),
+                "parameter units and docs must not contain a NUL byte"
+            );
+            i += 1;
+        }
+    }
+
+    fn build_table<T: UserMaterial>() -> Option<StaticTable> {
+        let mut params = Vec::with_capacity(T::PARAMS.len());
+        for p in T::PARAMS {
+            params.push(AbiParamSpec {
+                name: leak_c(p.name)?,
+                unit: leak_c(p.unit)?,
+                doc: leak_c(p.doc)?,
+                default_value: p.default.unwrap_or(f64::NAN),
+                has_default: u8::from(p.default.is_some()),
+                min: p.min,
+                min_exclusive: u8::from(p.min_exclusive),
+                max: p.max,
+            });
+        }
+        let params: &'static [AbiParamSpec] = Box::leak(params.into_boxed_slice());
+        let table = MaterialPluginV1 {
+            abi_version: crate::ABI_VERSION,
+            name: leak_c(T::NAME)?,
+            summary: leak_c(T::SUMMARY)?,
+            params: params.as_ptr(),
+            n_params: params.len(),
+            n_state: T::N_STATE,
+            isotropic: u8::from(T::ISOTROPIC),
+            create: Some(create::<T>),
+            destroy: Some(destroy::<T>),
+            elastic: Some(elastic::<T>),
+            initial_state: Some(initial_state::<T>),
+            update: Some(update::<T>),
+            last_error: Some(last_error),
+        };
+        Some(StaticTable(Box::leak(Box::new(table))))
+    }
+
+    /// Body of the exported entry function: the table, built once; null
+    /// (with the reason for `last_error`) if building it failed.
+    pub fn entry<T: UserMaterial>(cell: &'static OnceLock<StaticTable>) -> *const MaterialPluginV1 {
+        let _ = catch_unwind(install_quiet_hook);
+        let built = guarded(|| {
+            if let Some(t) = cell.get() {
+                return Some(t.0 as *const MaterialPluginV1);
+            }
+            let table = build_table::<T>()?;
+            Some(cell.get_or_init(|| table).0 as *const MaterialPluginV1)
+        });
+        match built {
+            Ok(Some(ptr)) => ptr,
+            Ok(None) => {
+                set_error("could not build the plugin table (a text contains a NUL byte)".into());
+                std::ptr::null()
+            }
+            Err(panicked) => {
+                set_error(format!("{panicked} (while building the plugin table)"));
+                std::ptr::null()
+            }
+        }
+    }
+
+    /// `create` shim.
+    ///
+    /// # Safety
+    /// As [`crate::abi::CreateFn`].
+    pub unsafe extern "C" fn create<T: UserMaterial>(
+        values: *const f64,
+        n: usize,
+        out_handle: *mut *mut c_void,
+        err_buf: *mut c_char,
+        err_len: usize,
+    ) -> i32 {
+        let fail = |status: i32, message: String| {
+            // SAFETY: the host passes an `err_buf` writable for `err_len` bytes, or null.
+            unsafe { copy_out(&message, err_buf, err_len) };
+            set_error(message);
+            status
+        };
+        if out_handle.is_null() || (values.is_null() && n > 0) {
+            return fail(STATUS_ERROR, "create: null pointer from the host".into());
+        }
+        if n != T::PARAMS.len() {
+            let want = T::PARAMS.len();
+            return fail(
+                STATUS_ERROR,
+                format!("create: {n} parameter values given, the schema has {want}"),
+            );
+        }
+        let built = guarded(|| {
+            let values: &[f64] = if n == 0 {
+                &[]
+            } else {
+                // SAFETY: `n` readable values (host contract, non-null checked above).
+                unsafe { std::slice::from_raw_parts(values, n) }
+            };
+            T::from_values(values).map(|m| Box::into_raw(Box::new(m)).cast::<c_void>())
+        });
+        match built {
+            Ok(Ok(handle)) => {
+                // SAFETY: `out_handle` is non-null and writable (host contract).
+                unsafe { out_handle.write(handle) };
+                STATUS_OK
+            }
+            Ok(Err(reason)) => fail(STATUS_ERROR, reason),
+            Err(panicked) => fail(STATUS_PANIC, panicked),
+        }
+    }
+
+    /// `destroy` shim.
+    ///
+    /// # Safety
+    /// As [`crate::abi::DestroyFn`].
+    pub unsafe extern "C" fn destroy<T: UserMaterial>(handle: *mut c_void) {
+        if handle.is_null() {
+            return;
+        }
+        // SAFETY: made by `create::<T>` from `Box<T>`, destroyed exactly once.
+        let m = unsafe { Box::from_raw(handle.cast::<T>()) };
+        if let Err(panicked) = guarded(move || drop(m)) {
+            set_error(format!("{panicked} (in drop)"));
+        }
+    }
+
+    /// `elastic` shim.
+    ///
+    /// # Safety
+    /// As [`super::ElasticFn`].
+    pub unsafe extern "C" fn elastic<T: UserMaterial>(
+        handle: *const c_void,
+        out: *mut Elastic,
+    ) -> i32 {
+        if handle.is_null() || out.is_null() {
+            set_error("elastic: null pointer from the host".into());
+            return STATUS_ERROR;
+        }
+        // SAFETY: live handle of `create::<T>` (host contract).
+        let m = unsafe { &*handle.cast::<T>() };
+        match guarded(|| m.elastic()) {
+            Ok(e) => {
+                // SAFETY: `out` is non-null and writable (host contract).
+                unsafe { out.write(e) };
+                STATUS_OK
+            }
+            Err(panicked) => {
+                set_error(panicked);
+                STATUS_PANIC
+            }
+        }
+    }
+
+    /// `initial_state` shim.
+    ///
+    /// # Safety
+    /// As [`super::InitialStateFn`].
+    pub unsafe extern "C" fn initial_state<T: UserMaterial>(
+        handle: *const c_void,
+        state: *mut f64,
+        flow_stress: *mut f64,
+    ) -> i32 {
+        if handle.is_null() || flow_stress.is_null() || (state.is_null() && T::N_STATE > 0) {
+            set_error("initial_state: null pointer from the host".into());
+            return STATUS_ERROR;
+        }
+        // SAFETY: live handle (host contract).
+        let m = unsafe { &*handle.cast::<T>() };
+        let mut s = [0.0; MAX_STATE];
+        match guarded(|| m.initial_state(&mut s[..T::N_STATE])) {
+            Ok(f) => {
+                // SAFETY: `state` is writable for `N_STATE` values and
+                // `flow_stress` for one (host contract).
+                unsafe {
+                    std::ptr::copy_nonoverlapping(s.as_ptr(), state, T::N_STATE);
+                    flow_stress.write(f);
+                }
+                STATUS_OK
+            }
+            Err(panicked) => {
+                set_error(panicked);
+                STATUS_PANIC
+            }
+        }
+    }
+
+    /// `update` shim: point by point, refusing non-finite inputs and
+    /// catching a panic.
+    ///
+    /// # Safety
+    /// As [`super::UpdateFn`].
+    pub unsafe extern "C" fn update<T: UserMaterial>(
+        handle: *const c_void,
+        batch: *const AbiMaterialBatch,
+        failed_point: *mut usize,
+    ) -> i32 {
+        if handle.is_null() || batch.is_null() || failed_point.is_null() {
+            set_error("update: null pointer from the host".into());
+            return STATUS_ERROR;
+        }
+        // SAFETY: live handle, readable batch (host contract).
+        let (m, b) = unsafe { (&*handle.cast::<T>(), *batch) };
+        let k = T::N_STATE;
+        if b.n > 0 && (b.deps.is_null() || b.stress.is_null() || b.result.is_null())
+            || (k > 0 && b.n > 0 && b.state.is_null())
+        {
+            set_error("update: null array in the batch".into());
+            return STATUS_ERROR;
+        }
+        for i in 0..b.n {
+            // SAFETY: the arrays hold `n` points (3, 3, `k` and 1 values
+            // each) and do not overlap (host contract); `i < n`.
+            let (deps, stress, state, result) = unsafe {
+                (
+                    &*b.deps.add(3 * i).cast::<[f64; 3]>(),
+                    &mut *b.stress.add(3 * i).cast::<[f64; 3]>(),
+                    if k == 0 {
+                        &mut [][..]
+                    } else {
+                        std::slice::from_raw_parts_mut(b.state.add(k * i), k)
+                    },
+                    &mut *b.result.add(i),
+                )
+            };
+            let status = point(m, *deps, stress, state, result);
+            if status != STATUS_OK {
+                // SAFETY: non-null, writable (host contract).
+                unsafe { failed_point.write(i) };
+                return status;
+            }
+        }
+        STATUS_OK
+    }
+
+    /// One point: refuse non-finite inputs, update on copies, write back on success.
+    fn point<T: UserMaterial>(
+        m: &T,
+        deps: [f64; 3],
+        stress: &mut [f64; 3],
+        state: &mut [f64],
+        result: &mut PointResult,
+    ) -> i32 {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if !(finite(&deps) && finite(stress) && finite(state)) {
+            set_error(format!(
+                "non-finite input refused: Δε = {deps:?}, σ = {stress:?} MPa, state = {state:?}"
+            ));
+            return STATUS_ERROR;
+        }
+        let mut s = *stress;
+        let mut h = [0.0; MAX_STATE];
+        h[..state.len()].copy_from_slice(state);
+        let n = state.len();
+        match guarded(|| m.update(deps, &mut s, &mut h[..n])) {
+            Ok(Ok(r)) => {
+                *stress = s;
+                state.copy_from_slice(&h[..n]);
+                *result = r;
+                STATUS_OK
+            }
+            Ok(Err(reason)) => {
+                set_error(reason);
+                STATUS_ERROR
+            }
+            Err(panicked) => {
+                set_error(panicked);
+                STATUS_PANIC
+            }
+        }
+    }
+}
