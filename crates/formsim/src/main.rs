@@ -39,7 +39,7 @@ struct Cli {
 enum Command {
     /// List the friction laws and formulations with their parameter schemas, or check a law.
     Laws(LawsArgs),
-    /// Dynamic friction-law plugins (shared libraries).
+    /// Dynamic plugins (shared libraries): friction laws and user materials.
     Plugin {
         #[command(subcommand)]
         action: PluginAction,
@@ -278,7 +278,7 @@ enum LawsAction {
 
 #[derive(Subcommand, Debug)]
 enum PluginAction {
-    /// Load a plugin, print its schema, run the conformance suite; exit non-zero on failure.
+    /// Load a plugin (friction law or material), print its schema, run its conformance suite; exit non-zero on failure.
     Check {
         /// Path of the plugin's shared library (`.so`).
         path: PathBuf,
@@ -414,7 +414,7 @@ fn format_default(spec: &ParamSpec) -> String {
 fn print_schema(specs: &[ParamSpec]) -> Result<(), Failure> {
     for s in specs {
         say!(
-            "    {:<8} {:<14} {:<10} {:<22} {}",
+            "    {:<14} {:<14} {:<10} {:<22} {}",
             s.name,
             format!("[{}]", s.unit),
             format_default(s),
@@ -561,7 +561,13 @@ fn run_suite(
 }
 
 fn plugin_check(path: &Path, given: &Params) -> Outcome {
-    let library = plugins_api::loader::PluginLibrary::open(path).map_err(|e| e.to_string())?;
+    let library = match plugins_api::loader::PluginLibrary::open(path) {
+        Ok(library) => library,
+        Err(e) if e.to_string().contains("it is a material plugin") => {
+            return material_plugin_check(path, given);
+        }
+        Err(e) => return Err(e.to_string().into()),
+    };
     say!(
         "plugin {} ({}): {}",
         library.name(),
@@ -574,6 +580,37 @@ fn plugin_check(path: &Path, given: &Params) -> Outcome {
     let label = format!("plugin {}", library.name());
     let specs = library.params();
     run_suite(&label, specs, &build, given)
+}
+
+/// `formsim plugin check` of a user material: its description, schema and
+/// the material conformance suite (docs/materials.md).
+fn material_plugin_check(path: &Path, given: &Params) -> Outcome {
+    use plugins_api::material::{conformance, loader::MaterialLibrary};
+    let library = MaterialLibrary::open(path).map_err(|e| e.to_string())?;
+    say!(
+        "material plugin {} ({}): {}",
+        library.name(),
+        path.display(),
+        library.summary()
+    );
+    say!(
+        "    state variables per point: {}; response: {}",
+        library.n_state(),
+        if library.isotropic() {
+            "isotropic"
+        } else {
+            "anisotropic"
+        }
+    );
+    print_schema(library.params())?;
+    let material = library.build(given).map_err(|e| e.to_string())?;
+    let report = conformance::check_material(&material);
+    say!("{report}");
+    Ok(if report.passed() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }
 
 fn friction_point(args: &FrictionPointArgs) -> Outcome {

@@ -3,6 +3,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod built;
+
 fn formsim(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_formsim"))
         .args(args)
@@ -322,27 +324,7 @@ fn laws_check_runs_the_conformance_suite() {
 /// The test-panicky plugin, built for this profile (once per test binary).
 fn panicky_plugin() -> &'static Path {
     static BUILT: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
-    BUILT.get_or_init(|| {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let release = !cfg!(debug_assertions);
-        let mut cmd = Command::new(cargo);
-        cmd.current_dir(&root)
-            .args(["build", "-q", "-p", "test-panicky"]);
-        if release {
-            cmd.arg("--release");
-        }
-        assert!(cmd.status().unwrap().success());
-        let target =
-            std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
-        target
-            .join(if release { "release" } else { "debug" })
-            .join(format!(
-                "{}test_panicky{}",
-                std::env::consts::DLL_PREFIX,
-                std::env::consts::DLL_SUFFIX
-            ))
-    })
+    BUILT.get_or_init(|| built::plugin("test-panicky"))
 }
 
 /// What every report of the panicking plugin must say, and must not: the

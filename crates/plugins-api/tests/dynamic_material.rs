@@ -65,8 +65,8 @@ fn a_panic_in_a_loaded_material_is_an_error_not_an_abort() {
     assert!(e.contains("in update at point 0"), "{e}");
 }
 
-/// Parameters go through the schema: unknown, missing and out of range are
-/// refused, each naming the parameter.
+/// Parameters go through the schema: unknown and out of range are refused,
+/// each naming the parameter.
 #[test]
 fn material_parameters_are_checked_against_the_schema() {
     let lib = MaterialLibrary::open(&libraries()[0]).expect("open");

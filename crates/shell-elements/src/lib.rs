@@ -41,7 +41,9 @@ pub use formulation::{ElementBlock, ElementResult, ElementState, ShellFormulatio
 pub use fully_integrated::FullyIntegrated;
 pub use geometry::{V3, corotational_basis};
 pub use lanes::{F4, M4, Real};
-pub use material::{Hardening, J2History, J2PlaneStress, Material, PointUpdate, von_mises};
+pub use material::{
+    Hardening, J2History, J2PlaneStress, Material, PluginMaterial, PointUpdate, von_mises,
+};
 pub use outputs::{LogStrain, ShellElementOutput};
 pub use section::{RuleKind, Section, ThroughThickness};
 pub use shell_set::ShellSet;

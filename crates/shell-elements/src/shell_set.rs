@@ -809,6 +809,12 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             .zip(dr_r.iter_mut())
             .zip(res_r.iter_mut())
             .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| kernel(q, t, s, h, sh, hg, dr, r));
+        if let Some(message) = self.material.take_failure() {
+            return Err(FemError::Effect {
+                effect: self.name.clone(),
+                message,
+            });
+        }
         // Serial scatter, energies and the stable time step; the blocks'
         // results are read in their lanes.
         let mut acc = Scatter {

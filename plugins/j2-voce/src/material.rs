@@ -33,8 +33,7 @@ impl J2Voce {
 
     /// The plastic multiplier Δγ ≥ 0 that puts the trial state (sum² `a1`,
     /// difference-and-shear² `a2`, as in the crate docs) on the yield
-    /// surface from plastic strain `eps_p`: Newton steps kept inside a bracket
-    /// that shrinks (bisection when Newton leaves it).
+    /// surface from plastic strain `eps_p`.
     fn multiplier(&self, a1: f64, a2: f64, eps_p: f64) -> f64 {
         let Elastic { young, poisson, .. } = self.elastic;
         let (c1, c2) = (young / (3.0 * (1.0 - poisson)), young / (1.0 + poisson));
@@ -52,29 +51,30 @@ impl J2Voce {
                 0.5 * df2 - 2.0 / 3.0 * sy * hy * dkappa,
             )
         };
-        let (mut lo, mut hi) = (0.0, 1.0 / c2);
-        while g(hi).0 > 0.0 {
-            lo = hi;
-            hi *= 2.0;
-        }
-        let mut x = lo;
+        // Newton from Δγ = 0, kept inside the bracket [lo, hi] that the
+        // signs of g give (bisection, or doubling while there is no upper
+        // end, when a Newton step leaves it). Converged when |g| is below
+        // 1e-13 of σ_y²/3 at the start (|σ_vm/σ_y - 1| ~ 1e-13).
+        let tol = 1e-13 * self.hardening(eps_p).0.powi(2) / 3.0;
+        let (mut lo, mut hi, mut x) = (0.0, f64::INFINITY, 0.0);
         for _ in 0..200 {
             let (v, dv) = g(x);
+            if v.abs() <= tol {
+                return x;
+            }
             if v > 0.0 {
                 lo = x;
             } else {
                 hi = x;
             }
             let newton = x - v / dv;
-            let next = if newton > lo && newton < hi {
+            x = if newton > lo && newton < hi {
                 newton
-            } else {
+            } else if hi.is_finite() {
                 0.5 * (lo + hi)
+            } else {
+                2.0 * lo.max(1e-6 / c2)
             };
-            if (next - x).abs() <= 1e-15 * next.abs() || hi - lo <= 1e-15 * hi {
-                return next;
-            }
-            x = next;
         }
         x
     }
@@ -83,10 +83,14 @@ impl J2Voce {
 impl UserMaterial for J2Voce {
     const NAME: &'static str = "j2-voce";
     const SUMMARY: &'static str = "plane-stress J2 plasticity, Voce hardening sigma_y = sigma0 + q (1 - exp(-b eps_p)) + h eps_p; state: eps_p";
+    // Defaults: a mild steel (E, ν, ρ) yielding at 200 MPa without
+    // hardening; in a scene, youngs_modulus, poissons_ratio and density come
+    // from [blank.material] unless `parameters` sets them.
     const PARAMS: &'static [ParamSpec] = &[
-        ParamSpec::required(
+        ParamSpec::optional(
             "youngs_modulus",
             "MPa",
+            210_000.0,
             0.0,
             f64::INFINITY,
             "Young's modulus E",
@@ -94,10 +98,24 @@ impl UserMaterial for J2Voce {
         .exclusive_min(),
         ParamSpec::optional("poissons_ratio", "-", 0.3, -1.0, 0.5, "Poisson's ratio nu")
             .exclusive_min(),
-        ParamSpec::required("density", "tonne/mm^3", 0.0, f64::INFINITY, "mass density")
-            .exclusive_min(),
-        ParamSpec::required("sigma0", "MPa", 0.0, f64::INFINITY, "initial yield stress")
-            .exclusive_min(),
+        ParamSpec::optional(
+            "density",
+            "tonne/mm^3",
+            7.85e-9,
+            0.0,
+            f64::INFINITY,
+            "mass density",
+        )
+        .exclusive_min(),
+        ParamSpec::optional(
+            "sigma0",
+            "MPa",
+            200.0,
+            0.0,
+            f64::INFINITY,
+            "initial yield stress",
+        )
+        .exclusive_min(),
         ParamSpec::optional(
             "q",
             "MPa",

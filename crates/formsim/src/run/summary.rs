@@ -119,6 +119,18 @@ pub struct StripSummary {
     pub mu: f64,
 }
 
+/// A user material in `summary.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct MaterialPlugin {
+    /// The plugin material's own name.
+    pub name: String,
+    /// The library, as the scene gives it (relative to the scene).
+    pub path: String,
+    /// The parameters the scene sets (the rest are the plugin's defaults or
+    /// the sheet's elastic constants).
+    pub parameters: std::collections::BTreeMap<String, f64>,
+}
+
 /// `summary.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
@@ -134,6 +146,9 @@ pub struct Summary {
     pub element: String,
     /// Material model (`blank.material.model`, resolved).
     pub material: String,
+    /// The user material of the `plugin` model: its name, library and parameters.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub material_plugin: Option<MaterialPlugin>,
     /// Number of shells.
     pub elements: usize,
     /// Number of nodes.
@@ -306,6 +321,11 @@ impl Summary {
             formulation: i.model.formulation.clone(),
             element: scene.blank.element.clone(),
             material: i.model.shells.material.to_string(),
+            material_plugin: i.model.shells.plugin.map(|name| MaterialPlugin {
+                name: name.to_string(),
+                path: scene.blank.material.plugin.clone().unwrap_or_default(),
+                parameters: scene.blank.material.parameters.clone(),
+            }),
             elements,
             nodes: i.model.mesh.nodes.len(),
             increments,

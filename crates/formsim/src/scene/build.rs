@@ -87,19 +87,14 @@ fn add_shells(
 ) -> Result<ShellHandle, SceneError> {
     let s: &Scene = &loaded.scene;
     let m = &s.blank.material;
-    let hardening = match &m.hardening {
-        HardeningSpec::Swift { k, eps0, n } => Hardening::swift(*k, *eps0, *n),
-        HardeningSpec::Table { eps_p, sigma_y } => Hardening::table(
-            &eps_p
-                .iter()
-                .zip(sigma_y)
-                .map(|(a, b)| (*a, *b))
-                .collect::<Vec<_>>(),
-        ),
-        HardeningSpec::Perfect { sigma_y } => Hardening::swift(*sigma_y, 1.0, 0.0),
-        HardeningSpec::Elastic => Hardening::swift(1e30, 1.0, 0.0),
-    }
-    .map_err(|e| loaded.key_error("blank.material.hardening", e.to_string()))?;
+    let hardening = m
+        .hardening
+        .as_ref()
+        .map(hardening_curve)
+        .transpose()
+        .map_err(|e| loaded.key_error("blank.material.hardening", e.to_string()))?;
+    let plugin_path = m.plugin.as_ref().map(|p| loaded.base_dir().join(p));
+    let plugin_params = plugins_api::Params(m.parameters.clone());
     let section = Section::new(s.blank.thickness)
         .and_then(|sec| sec.with_rule(shell_elements::RuleKind::Gauss, s.blank.integration_points))
         .and_then(|sec| sec.with_hourglass(s.blank.hourglass))
@@ -121,6 +116,10 @@ fn add_shells(
         hardening,
         r_values: m.r_values,
         rolling_angle,
+        plugin: plugin_path.as_deref().map(|path| kinds::PluginSource {
+            path,
+            params: &plugin_params,
+        }),
         shells: ShellRequest {
             name: "blank",
             element: &b.element,
@@ -140,6 +139,22 @@ fn add_shells(
         };
         loaded.key_error(key, e.to_string())
     })
+}
+
+/// The hardening curve of `[blank.material.hardening]`.
+fn hardening_curve(spec: &HardeningSpec) -> Result<Hardening, shell_elements::ShellError> {
+    match spec {
+        HardeningSpec::Swift { k, eps0, n } => Hardening::swift(*k, *eps0, *n),
+        HardeningSpec::Table { eps_p, sigma_y } => Hardening::table(
+            &eps_p
+                .iter()
+                .zip(sigma_y)
+                .map(|(a, b)| (*a, *b))
+                .collect::<Vec<_>>(),
+        ),
+        HardeningSpec::Perfect { sigma_y } => Hardening::swift(*sigma_y, 1.0, 0.0),
+        HardeningSpec::Elastic => Hardening::swift(1e30, 1.0, 0.0),
+    }
 }
 
 /// Build the model of `loaded`.

@@ -211,27 +211,40 @@ pub struct Material {
     pub poissons_ratio: f64,
     /// Density (tonne/mm³).
     pub density: f64,
-    /// `[blank.material.hardening]` (along the rolling direction with `r_values`).
-    pub hardening: HardeningSpec,
+    /// `[blank.material.hardening]` (along the rolling direction with
+    /// `r_values`); required by the built-in models, refused with a plugin
+    /// (whose hardening is in `parameters`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hardening: Option<HardeningSpec>,
     /// Hill'48 plane-stress anisotropy: Lankford coefficients `[r0, r45,
     /// r90]` (-) at 0°, 45°, 90° to the rolling direction, which is global x
     /// projected onto the blank. Absent: isotropic J2 (von Mises).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub r_values: Option<[f64; 3]>,
-    /// A registered material model (`formsim components`): `j2` or
-    /// `hill48`. Absent: `hill48` with `r_values`, else `j2`.
+    /// A registered material model (`formsim components`): `j2`, `hill48`
+    /// or `plugin`. Absent: `plugin` with `plugin`, `hill48` with
+    /// `r_values`, else `j2`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub model: Option<String>,
+    /// A user material's shared library (model `plugin`), relative to the scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plugin: Option<String>,
+    /// The user material's parameters, by the names of its schema
+    /// (`formsim plugin check PATH` lists them); `youngs_modulus`,
+    /// `poissons_ratio` and `density` are passed on from above unless set here.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub parameters: BTreeMap<String, f64>,
 }
 
 /// The material model a scene asks for: `blank.material.model`, else
-/// `hill48` with r-values and `j2` without.
+/// `plugin` with a plugin, `hill48` with r-values and `j2` without.
 pub fn material_model(scene: &Scene) -> String {
     let m = &scene.blank.material;
-    match (&m.model, m.r_values) {
-        (Some(name), _) => name.clone(),
-        (None, Some(_)) => "hill48".into(),
-        (None, None) => "j2".into(),
+    match (&m.model, &m.plugin, m.r_values) {
+        (Some(name), _, _) => name.clone(),
+        (None, Some(_), _) => "plugin".into(),
+        (None, None, Some(_)) => "hill48".into(),
+        (None, None, None) => "j2".into(),
     }
 }
 

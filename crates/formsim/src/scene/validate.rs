@@ -187,29 +187,6 @@ fn material(loaded: &LoadedScene) -> Result<(), SceneError> {
             format!("{}: must be in (-1, 0.5)", m.poissons_ratio),
         );
     }
-    match &m.hardening {
-        HardeningSpec::Swift { k, eps0, n } => {
-            keys.positive("blank.material.hardening.k", *k, "MPa")?;
-            keys.positive("blank.material.hardening.eps0", *eps0, "-")?;
-            keys.non_negative("blank.material.hardening.n", *n, "-")?;
-        }
-        HardeningSpec::Table { eps_p, sigma_y } => {
-            if eps_p.len() != sigma_y.len() || eps_p.is_empty() {
-                return keys.err(
-                    "blank.material.hardening",
-                    format!(
-                        "{} eps_p values and {} sigma_y values: need the same non-zero count",
-                        eps_p.len(),
-                        sigma_y.len()
-                    ),
-                );
-            }
-        }
-        HardeningSpec::Perfect { sigma_y } => {
-            keys.positive("blank.material.hardening.sigma_y", *sigma_y, "MPa")?;
-        }
-        HardeningSpec::Elastic => {}
-    }
     let model = super::schema::material_model(s);
     match shell_elements::kinds::material(&model) {
         None => {
@@ -233,6 +210,31 @@ fn material(loaded: &LoadedScene) -> Result<(), SceneError> {
         }
         Some(_) => {}
     }
+    let plugin = model == "plugin";
+    match &m.hardening {
+        Some(_) if plugin => keys.err(
+            "blank.material.hardening",
+            "not read by a plugin material: its hardening is in blank.material.parameters".into(),
+        )?,
+        None if !plugin => keys.err(
+            "blank.material.hardening",
+            format!("missing: the \"{model}\" model needs a hardening curve"),
+        )?,
+        Some(h) => hardening(&keys, h)?,
+        None => material_plugin(loaded)?,
+    }
+    if !plugin && m.plugin.is_some() {
+        keys.err(
+            "blank.material.plugin",
+            format!("only read with model = \"plugin\" (the model is \"{model}\")"),
+        )?;
+    }
+    if !plugin && !m.parameters.is_empty() {
+        keys.err(
+            "blank.material.parameters",
+            format!("only read with model = \"plugin\" (the model is \"{model}\")"),
+        )?;
+    }
     if let Some(r) = &m.r_values {
         for ((i, v), name) in r.iter().enumerate().zip(["r0", "r45", "r90"]) {
             if !(v.is_finite() && *v > 0.0) {
@@ -246,6 +248,56 @@ fn material(loaded: &LoadedScene) -> Result<(), SceneError> {
     Ok(())
 }
 
+/// `[blank.material.hardening]` of a built-in model.
+fn hardening(keys: &Keys<'_>, spec: &HardeningSpec) -> Result<(), SceneError> {
+    match spec {
+        HardeningSpec::Swift { k, eps0, n } => {
+            keys.positive("blank.material.hardening.k", *k, "MPa")?;
+            keys.positive("blank.material.hardening.eps0", *eps0, "-")?;
+            keys.non_negative("blank.material.hardening.n", *n, "-")?;
+        }
+        HardeningSpec::Table { eps_p, sigma_y } => {
+            if eps_p.len() != sigma_y.len() || eps_p.is_empty() {
+                return keys.err(
+                    "blank.material.hardening",
+                    format!(
+                        "{} eps_p values and {} sigma_y values: need the same non-zero count",
+                        eps_p.len(),
+                        sigma_y.len()
+                    ),
+                );
+            }
+        }
+        HardeningSpec::Perfect { sigma_y } => {
+            keys.positive("blank.material.hardening.sigma_y", *sigma_y, "MPa")?;
+        }
+        HardeningSpec::Elastic => {}
+    }
+    Ok(())
+}
+
+/// A plugin material: the library opens, its parameters resolve, and the
+/// elastic constants it reports are the sheet's.
+fn material_plugin(loaded: &LoadedScene) -> Result<(), SceneError> {
+    let m = &loaded.scene.blank.material;
+    let keys = Keys(loaded);
+    let Some(path) = &m.plugin else {
+        return keys.err(
+            "blank.material.plugin",
+            "missing: model = \"plugin\" needs plugin = \"path/to/library\" (relative to the scene)"
+                .into(),
+        );
+    };
+    let full = loaded.base_dir().join(path);
+    let params = plugins_api::Params(m.parameters.clone());
+    let source = shell_elements::kinds::PluginSource {
+        path: &full,
+        params: &params,
+    };
+    shell_elements::kinds::plugin_material(source, m.youngs_modulus, m.poissons_ratio, m.density)
+        .map(drop)
+        .or_else(|e| keys.err("blank.material.plugin", e.to_string()))
+}
 /// `[tools]` and `[contact]`.
 fn tools_and_contact(loaded: &LoadedScene) -> Result<(), SceneError> {
     let (s, keys) = (&loaded.scene, Keys(loaded));

@@ -401,57 +401,32 @@ pub mod __private {
             set_error("update: null array in the batch".into());
             return STATUS_ERROR;
         }
-        for i in 0..b.n {
-            // SAFETY: the arrays hold `n` points (3, 3, `k` and 1 values
-            // each) and do not overlap (host contract); `i < n`.
-            let (deps, stress, state, result) = unsafe {
-                (
-                    &*b.deps.add(3 * i).cast::<[f64; 3]>(),
-                    &mut *b.stress.add(3 * i).cast::<[f64; 3]>(),
-                    if k == 0 {
-                        &mut [][..]
-                    } else {
-                        std::slice::from_raw_parts_mut(b.state.add(k * i), k)
-                    },
-                    &mut *b.result.add(i),
-                )
-            };
-            let status = point(m, *deps, stress, state, result);
-            if status != STATUS_OK {
-                // SAFETY: non-null, writable (host contract).
-                unsafe { failed_point.write(i) };
-                return status;
+        // One guard for the whole batch (a panic is caught once, not
+        // prepared for at every point); `at` tells which point was running.
+        let at = std::cell::Cell::new(0);
+        let run = guarded(|| {
+            for i in 0..b.n {
+                at.set(i);
+                // SAFETY: the arrays hold `n` points (3, 3, `k` and 1 values
+                // each) and do not overlap (host contract); `i < n`.
+                let (deps, stress, state, result) = unsafe {
+                    (
+                        &*b.deps.add(3 * i).cast::<[f64; 3]>(),
+                        &mut *b.stress.add(3 * i).cast::<[f64; 3]>(),
+                        if k == 0 {
+                            &mut [][..]
+                        } else {
+                            std::slice::from_raw_parts_mut(b.state.add(k * i), k)
+                        },
+                        &mut *b.result.add(i),
+                    )
+                };
+                point(m, *deps, stress, state, result)?;
             }
-        }
-        STATUS_OK
-    }
-
-    /// One point: refuse non-finite inputs, update on copies, write back on success.
-    fn point<T: UserMaterial>(
-        m: &T,
-        deps: [f64; 3],
-        stress: &mut [f64; 3],
-        state: &mut [f64],
-        result: &mut PointResult,
-    ) -> i32 {
-        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-        if !(finite(&deps) && finite(stress) && finite(state)) {
-            set_error(format!(
-                "non-finite input refused: Δε = {deps:?}, σ = {stress:?} MPa, state = {state:?}"
-            ));
-            return STATUS_ERROR;
-        }
-        let mut s = *stress;
-        let mut h = [0.0; MAX_STATE];
-        h[..state.len()].copy_from_slice(state);
-        let n = state.len();
-        match guarded(|| m.update(deps, &mut s, &mut h[..n])) {
-            Ok(Ok(r)) => {
-                *stress = s;
-                state.copy_from_slice(&h[..n]);
-                *result = r;
-                STATUS_OK
-            }
+            Ok(())
+        });
+        let status = match run {
+            Ok(Ok(())) => return STATUS_OK,
             Ok(Err(reason)) => {
                 set_error(reason);
                 STATUS_ERROR
@@ -460,6 +435,40 @@ pub mod __private {
                 set_error(panicked);
                 STATUS_PANIC
             }
+        };
+        // SAFETY: non-null, writable (host contract).
+        unsafe { failed_point.write(at.get()) };
+        status
+    }
+
+    /// One point: refuse non-finite inputs, update on copies, write back on
+    /// success (a panic unwinds to the batch's guard, the point untouched).
+    fn point<T: UserMaterial>(
+        m: &T,
+        deps: [f64; 3],
+        stress: &mut [f64; 3],
+        state: &mut [f64],
+        result: &mut PointResult,
+    ) -> Result<(), String> {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if !(finite(&deps) && finite(stress) && finite(state)) {
+            return Err(format!(
+                "non-finite input refused: Δε = {deps:?}, σ = {stress:?} MPa, state = {state:?}"
+            ));
         }
+        let mut s = *stress;
+        let mut h = [0.0; MAX_STATE];
+        let n = state.len();
+        // Loops, not `copy_from_slice`: `n` is small and a `memmove` call
+        // per point cost more than the copy.
+        for (d, x) in h.iter_mut().zip(state.iter()) {
+            *d = *x;
+        }
+        *result = m.update(deps, &mut s, &mut h[..n])?;
+        *stress = s;
+        for (d, x) in state.iter_mut().zip(h.iter()) {
+            *d = *x;
+        }
+        Ok(())
     }
 }

@@ -11,7 +11,7 @@ fn build(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellEr
             "material hill48 needs r_values = [r0, r45, r90]".into(),
         ));
     };
-    let m = Hill48PlaneStress::new(r.young, r.poisson, r.density, r.hardening.clone(), rv)
+    let m = Hill48PlaneStress::new(r.young, r.poisson, r.density, r.hardening_of("hill48")?, rv)
         .and_then(|m| m.with_rolling_angle(r.rolling_angle.unwrap_or(0.0)))?;
     add_shells(&r.shells, m, "hill48", solver)
 }

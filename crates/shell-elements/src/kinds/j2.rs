@@ -10,7 +10,7 @@ fn build(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellEr
             "material j2 is isotropic: it takes no r_values (use model = \"hill48\")".into(),
         ));
     }
-    let m = J2PlaneStress::new(r.young, r.poisson, r.density, r.hardening.clone())?;
+    let m = J2PlaneStress::new(r.young, r.poisson, r.density, r.hardening_of("j2")?)?;
     add_shells(&r.shells, m, "j2", solver)
 }
 

@@ -17,6 +17,9 @@
 mod elements;
 mod hill48;
 mod j2;
+mod plugin;
+
+pub use plugin::{PluginSource, plugin_material};
 
 use crate::{BelytschkoTsay, FullyIntegrated, Hardening, Material, Section, ShellError, ShellSet};
 use crate::{ShellFormulation, ShellView};
@@ -65,15 +68,29 @@ pub struct MaterialRequest<'a> {
     pub poisson: f64,
     /// Density (tonne/mm³).
     pub density: f64,
-    /// Hardening curve.
-    pub hardening: Hardening,
+    /// Hardening curve (the built-in models need it; a plugin has its own).
+    pub hardening: Option<Hardening>,
     /// Lankford coefficients `[r0, r45, r90]`, when the scene gives them.
     pub r_values: Option<[f64; 3]>,
     /// Angle from the elements' first axis to the rolling direction (rad),
     /// when the scene gives r-values.
     pub rolling_angle: Option<f64>,
+    /// The user material's library and parameters (`plugin` model).
+    pub plugin: Option<PluginSource<'a>>,
     /// The shells.
     pub shells: ShellRequest<'a>,
+}
+
+impl MaterialRequest<'_> {
+    /// The hardening curve, which a built-in `model` needs.
+    ///
+    /// # Errors
+    /// None given.
+    pub fn hardening_of(&self, model: &str) -> Result<Hardening, ShellError> {
+        self.hardening.clone().ok_or_else(|| {
+            ShellError::InvalidInput(format!("material {model} needs a hardening curve"))
+        })
+    }
 }
 
 /// The blank's shells, whatever the material.
@@ -105,6 +122,8 @@ pub struct Shells {
     pub element: &'static str,
     /// Its material ([`MaterialKind::name`]).
     pub material: &'static str,
+    /// The user material's own name, for the `plugin` model.
+    pub plugin: Option<&'static str>,
     view: fn(&Solver, EffectId) -> Option<&dyn ShellView>,
 }
 
@@ -184,6 +203,7 @@ fn add<E: ShellFormulation, M: Material>(
         id: solver.add_effect(set),
         element,
         material: material_name,
+        plugin: None,
         view: view_of::<E, M>,
     })
 }
@@ -227,6 +247,7 @@ pub fn ensure_linked() {
     elements::ensure_linked();
     j2::ensure_linked();
     hill48::ensure_linked();
+    plugin::ensure_linked();
 }
 
 #[cfg(test)]
@@ -239,7 +260,10 @@ mod tests {
         ensure_linked();
         let m: Vec<_> = materials().iter().map(|k| k.name).collect();
         let e: Vec<_> = elements().iter().map(|k| k.name).collect();
-        assert!(m.contains(&"j2") && m.contains(&"hill48"), "{m:?}");
+        assert!(
+            m.contains(&"j2") && m.contains(&"hill48") && m.contains(&"plugin"),
+            "{m:?}"
+        );
         assert!(
             e.contains(&"belytschko-tsay") && e.contains(&"fully-integrated"),
             "{e:?}"

@@ -1,5 +1,5 @@
-//! The `Material` trait (plane-stress update at one integration point) and the built-in materials
-//! ([`J2PlaneStress`], [`Hill48PlaneStress`]).
+//! The `Material` trait (plane-stress update at one integration point), the built-in materials
+//! ([`J2PlaneStress`], [`Hill48PlaneStress`]) and user materials from plugins ([`PluginMaterial`]).
 //!
 //! A material is a parameter object shared by every point of a shell set; each
 //! point's state (stress in the element's co-rotational frame and the
@@ -9,6 +9,7 @@
 mod hardening;
 mod hill48_plane_stress;
 mod j2_plane_stress;
+mod plugin;
 
 pub use hardening::Hardening;
 pub use hill48_plane_stress::{
@@ -16,6 +17,7 @@ pub use hill48_plane_stress::{
     stress_rotation,
 };
 pub use j2_plane_stress::{J2History, J2PlaneStress, RETURN_CLOSE, RETURN_TOL};
+pub use plugin::{CHUNK, PluginHistory, PluginMaterial};
 
 use crate::lanes::Lanes4;
 
@@ -94,6 +96,14 @@ pub trait Material: Clone + Send + Sync + 'static {
     /// Equivalent (von Mises or the model's own) stress of a plane-stress state (MPa).
     fn equivalent_stress(&self, stress: &[f64; 3]) -> f64 {
         von_mises(stress)
+    }
+    /// The message of a failure inside the material since the last call
+    /// (a user material's plugin that panicked or returned NaN), clearing
+    /// it; the shell set asks after every element loop and stops the run.
+    /// Built-in materials cannot fail and keep the default, `None`.
+    #[inline(always)]
+    fn take_failure(&self) -> Option<String> {
+        None
     }
 }
 
