@@ -80,6 +80,23 @@ pub trait Real:
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
     /// Whether any lane of `m` is set.
     fn any(m: Self::Mask) -> bool;
+    /// `self <= o`, lane by lane (false where either is NaN).
+    fn le(self, o: Self) -> Self::Mask;
+    /// `self < o`, lane by lane (false where either is NaN).
+    fn lt(self, o: Self) -> Self::Mask;
+    /// Absolute value.
+    fn abs(self) -> Self;
+    /// Lanes set in both.
+    fn mask_and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// Lanes set in `a` and clear in `b`.
+    fn mask_and_not(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// Lanes clear in `a`.
+    fn mask_not(a: Self::Mask) -> Self::Mask;
+    /// `f(self, o)` lane by lane in the lanes of `m`, `self` in the others:
+    /// for a rare scalar function (a `powf`) beside lane arithmetic; in
+    /// lanes it runs out of line, so that the code around it stays in
+    /// registers.
+    fn map_where(self, o: Self, m: Self::Mask, f: impl Fn(f64, f64) -> f64) -> Self;
 }
 
 impl Real for f64 {
@@ -116,6 +133,41 @@ impl Real for f64 {
     fn any(m: bool) -> bool {
         m
     }
+    #[inline(always)]
+    fn le(self, o: Self) -> bool {
+        self <= o
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> bool {
+        self < o
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
+    #[inline(always)]
+    fn mask_and(a: bool, b: bool) -> bool {
+        a && b
+    }
+    #[inline(always)]
+    fn mask_and_not(a: bool, b: bool) -> bool {
+        a && !b
+    }
+    #[inline(always)]
+    fn mask_not(a: bool) -> bool {
+        !a
+    }
+    #[inline(always)]
+    fn map_where(self, o: Self, m: bool, f: impl Fn(f64, f64) -> f64) -> Self {
+        if m { f(self, o) } else { self }
+    }
+}
+
+/// [`Real::map_where`] of four lanes, out of line.
+#[cold]
+#[inline(never)]
+fn map_where4(a: [f64; 4], b: [f64; 4], m: [bool; 4], f: impl Fn(f64, f64) -> f64) -> [f64; 4] {
+    std::array::from_fn(|l| if m[l] { f(a[l], b[l]) } else { a[l] })
 }
 
 /// Four `f64` lanes (one per element of a block of four).
@@ -265,43 +317,6 @@ impl Real for F4 {
     fn any(m: M4) -> bool {
         m.0.iter().any(|&x| x != 0)
     }
-}
-
-/// A four-lane number type of the element kernels: [`F4`] (portable) or the
-/// AVX2 register type the AVX2 kernels run on (crate-private), the same bits
-/// lane by lane.
-pub trait Lanes4: Real {
-    /// The four lanes of `a`.
-    fn from_array(a: [f64; 4]) -> Self;
-    /// The four lanes.
-    fn to_array(self) -> [f64; 4];
-    /// `self <= o`, lane by lane (false where either is NaN).
-    fn le(self, o: Self) -> Self::Mask;
-    /// `self < o`, lane by lane (false where either is NaN).
-    fn lt(self, o: Self) -> Self::Mask;
-    /// Absolute value.
-    fn abs(self) -> Self;
-    /// Lanes set in both.
-    fn mask_and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
-    /// Lanes set in `a` and clear in `b`.
-    fn mask_and_not(a: Self::Mask, b: Self::Mask) -> Self::Mask;
-    /// Lanes clear in `a`.
-    fn mask_not(a: Self::Mask) -> Self::Mask;
-    /// Whether every lane is set.
-    fn mask_all(a: Self::Mask) -> bool;
-    /// Lane `l` as a `bool`.
-    fn mask_lane(a: Self::Mask, l: usize) -> bool;
-}
-
-impl Lanes4 for F4 {
-    #[inline(always)]
-    fn from_array(a: [f64; 4]) -> Self {
-        F4(a)
-    }
-    #[inline(always)]
-    fn to_array(self) -> [f64; 4] {
-        self.0
-    }
     #[inline(always)]
     fn le(self, o: Self) -> M4 {
         F4::le(self, o)
@@ -325,6 +340,36 @@ impl Lanes4 for F4 {
     #[inline(always)]
     fn mask_not(a: M4) -> M4 {
         M4::from_bools([true; 4]).and_not(a)
+    }
+    #[inline(always)]
+    fn map_where(self, o: Self, m: M4, f: impl Fn(f64, f64) -> f64) -> Self {
+        let lanes = [m.lane(0), m.lane(1), m.lane(2), m.lane(3)];
+        F4(map_where4(self.0, o.0, lanes, f))
+    }
+}
+
+/// A four-lane number type of the element kernels: [`F4`] (portable) or the
+/// AVX2 register type the AVX2 kernels run on (crate-private), the same bits
+/// lane by lane.
+pub trait Lanes4: Real {
+    /// The four lanes of `a`.
+    fn from_array(a: [f64; 4]) -> Self;
+    /// The four lanes.
+    fn to_array(self) -> [f64; 4];
+    /// Whether every lane is set.
+    fn mask_all(a: Self::Mask) -> bool;
+    /// Lane `l` as a `bool`.
+    fn mask_lane(a: Self::Mask, l: usize) -> bool;
+}
+
+impl Lanes4 for F4 {
+    #[inline(always)]
+    fn from_array(a: [f64; 4]) -> Self {
+        F4(a)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f64; 4] {
+        self.0
     }
     #[inline(always)]
     fn mask_all(a: M4) -> bool {
@@ -513,19 +558,6 @@ mod avx {
         fn any(m: M4x) -> bool {
             unsafe { _mm256_movemask_pd(m.0) != 0 }
         }
-    }
-
-    impl Lanes4 for F4x {
-        #[inline(always)]
-        fn from_array(a: [f64; 4]) -> Self {
-            F4x(unsafe { _mm256_loadu_pd(a.as_ptr()) })
-        }
-        #[inline(always)]
-        fn to_array(self) -> [f64; 4] {
-            let mut a = [0.0; 4];
-            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
-            a
-        }
         #[inline(always)]
         fn le(self, o: Self) -> M4x {
             M4x(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, o.0) })
@@ -549,6 +581,29 @@ mod avx {
         #[inline(always)]
         fn mask_not(a: M4x) -> M4x {
             M4x(unsafe { _mm256_xor_pd(a.0, _mm256_castsi256_pd(_mm256_set1_epi64x(-1))) })
+        }
+        #[inline(always)]
+        fn map_where(self, o: Self, m: M4x, f: impl Fn(f64, f64) -> f64) -> Self {
+            let lanes = [
+                <F4x as Lanes4>::mask_lane(m, 0),
+                <F4x as Lanes4>::mask_lane(m, 1),
+                <F4x as Lanes4>::mask_lane(m, 2),
+                <F4x as Lanes4>::mask_lane(m, 3),
+            ];
+            F4x::from_array(super::map_where4(self.to_array(), o.to_array(), lanes, f))
+        }
+    }
+
+    impl Lanes4 for F4x {
+        #[inline(always)]
+        fn from_array(a: [f64; 4]) -> Self {
+            F4x(unsafe { _mm256_loadu_pd(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f64; 4] {
+            let mut a = [0.0; 4];
+            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
+            a
         }
         #[inline(always)]
         fn mask_all(a: M4x) -> bool {
@@ -638,11 +693,11 @@ mod tests {
                         assert_eq!(mx[l].to_bits(), ma[l].to_bits());
                     }
                 }
-                assert_eq!(bits(Lanes4::abs(x).to_array()), bits(F4::abs(a).0));
+                assert_eq!(bits(Real::abs(x).to_array()), bits(F4::abs(a).0));
                 let masks = [
                     (Real::gt(x, y), Real::gt(a, b)),
-                    (Lanes4::le(x, y), F4::le(a, b)),
-                    (Lanes4::lt(x, y), F4::lt(a, b)),
+                    (Real::le(x, y), F4::le(a, b)),
+                    (Real::lt(x, y), F4::lt(a, b)),
                     (Real::is_finite(x), Real::is_finite(a)),
                 ];
                 for (mx, ma) in masks {

@@ -21,6 +21,13 @@
 //! `Δε_p / (ε0 + ε_p)` (no `powf` for increments below 2 % of `ε0 + ε_p`).
 //! σ_zz = 0 holds by construction; the thickness strain increment is
 //! `Δε_zz = −ν/(1−ν)(Δε_xx + Δε_yy − Δε^p_xx − Δε^p_yy) − (Δε^p_xx + Δε^p_yy)`.
+//!
+//! The return is written once, generic over the number type
+//! ([`Real`]: `f64` for one point, lanes for four elements): `trial`,
+//! `project` (over a `Curve`: Swift's series, or a table) and `finish`.
+//! Four lanes of Swift hardening run it in SIMD; a tabulated curve goes
+//! lane by lane. With `f64` each `madd` rounds twice and in lanes once, so a
+//! lane equals the one-point run to rounding.
 
 use super::{Hardening, Material, PointUpdate, update_points_by_lane, von_mises};
 use crate::error::{ShellError, check};
@@ -101,205 +108,166 @@ impl J2PlaneStress {
         &self.hardening
     }
 
-    /// Start of the projected return for the trial stress `t` of a yielding
-    /// point: a Halley step from Δλ = 0 built from the closed-form value and
-    /// first two derivatives of the yield function at the trial state, whose
-    /// error is cubic in the increment. `hm0`, `dhm0`: first and second
-    /// derivatives of σ_y at the point's ε_p.
+    /// Elastic trial stress and whether it lies inside the yield surface
+    /// (one point, or the lanes of four).
     #[inline(always)]
-    fn return_start(&self, t: [f64; 3], sy0: f64, hm0: f64, dhm0: f64) -> Return {
+    fn trial<T: Real>(&self, s: &[T; 3], sy0: T, d: [T; 3]) -> ([T; 3], T::Mask) {
+        let (c11, c12, g) = (T::splat(self.c11), T::splat(self.c12), T::splat(self.shear));
+        let t0 = d[1].madd(c12, d[0].madd(c11, s[0]));
+        let t1 = d[1].madd(c11, d[0].madd(c12, s[1]));
+        let t2 = d[2].madd(g, s[2]);
+        let vm2 = (t2 * 3.0).madd(t2, (-t0).madd(t1, t1.madd(t1, t0 * t0)));
+        ([t0, t1, t2], T::le(vm2, sy0 * sy0))
+    }
+
+    /// The projected return of one point, or of the lanes of four, whose
+    /// trial stress `t` lies outside the yield surface in the lanes of
+    /// `plastic` (the other lanes are computed and not used). `sy0`: the
+    /// flow stress at the start; `hm0`, `dhm0`: the curve's first and second
+    /// derivatives there.
+    ///
+    /// A Halley step from Δλ = 0, built from the closed-form value and first
+    /// two derivatives of the yield function at the trial state (its error
+    /// cubic in the increment), then Newton steps until `|f| ≤ RETURN_TOL
+    /// σ_y,0²` in every plastic lane; a lane within `RETURN_CLOSE σ_y,0²`
+    /// takes its last step to first order in its size δ instead of
+    /// evaluating again. Lanes that have converged are masked.
+    #[inline(always)]
+    fn project<T: Real, C: Curve<T>>(
+        &self,
+        t: [T; 3],
+        plastic: T::Mask,
+        sy0: T,
+        hm0: T,
+        dhm0: T,
+        curve: &C,
+    ) -> Projected<T> {
+        let (ap, g2) = (self.a_p, 2.0 * self.shear);
+        let (z, one) = (T::splat(0.0), T::splat(1.0));
         let [t0, t1, t2] = t;
         let sum = t0 + t1;
         let dif = t0 - t1;
         let a1 = sum * sum * (1.0 / 6.0); // p_tr² / 3
-        let a2 = 0.5 * dif * dif + 2.0 * t2 * t2; // q_tr² + 2 σ_xy²
-        let ap = self.a_p;
-        let g2 = 2.0 * self.shear;
+        let a2 = (t2 * 2.0).madd(t2, dif * 0.5 * dif); // q_tr² + 2 σ_xy²
         // f(Δλ) = ½ φ² − ⅓ σ_y(ε_p + √⅔ Δλ φ)², with φ² = a1 f1² + a2 f2².
         let phi2_0 = a1 + a2;
         let phi0 = phi2_0.sqrt();
-        let f0 = 0.5 * phi2_0 - sy0 * sy0 * (1.0 / 3.0);
-        let dphi2_0 = -2.0 * (ap * a1 + g2 * a2);
-        let ddphi2_0 = 6.0 * (ap * ap * a1 + g2 * g2 * a2);
+        let f0 = (-(sy0 * sy0)).madd(T::splat(1.0 / 3.0), phi2_0 * 0.5);
+        let dphi2_0 = a2.madd(T::splat(g2), a1 * ap) * -2.0;
+        let ddphi2_0 = a2.madd(T::splat(g2 * g2), a1 * (ap * ap)) * 6.0;
         // Δε_p = √⅔ Δλ φ: its first derivative is √⅔ φ0, its second
-        // √⅔ φ²′/φ0. The Halley step Δλ = −f f′ / (f′² − ½ f f″) is
-        // taken with numerator and denominator times φ0 (> 0), so that the
+        // √⅔ φ²′/φ0. The Halley step Δλ = −f f′ / (f′² − ½ f f″) is taken
+        // with numerator and denominator times φ0 (> 0), so that the
         // division by φ0 in f″ folds into the step's one division.
-        let dd_0 = R23 * phi0; // d(Δε_p)/dΔλ
+        let dd_0 = phi0 * R23;
         let dy_0 = hm0 * dd_0;
-        let df0 = 0.5 * dphi2_0 - (2.0 / 3.0) * sy0 * dy_0;
+        let df0 = (-(sy0 * (2.0 / 3.0))).madd(dy_0, dphi2_0 * 0.5);
         // φ0 f″ = ½ φ0 φ²″ − ⅔ (φ0 σ_y′² + σ_y (φ0 h′ (Δε_p′)² + h √⅔ φ²′)),
         // (Δε_p′)² = ⅔ φ0².
-        let ddy_0_phi = dhm0 * (2.0 / 3.0) * phi2_0 * phi0 + hm0 * R23 * dphi2_0;
-        let ddf0_phi = 0.5 * ddphi2_0 * phi0 - (2.0 / 3.0) * (dy_0 * dy_0 * phi0 + sy0 * ddy_0_phi);
-        // Halley: Δλ = −f f′ φ0 / (f′² φ0 − ½ f φ0 f″); Newton (−f / f′) if
-        // the correction is not small.
+        let ddy_0_phi = (dhm0 * (2.0 / 3.0) * phi2_0).madd(phi0, hm0 * R23 * dphi2_0);
+        let ddf0_phi = (-(dy_0 * dy_0).madd(phi0, sy0 * ddy_0_phi))
+            .madd(T::splat(2.0 / 3.0), ddphi2_0 * 0.5 * phi0);
         let df0sq = df0 * df0 * phi0;
-        let den = df0sq - 0.5 * f0 * ddf0_phi;
-        // Δλ0 = num / den0 (num clamped at 0), and the first evaluation's
+        let den = (-(f0 * 0.5)).madd(ddf0_phi, df0sq);
+        // Δλ0 = num / den0 (num clamped at 0; Newton, −f/f′, when the
+        // correction is not small), and the first evaluation's
         // f1 = 1 / (1 + a_p Δλ0) = den0 / b1, f2 = den0 / b2 with
         // b1 = den0 + a_p num, b2 = den0 + 2G num: all three from one
         // division by den0 b1 b2.
         let num = -f0 * df0 * phi0;
-        let num = if num > 0.0 { num } else { 0.0 };
-        // A lane with no stress at all (df0 = 0: not plastic, but computed in
-        // the lane kernel) takes den0 = 1 and so Δλ0 = 0 rather than 0/0.
-        let den0 = if den > 0.5 * df0sq {
-            den
-        } else if df0sq > 0.0 {
-            df0sq
-        } else {
-            1.0
-        };
-        let b1 = num * ap + den0;
-        let b2 = num * g2 + den0;
+        let num = T::select(num.gt(z), num, z);
+        // A lane with no stress (not plastic, df0 = 0) takes den0 = 1 and so
+        // Δλ0 = 0, not 0/0 (a select beside `den`, off the chain).
+        let den0 = T::select(den.gt(df0sq * 0.5), den, T::select(df0sq.gt(z), df0sq, one));
+        let b1 = num.madd(T::splat(ap), den0);
+        let b2 = num.madd(T::splat(g2), den0);
         let b12 = b1 * b2;
-        let inv0 = 1.0 / (den0 * b12);
+        let inv0 = one / (den0 * b12);
         let den0sq = den0 * den0;
         // φ² = a1 f1² + a2 f2² = S w² with S = a1 b2² + a2 b1², w = den0 /
-        // (b1 b2) = den0² inv0: the square root of S runs beside the
-        // division.
-        let big_s = a2 * b1 * b1 + a1 * b2 * b2;
+        // (b1 b2) = den0² inv0: the square root of S runs beside the division.
+        let big_s = (a2 * b1).madd(b1, a1 * b2 * b2);
         let w = den0sq * inv0;
         let root_s = big_s.sqrt();
-        Return {
-            a1,
-            a2,
+        let mut first = Some((w * b2, w * b1, big_s * w * w, root_s * w));
+        let mut r = Projected {
             dl: num * b12 * inv0,
-            first: Some((w * b2, w * b1, big_s * w * w, root_s * w)),
-            f1: 1.0,
-            f2: 1.0,
-            d: 0.0,
+            f1: one,
+            f2: one,
+            d: z,
             sy: sy0,
-            tol: RETURN_TOL * sy0 * sy0,
-            close: RETURN_CLOSE * sy0 * sy0,
-            done: false,
-        }
-    }
-
-    /// One evaluation of the yield function at the current Δλ: if
-    /// `|f| ≤ RETURN_TOL σ_y,0²` the return is done (and `f1`, `f2`, `d`, `sy`
-    /// belong to that Δλ); else a Newton step, which ends the return when
-    /// `|f| ≤ RETURN_CLOSE σ_y,0²`, its new state taken to first order in
-    /// the step δ (see [`RETURN_CLOSE`]). `flow(d)` is σ_y at `ε_p + d`,
-    /// `slope(d, σ_y)` its derivative as a fraction `(hn, hd)`, and
-    /// `flow_step(σ_y, u, d′)` σ_y at `ε_p + d′`, `d′ = d + u hd`, from σ_y
-    /// at `ε_p + d`.
-    #[inline(always)]
-    fn return_iterate(
-        &self,
-        r: &mut Return,
-        flow: impl Fn(f64) -> f64,
-        slope: impl Fn(f64, f64) -> (f64, f64),
-        flow_step: impl Fn(f64, f64, f64) -> f64,
-    ) {
-        let ap = self.a_p;
-        let g2 = 2.0 * self.shear;
-        let dl = r.dl;
-        let (f1, f2, phi2, phi) = match r.first.take() {
-            Some(f) => f,
-            None => {
-                let den1 = ap * dl + 1.0;
-                let den2 = g2 * dl + 1.0;
-                let inv = 1.0 / (den1 * den2);
-                let (f1, f2) = (den2 * inv, den1 * inv);
-                let phi2 = r.a2 * f2 * f2 + r.a1 * f1 * f1;
-                (f1, f2, phi2, phi2.sqrt())
-            }
         };
-        let d = dl * R23 * phi;
-        let sy = flow(d);
-        (r.f1, r.f2, r.d, r.sy) = (f1, f2, d, sy);
-        let f = 0.5 * phi2 - sy * sy * (1.0 / 3.0);
-        if f.abs() <= r.tol {
-            r.done = true;
-            return;
+        let tol = sy0 * RETURN_TOL * sy0;
+        let close = sy0 * RETURN_CLOSE * sy0;
+        let mut active = plastic;
+        for _ in 0..60 {
+            let dl = r.dl;
+            let (f1, f2, phi2, phi) = match first.take() {
+                Some(f) => f,
+                None => {
+                    let den1 = dl.madd(T::splat(ap), one);
+                    let den2 = dl.madd(T::splat(g2), one);
+                    let inv = one / (den1 * den2);
+                    let (f1, f2) = (den2 * inv, den1 * inv);
+                    let phi2 = (a2 * f2).madd(f2, a1 * f1 * f1);
+                    (f1, f2, phi2, phi2.sqrt())
+                }
+            };
+            let d = dl * R23 * phi;
+            let sy = curve.flow(d, active);
+            r.f1 = T::select(active, f1, r.f1);
+            r.f2 = T::select(active, f2, r.f2);
+            r.d = T::select(active, d, r.d);
+            r.sy = T::select(active, sy, r.sy);
+            let f = (-(sy * sy)).madd(T::splat(1.0 / 3.0), phi2 * 0.5);
+            let open = T::mask_and_not(active, T::le(T::abs(f), tol));
+            if !T::any(open) {
+                break;
+            }
+            // f′ = ½ φ²′ − ⅔ σ_y h √⅔ (φ² + ½ Δλ φ²′) / φ with h = hn / hd;
+            // the Newton step δ = −f / f′ with f′ scaled by hd φ takes a
+            // single division, q = −f / (hd φ f′), δ = q hd φ.
+            let (hn, hd) = curve.slope(d, sy);
+            let dphi2 = (a2 * g2 * f2 * f2).madd(f2, a1 * ap * f1 * f1 * f1) * -2.0;
+            let g = (dl * 0.5).madd(dphi2, phi2);
+            let df_scaled = (-(sy * ((2.0 / 3.0) * R23) * hn)).madd(g, dphi2 * 0.5 * hd * phi);
+            let q = -f / df_scaled;
+            let delta = q * hd * phi;
+            let next = dl + delta;
+            // Lanes within RETURN_CLOSE: the last step, to first order in δ
+            // (f1′ = −a_p f1², f2′ = −2G f2², d′ = u hd / δ); σ_y at the new
+            // ε_p from the curve, so that the cached flow stress stays the
+            // curve's.
+            let last = T::mask_and(T::mask_and(open, T::le(T::abs(f), close)), next.gt(z));
+            let u = g * R23 * q;
+            let d_last = u.madd(hd, d);
+            r.f1 = T::select(last, (-(f1 * ap * f1)).madd(delta, f1), r.f1);
+            r.f2 = T::select(last, (-(f2 * g2 * f2)).madd(delta, f2), r.f2);
+            r.d = T::select(last, d_last, r.d);
+            r.sy = T::select(last, curve.step(sy, u, d_last, last), r.sy);
+            // In the lanes of `last`, next > 0: the step is `next`.
+            let step = T::select(next.gt(z), next, dl * 0.5);
+            r.dl = T::select(open, step, dl);
+            active = T::mask_and_not(open, last);
+            if !T::any(active) {
+                break;
+            }
         }
-        // f′ = ½ φ²′ − ⅔ σ_y h √⅔ (φ² + ½ Δλ φ²′) / φ with h = hn / hd;
-        // the Newton step δ = −f / f′ with f′ scaled by hd φ takes a single
-        // division, q = −f / (hd φ f′), δ = q hd φ.
-        let (hn, hd) = slope(d, sy);
-        let dphi2 = -2.0 * (ap * r.a1 * f1 * f1 * f1 + g2 * r.a2 * f2 * f2 * f2);
-        let g = phi2 + 0.5 * dl * dphi2;
-        let df_scaled = 0.5 * dphi2 * hd * phi - (2.0 / 3.0) * R23 * sy * hn * g;
-        let q = -f / df_scaled;
-        let delta = q * hd * phi;
-        let next = dl + delta;
-        if f.abs() <= r.close && next > 0.0 {
-            // The last step, to first order in δ: f1′ = −a_p f1², f2′ =
-            // −2G f2², d′ = √⅔ (φ² + ½ Δλ φ²′)/φ = u hd / δ; σ_y at the new
-            // ε_p from the curve (so that the cached flow stress stays the
-            // curve's).
-            let u = R23 * g * q;
-            (r.dl, r.f1, r.f2) = (next, f1 - ap * f1 * f1 * delta, f2 - g2 * f2 * f2 * delta);
-            r.d = d + u * hd;
-            r.sy = flow_step(sy, u, r.d);
-            r.done = true;
-            return;
-        }
-        r.dl = if next > 0.0 { next } else { 0.5 * dl };
+        r
     }
 
-    /// Stress, history and thickness strain after a converged return.
+    /// Stress and thickness strain after a return: `Δε_zz = −ν/(1−ν)(Δε_xx +
+    /// Δε_yy − Δε^p_xx − Δε^p_yy) − (Δε^p_xx + Δε^p_yy)`, the in-plane trace
+    /// of `Δε^p = Δλ P σ` being `Δλ (σ_xx + σ_yy) / 3`.
     #[inline(always)]
-    fn return_finish(
-        &self,
-        t: [f64; 3],
-        de: [f64; 3],
-        r: &Return,
-        s: &mut [f64; 3],
-        h: &mut J2History,
-    ) -> PointUpdate {
-        let ps = 0.5 * (t[0] + t[1]) * r.f1;
-        let qs = 0.5 * (t[0] - t[1]) * r.f2;
-        *s = [ps + qs, ps - qs, t[2] * r.f2];
-        h.eps_p += r.d;
-        h.sigma_y = r.sy;
-        // Δε^p = Δλ P σ: its in-plane trace is Δλ (σ_xx + σ_yy) / 3.
-        let tr_p = r.dl * (s[0] + s[1]) * (1.0 / 3.0);
-        PointUpdate {
-            deps_zz: -self.nu_ratio * (de[0] + de[1] - tr_p) - tr_p,
-            dissipation: r.sy * r.d,
-        }
-    }
-
-    /// Elastic trial stress and whether it lies inside the yield surface.
-    #[inline(always)]
-    fn trial(&self, s: &[f64; 3], sy0: f64, de: [f64; 3]) -> ([f64; 3], bool) {
-        let t0 = s[0] + self.c11 * de[0] + self.c12 * de[1];
-        let t1 = s[1] + self.c12 * de[0] + self.c11 * de[1];
-        let t2 = s[2] + self.shear * de[2];
-        let vm2 = t0 * t0 + t1 * t1 - t0 * t1 + 3.0 * t2 * t2;
-        ([t0, t1, t2], vm2 <= sy0 * sy0)
-    }
-
-    /// Swift flow stress at `ε_p + d` from the cached `sy0` at `ε_p`, with
-    /// `e = ε0 + ε_p`: `σ_y(ε_p) (1 + x)^n`, `x = d / e`, by the binomial
-    /// series to x⁸ (error < |x|⁹ < 6e-16 for |x| < 0.02, `series8`), else
-    /// `powf`.
-    #[inline(always)]
-    fn swift_flow(&self, k: f64, n: f64, sy0: f64, e: f64, inv_e: f64, d: f64) -> f64 {
-        let c = &self.swift_binomial;
-        let x = d * inv_e;
-        if x.abs() < 0.02 {
-            sy0 * series8(c, x)
-        } else {
-            k * (e + d).powf(n)
-        }
-    }
-
-    /// Swift flow stress after a last Newton step, from `sy` at `ε_p + d`:
-    /// at `ε_p + d + u (ε0 + ε_p + d)` it is `sy (1 + u)^n`, by the binomial
-    /// series to u⁴ (error < |C(n, 5)| |u|⁵ < 4e-17 for |u| < [`STEP_SERIES`];
-    /// a last step's |u| is at most ~1e-6 in the tests), else `far()`.
-    #[inline(always)]
-    fn swift_flow_step(&self, sy: f64, u: f64, far: impl Fn() -> f64) -> f64 {
-        let c = &self.swift_binomial;
-        if u.abs() < STEP_SERIES {
-            sy * series4(c, u)
-        } else {
-            far()
-        }
+    fn finish<T: Real>(&self, t: [T; 3], de: [T; 3], r: &Projected<T>) -> ([T; 3], T) {
+        let [t0, t1, t2] = t;
+        let ps = (t0 + t1) * 0.5 * r.f1;
+        let qs = (t0 - t1) * 0.5 * r.f2;
+        let sn = [ps + qs, ps - qs, t2 * r.f2];
+        let tr_p = r.dl * (sn[0] + sn[1]) * (1.0 / 3.0);
+        let deps_zz = (de[0] + de[1] - tr_p).madd(T::splat(-self.nu_ratio), -tr_p);
+        (sn, deps_zz)
     }
 }
 
@@ -354,23 +322,105 @@ pub const RETURN_CLOSE: f64 = 1e-5;
 /// √(2/3).
 const R23: f64 = 0.816_496_580_927_726;
 
-/// State of one point's projected return.
+/// Where a projected return ends (one point, or the lanes of four).
 #[derive(Debug, Clone, Copy, Default)]
-struct Return {
-    a1: f64,
-    a2: f64,
-    dl: f64,
-    /// `(f1, f2, φ², φ)` at the start's Δλ, computed with it.
-    first: Option<(f64, f64, f64, f64)>,
-    f1: f64,
-    f2: f64,
-    d: f64,
-    sy: f64,
-    tol: f64,
-    /// `RETURN_CLOSE σ_y,0²`: within it the last Newton step is taken to
-    /// first order.
-    close: f64,
-    done: bool,
+struct Projected<T> {
+    /// Plastic multiplier Δλ.
+    dl: T,
+    /// `1 / (1 + a_p Δλ)`, `1 / (1 + 2G Δλ)`.
+    f1: T,
+    f2: T,
+    /// Plastic strain increment Δε_p.
+    d: T,
+    /// Flow stress at `ε_p + Δε_p`.
+    sy: T,
+}
+
+/// The hardening curve as the return sees it, for one point (`T = f64`) or
+/// the lanes of four.
+trait Curve<T: Real> {
+    /// σ_y at `ε_p + d` in the lanes of `live` (the others: anything).
+    fn flow(&self, d: T, live: T::Mask) -> T;
+    /// The curve's slope at `ε_p + d`, where σ_y is `sy`, as a fraction
+    /// `(hn, hd)` (one division fewer in the Newton step).
+    fn slope(&self, d: T, sy: T) -> (T, T);
+    /// σ_y after a last Newton step, at `ε_p + d_last` with `d_last = d + u
+    /// hd`, from `sy` at `ε_p + d`, in the lanes of `live`.
+    fn step(&self, sy: T, u: T, d_last: T, live: T::Mask) -> T;
+}
+
+/// Swift's curve for one point or four lanes, from the point's cached flow
+/// stress: `σ_y(ε_p + d) = σ_y(ε_p) (1 + x)^n`, `x = d / (ε0 + ε_p)`, by
+/// the binomial series to x⁸ (error < |x|⁹ < 6e-16 for |x| < 0.02,
+/// `series8`), else `powf` (out of line in lanes).
+struct Swift<'a, T> {
+    /// Binomial coefficients of `(1 + x)^n`.
+    c: &'a [f64; 9],
+    k: f64,
+    n: f64,
+    /// Flow stress at the start of the step.
+    sy0: T,
+    /// `ε0 + ε_p` and its inverse.
+    e: T,
+    inv_e: T,
+}
+
+impl<T: Real> Curve<T> for Swift<'_, T> {
+    #[inline(always)]
+    fn flow(&self, d: T, live: T::Mask) -> T {
+        let x = d * self.inv_e;
+        let sy = self.sy0 * series8(self.c, x);
+        let far = T::mask_and_not(live, T::lt(T::abs(x), T::splat(0.02)));
+        if !T::any(far) {
+            return sy;
+        }
+        let (k, n) = (self.k, self.n);
+        T::select(
+            far,
+            self.e.map_where(d, far, |e, d| k * (e + d).powf(n)),
+            sy,
+        )
+    }
+
+    #[inline(always)]
+    fn slope(&self, d: T, sy: T) -> (T, T) {
+        (sy * self.n, self.e + d)
+    }
+
+    /// `sy (1 + u)^n` by the binomial series to u⁴ (error < |C(n, 5)| |u|⁵
+    /// < 4e-17 for |u| < [`STEP_SERIES`]; a last step's |u| is at most ~1e-6
+    /// in the tests), [`flow`](Curve::flow) at `d_last` beyond it.
+    #[inline(always)]
+    fn step(&self, sy: T, u: T, d_last: T, live: T::Mask) -> T {
+        let y = sy * series4(self.c, u);
+        let far = T::mask_and_not(live, T::lt(T::abs(u), T::splat(STEP_SERIES)));
+        if !T::any(far) {
+            return y;
+        }
+        T::select(far, self.flow(d_last, far), y)
+    }
+}
+
+/// A tabulated curve for one point at plastic strain `eps_p` (four lanes go
+/// one by one through it: [`update_points_by_lane`]).
+struct Table<'a> {
+    hard: &'a Hardening,
+    eps_p: f64,
+}
+
+impl Curve<f64> for Table<'_> {
+    #[inline(always)]
+    fn flow(&self, d: f64, _: bool) -> f64 {
+        self.hard.eval(self.eps_p + d).0
+    }
+    #[inline(always)]
+    fn slope(&self, d: f64, _: f64) -> (f64, f64) {
+        (self.hard.eval(self.eps_p + d).1, 1.0)
+    }
+    #[inline(always)]
+    fn step(&self, _: f64, _: f64, d_last: f64, _: bool) -> f64 {
+        self.hard.eval(self.eps_p + d_last).0
+    }
 }
 
 impl Material for J2PlaneStress {
@@ -410,8 +460,8 @@ impl Material for J2PlaneStress {
         u
     }
 
-    /// All `N` points of a section in lockstep, so that the independent
-    /// Newton iterations of the points overlap in the processor's pipeline.
+    /// The `N` points of a section one after the other, each through the
+    /// one projected return ([`J2PlaneStress::project`] with `T = f64`).
     #[inline(always)]
     fn update_points<const N: usize>(
         &self,
@@ -420,86 +470,37 @@ impl Material for J2PlaneStress {
         de: &[[f64; 3]; N],
     ) -> [PointUpdate; N] {
         let mut out = [PointUpdate::default(); N];
-        let mut t = [[0.0; 3]; N];
-        let mut ret = [Return::default(); N];
-        let mut plastic = false;
         for p in 0..N {
-            let (tr, elastic) = self.trial(&s[p], h[p].sigma_y, de[p]);
-            t[p] = tr;
+            let (t, elastic) = self.trial(&s[p], h[p].sigma_y, de[p]);
+            s[p] = t;
+            out[p].deps_zz = (de[p][0] + de[p][1]) * -self.nu_ratio;
             if elastic {
-                s[p] = tr;
-                out[p].deps_zz = -self.nu_ratio * (de[p][0] + de[p][1]);
-                ret[p].done = true;
-            } else {
-                plastic = true;
+                continue;
             }
-        }
-        if !plastic {
-            return out;
-        }
-        let was_plastic = ret.map(|r| !r.done);
-        match &self.hardening {
-            Hardening::Swift { k, eps0, n } => {
-                let (k, n) = (*k, *n);
-                let mut e = [1.0; N];
-                let mut inv_e = [1.0; N];
-                for p in 0..N {
-                    if was_plastic[p] {
-                        e[p] = eps0 + h[p].eps_p;
-                        inv_e[p] = 1.0 / e[p];
-                        let sy0 = h[p].sigma_y;
-                        let hm0 = n * sy0 * inv_e[p];
-                        ret[p] = self.return_start(t[p], sy0, hm0, (n - 1.0) * hm0 * inv_e[p]);
-                    }
+            let J2History {
+                eps_p,
+                sigma_y: sy0,
+            } = h[p];
+            let r = match &self.hardening {
+                Hardening::Swift { k, eps0, n } => {
+                    let (curve, hm0, dhm0) = self.swift_curve(*k, *eps0, *n, eps_p, sy0);
+                    self.project(t, true, sy0, hm0, dhm0, &curve)
                 }
-                for _ in 0..60 {
-                    let mut busy = false;
-                    for p in 0..N {
-                        if !ret[p].done {
-                            let (sy0, ep, iep) = (h[p].sigma_y, e[p], inv_e[p]);
-                            self.return_iterate(
-                                &mut ret[p],
-                                |d| self.swift_flow(k, n, sy0, ep, iep, d),
-                                |d, y| (n * y, ep + d),
-                                |y, u, d| {
-                                    self.swift_flow_step(y, u, || {
-                                        self.swift_flow(k, n, sy0, ep, iep, d)
-                                    })
-                                },
-                            );
-                            busy |= !ret[p].done;
-                        }
-                    }
-                    if !busy {
-                        break;
-                    }
+                hard @ Hardening::Table { .. } => {
+                    let curve = Table { hard, eps_p };
+                    self.project(t, true, sy0, hard.eval(eps_p).1, 0.0, &curve)
                 }
-            }
-            hard @ Hardening::Table { .. } => {
-                for p in 0..N {
-                    if was_plastic[p] {
-                        let eps_p = h[p].eps_p;
-                        let r = &mut ret[p];
-                        *r = self.return_start(t[p], h[p].sigma_y, hard.eval(eps_p).1, 0.0);
-                        for _ in 0..60 {
-                            self.return_iterate(
-                                r,
-                                |d| hard.eval(eps_p + d).0,
-                                |d, _| (hard.eval(eps_p + d).1, 1.0),
-                                |_, _, d| hard.eval(eps_p + d).0,
-                            );
-                            if r.done {
-                                break;
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        for p in 0..N {
-            if was_plastic[p] {
-                out[p] = self.return_finish(t[p], de[p], &ret[p], &mut s[p], &mut h[p]);
-            }
+            };
+            let (sn, deps_zz) = self.finish(t, de[p], &r);
+            s[p] = sn;
+            out[p] = PointUpdate {
+                deps_zz,
+                dissipation: r.sy * r.d,
+            };
+            h[p] = J2History {
+                eps_p: eps_p + r.d,
+                sigma_y: r.sy,
+            };
         }
         out
     }
@@ -526,38 +527,36 @@ impl Material for J2PlaneStress {
     }
 }
 
-/// `k (e + d)^n` in the lanes of `far` (rare: plastic increments beyond 2 %
-/// of `ε0 + ε_p`), out of line so that the lanes around it stay in vectors.
-#[cold]
-#[inline(never)]
-fn swift_powf(k: f64, n: f64, e: [f64; 4], d: [f64; 4], far: [bool; 4]) -> [f64; 4] {
-    let mut out = [0.0; 4];
-    for l in 0..4 {
-        if far[l] {
-            out[l] = k * (e[l] + d[l]).powf(n);
-        }
-    }
-    out
-}
-
-/// State of four lanes' projected return (see [`Return`]).
-#[derive(Debug, Clone, Copy, Default)]
-struct Return4<L> {
-    dl: L,
-    f1: L,
-    f2: L,
-    d: L,
-    sy: L,
-    tol: L,
-    close: L,
-}
-
 impl J2PlaneStress {
-    /// [`Material::update_points_x4`] with Swift hardening: the lane form of
-    /// `trial`, `return_start`, `return_iterate` (with `swift_flow` and
-    /// `swift_flow_step`, here `SwiftLanes::flow` and `::step`) and
-    /// `return_finish`, each expression evaluated in the same order. The
-    /// plastic points return one after the other, each in registers (their
+    /// Swift's curve at a point's (or four lanes') `ε_p` and cached flow
+    /// stress `sy0`, with its first and second derivatives there.
+    #[inline(always)]
+    fn swift_curve<T: Real>(
+        &self,
+        k: f64,
+        eps0: f64,
+        n: f64,
+        eps_p: T,
+        sy0: T,
+    ) -> (Swift<'_, T>, T, T) {
+        let e = eps_p + eps0;
+        let inv_e = T::splat(1.0) / e;
+        let hm0 = sy0 * n * inv_e;
+        let dhm0 = hm0 * (n - 1.0) * inv_e;
+        let curve = Swift {
+            c: &self.swift_binomial,
+            k,
+            n,
+            sy0,
+            e,
+            inv_e,
+        };
+        (curve, hm0, dhm0)
+    }
+
+    /// [`Material::update_points_x4`] with Swift hardening: the one trial,
+    /// return and finish in lanes, each branch a lane mask. The plastic
+    /// points return one after the other, each in registers (their
     /// independent division / square-root chains overlap in the processor's
     /// out-of-order window); lanes that are elastic or converged are masked.
     #[inline(always)]
@@ -573,161 +572,26 @@ impl J2PlaneStress {
         let mut out = [PointUpdate::<L>::default(); N];
         let mut plastic = [L::splat(0.0).gt(L::splat(0.0)); N];
         let mut any_plastic = false;
-        let (c11, c12, g) = (L::splat(self.c11), L::splat(self.c12), L::splat(self.shear));
         for p in 0..N {
-            let sy0 = L::from_array([
-                h[0][p].sigma_y,
-                h[1][p].sigma_y,
-                h[2][p].sigma_y,
-                h[3][p].sigma_y,
-            ]);
-            let d = de[p];
-            let t0 = d[1].madd(c12, d[0].madd(c11, s[p][0]));
-            let t1 = d[1].madd(c11, d[0].madd(c12, s[p][1]));
-            let t2 = d[2].madd(g, s[p][2]);
-            let vm2 = (t2 * 3.0).madd(t2, (-t0).madd(t1, t1.madd(t1, t0 * t0)));
-            let elastic = L::le(vm2, sy0 * sy0);
-            s[p] = [t0, t1, t2];
-            out[p].deps_zz = (d[0] + d[1]) * -self.nu_ratio;
+            let sy0 = L::from_array(std::array::from_fn(|l| h[l][p].sigma_y));
+            let (t, elastic) = self.trial(&s[p], sy0, de[p]);
+            s[p] = t;
+            out[p].deps_zz = (de[p][0] + de[p][1]) * -self.nu_ratio;
             plastic[p] = L::mask_not(elastic);
             any_plastic |= L::any(plastic[p]);
         }
         if !any_plastic {
             return out;
         }
-        let ap = self.a_p;
-        let g2 = 2.0 * self.shear;
-        let c = &self.swift_binomial;
-        let z4 = L::splat(0.0);
-        let one = L::splat(1.0);
         for p in 0..N {
             let pl = plastic[p];
             if !L::any(pl) {
                 continue;
             }
             let (eps_p, sy0) = J2History::lanes::<L, N>(h, p);
-            let [t0, t1, t2] = s[p];
-            // return_start: Halley step from Δλ = 0.
-            let e = eps_p + eps0;
-            let inv_e = one / e;
-            let sum = t0 + t1;
-            let dif = t0 - t1;
-            let a1 = sum * sum * (1.0 / 6.0);
-            let a2 = (t2 * 2.0).madd(t2, dif * 0.5 * dif);
-            let phi0 = (a1 + a2).sqrt();
-            let sy = sy0;
-            let hm0 = sy * n * inv_e;
-            let dhm0 = hm0 * (n - 1.0) * inv_e;
-            let phi2_0 = a1 + a2;
-            let f0 = (-(sy * sy)).madd(L::splat(1.0 / 3.0), phi2_0 * 0.5);
-            let dphi2_0 = a2.madd(L::splat(g2), a1 * ap) * -2.0;
-            let ddphi2_0 = a2.madd(L::splat(g2 * g2), a1 * (ap * ap)) * 6.0;
-            let dd_0 = phi0 * R23;
-            let dy_0 = hm0 * dd_0;
-            let df0 = (-(sy * (2.0 / 3.0))).madd(dy_0, dphi2_0 * 0.5);
-            let ddy_0_phi = (dhm0 * (2.0 / 3.0) * phi2_0).madd(phi0, hm0 * R23 * dphi2_0);
-            let ddf0_phi = (-(dy_0 * dy_0).madd(phi0, sy * ddy_0_phi))
-                .madd(L::splat(2.0 / 3.0), ddphi2_0 * 0.5 * phi0);
-            let df0sq = df0 * df0 * phi0;
-            let den = (-(f0 * 0.5)).madd(ddf0_phi, df0sq);
-            // Δλ0 = num / den0 (num clamped at 0), and the first evaluation's
-            // f1 = 1 / (1 + a_p Δλ0) = den0 / b1, f2 = den0 / b2 with
-            // b1 = den0 + a_p num, b2 = den0 + 2G num: all three from one
-            // division by den0 b1 b2.
-            let num = -f0 * df0 * phi0;
-            let num = L::select(num.gt(z4), num, z4);
-            // A lane with no stress (not plastic, df0 = 0) takes den0 = 1 and
-            // so Δλ0 = 0, not 0/0 (a select beside `den`, off the chain).
-            let den0 = L::select(
-                den.gt(df0sq * 0.5),
-                den,
-                L::select(df0sq.gt(z4), df0sq, one),
-            );
-            let b1 = num.madd(L::splat(ap), den0);
-            let b2 = num.madd(L::splat(g2), den0);
-            let b12 = b1 * b2;
-            let inv0 = one / (den0 * b12);
-            let den0sq = den0 * den0;
-            // φ² = a1 f1² + a2 f2² = S w² with S = a1 b2² + a2 b1², w = den0 /
-            // (b1 b2) = den0² inv0: the square root of S runs beside the
-            // division.
-            let big_s = (a2 * b1).madd(b1, a1 * b2 * b2);
-            let w = den0sq * inv0;
-            let root_s = big_s.sqrt();
-            let mut first = Some((w * b2, w * b1, big_s * w * w, root_s * w));
-            let mut r = Return4 {
-                dl: num * b12 * inv0,
-                f1: one,
-                f2: one,
-                d: z4,
-                sy: sy0,
-                tol: sy0 * RETURN_TOL * sy0,
-                close: sy0 * RETURN_CLOSE * sy0,
-            };
-            let sc = SwiftLanes {
-                c,
-                k,
-                n,
-                sy0,
-                e,
-                inv_e,
-            };
-            // return_iterate until every plastic lane has converged.
-            let mut active = pl;
-            for _ in 0..60 {
-                let dl = r.dl;
-                let (f1, f2, phi2, phi) = match first.take() {
-                    Some(f) => f,
-                    None => {
-                        let den1 = dl.madd(L::splat(ap), one);
-                        let den2 = dl.madd(L::splat(g2), one);
-                        let inv = one / (den1 * den2);
-                        let (f1, f2) = (den2 * inv, den1 * inv);
-                        let phi2 = (a2 * f2).madd(f2, a1 * f1 * f1);
-                        (f1, f2, phi2, phi2.sqrt())
-                    }
-                };
-                let d = dl * R23 * phi;
-                let sy = sc.flow(d, active);
-                r.f1 = L::select(active, f1, r.f1);
-                r.f2 = L::select(active, f2, r.f2);
-                r.d = L::select(active, d, r.d);
-                r.sy = L::select(active, sy, r.sy);
-                let f = (-(sy * sy)).madd(L::splat(1.0 / 3.0), phi2 * 0.5);
-                let open = L::mask_and_not(active, L::le(L::abs(f), r.tol));
-                if !L::any(open) {
-                    break;
-                }
-                let (hn, hd) = (sy * n, e + d);
-                let dphi2 = (a2 * g2 * f2 * f2).madd(f2, a1 * ap * f1 * f1 * f1) * -2.0;
-                let g = (dl * 0.5).madd(dphi2, phi2);
-                let df_scaled = (-(sy * ((2.0 / 3.0) * R23) * hn)).madd(g, dphi2 * 0.5 * hd * phi);
-                let q = -f / df_scaled;
-                let delta = q * hd * phi;
-                let next = dl + delta;
-                // Lanes within RETURN_CLOSE: the last step, to first order in δ.
-                let last = L::mask_and(L::mask_and(open, L::le(L::abs(f), r.close)), next.gt(z4));
-                let u = g * R23 * q;
-                let d_last = u.madd(hd, d);
-                r.f1 = L::select(last, (-(f1 * ap * f1)).madd(delta, f1), r.f1);
-                r.f2 = L::select(last, (-(f2 * g2 * f2)).madd(delta, f2), r.f2);
-                r.d = L::select(last, d_last, r.d);
-                r.sy = L::select(last, sc.step(sy, u, d_last, last), r.sy);
-                // In the lanes of `last`, next > 0: the step is `next`.
-                let step = L::select(next.gt(z4), next, dl * 0.5);
-                r.dl = L::select(open, step, dl);
-                active = L::mask_and_not(open, last);
-                if !L::any(active) {
-                    break;
-                }
-            }
-            // return_finish.
-            let ps = (t0 + t1) * 0.5 * r.f1;
-            let qs = (t0 - t1) * 0.5 * r.f2;
-            let sn = [ps + qs, ps - qs, t2 * r.f2];
-            let tr_p = r.dl * (sn[0] + sn[1]) * (1.0 / 3.0);
-            let d = de[p];
-            let deps_zz = (d[0] + d[1] - tr_p).madd(L::splat(-self.nu_ratio), -tr_p);
+            let (curve, hm0, dhm0) = self.swift_curve(k, eps0, n, eps_p, sy0);
+            let r = self.project(s[p], pl, sy0, hm0, dhm0, &curve);
+            let (sn, deps_zz) = self.finish(s[p], de[p], &r);
             for c in 0..3 {
                 s[p][c] = L::select(pl, sn[c], s[p][c]);
             }
@@ -741,55 +605,6 @@ impl J2PlaneStress {
             );
         }
         out
-    }
-}
-
-/// Swift's curve for one point's lanes: the flow stress at `ε_p + d`
-/// from the point's cached `σ_y` (see `J2PlaneStress::swift_flow`).
-struct SwiftLanes<'a, L> {
-    /// Binomial coefficients of `(1 + x)^n`.
-    c: &'a [f64; 9],
-    k: f64,
-    n: f64,
-    /// Flow stress at the start of the step.
-    sy0: L,
-    /// `ε0 + ε_p` and its inverse.
-    e: L,
-    inv_e: L,
-}
-
-impl<L: Lanes4> SwiftLanes<'_, L> {
-    /// σ_y after a last Newton step, `sy (1 + u)^n` from `sy` at `ε_p + d`
-    /// (see `J2PlaneStress::swift_flow_step`), [`flow`](Self::flow) at
-    /// `d_last` in the lanes of `live` beyond the series.
-    #[inline(always)]
-    fn step(&self, sy: L, u: L, d_last: L, live: L::Mask) -> L {
-        let y = sy * series4(self.c, u);
-        let far = L::mask_and_not(live, L::lt(L::abs(u), L::splat(STEP_SERIES)));
-        if !L::any(far) {
-            return y;
-        }
-        L::select(far, self.flow(d_last, far), y)
-    }
-
-    /// σ_y at `ε_p + d` by the binomial series (`series8`, as in
-    /// `J2PlaneStress::swift_flow`), `powf` in the lanes of `live` beyond it.
-    #[inline(always)]
-    fn flow(&self, d: L, live: L::Mask) -> L {
-        let x = d * self.inv_e;
-        let sy = self.sy0 * series8(self.c, x);
-        let far = L::mask_and_not(live, L::lt(L::abs(x), L::splat(0.02)));
-        if !L::any(far) {
-            return sy;
-        }
-        let lanes = [
-            L::mask_lane(far, 0),
-            L::mask_lane(far, 1),
-            L::mask_lane(far, 2),
-            L::mask_lane(far, 3),
-        ];
-        let far_sy = swift_powf(self.k, self.n, self.e.to_array(), d.to_array(), lanes);
-        L::select(far, L::from_array(far_sy), sy)
     }
 }
 
@@ -937,10 +752,10 @@ mod tests {
     /// at `ε_p + d` (binomial series to u⁴ below `STEP_SERIES`, the curve
     /// beyond), equals `K (ε0 + ε_p + d + u (ε0 + ε_p + d))^n` (`powf`) to
     /// 2e-15 relative (series error < 4e-17 plus rounding), on both sides of
-    /// `STEP_SERIES` (beyond it through `swift_flow`, as in the return) and
-    /// for hardening exponents across [0, 1); and the lane forms
-    /// (`SwiftLanes::step`, `::flow`, fused) agree with these to 1e-15 up to
-    /// the ends of their series, |u| < `STEP_SERIES`, |x| < 0.02, and beyond.
+    /// `STEP_SERIES` (beyond it through `Swift::flow`, as in the return) and
+    /// for hardening exponents across [0, 1), for one point and in lanes
+    /// (fused), up to the ends of the series, |u| < `STEP_SERIES`,
+    /// |x| < 0.02, and beyond.
     #[test]
     fn flow_after_last_step_is_the_swift_law() {
         for n in [0.05, 0.2589, 0.5, 0.95] {
@@ -959,22 +774,15 @@ mod tests {
                     0.0, 1e-9, -1e-7, 1e-5, -3e-4, 9.9e-4, 1.01e-3, -0.0199, 0.0199, 0.05,
                 ] {
                     let law = k * (e + u * e).powf(n);
-                    // Beyond the series: the curve from the same point,
-                    // as the return passes it.
-                    let step =
-                        m.swift_flow_step(sy, u, || m.swift_flow(k, n, sy, e, 1.0 / e, u * e));
+                    // One point: `step` from σ_y (beyond the series, the
+                    // curve from the same point, as the return passes it).
+                    let (one, _, _) = m.swift_curve(k, eps0, n, base, sy);
+                    let step = one.step(sy, u, u * e, true);
                     let err = (step / law - 1.0).abs();
                     assert!(err <= 2e-15, "n {n} ε_p {base} u {u}: {err:e}");
                     // The lanes: `step` from σ_y, and `flow` at the same
                     // plastic strain from the start (x = u here).
-                    let sc = SwiftLanes {
-                        c: &m.swift_binomial,
-                        k,
-                        n,
-                        sy0: F4::splat(sy),
-                        e: F4::splat(e),
-                        inv_e: F4::splat(1.0 / e),
-                    };
+                    let (sc, _, _) = m.swift_curve(k, eps0, n, F4::splat(base), F4::splat(sy));
                     let live = F4::splat(1.0).gt(F4::splat(0.0));
                     let lane_step = sc.step(F4::splat(sy), F4::splat(u), F4::splat(u * e), live);
                     let lane_flow = sc.flow(F4::splat(u * e), live);
@@ -1075,8 +883,8 @@ mod tests {
         );
     }
 
-    /// The section-wise lockstep return (`update_points`) gives bit for bit
-    /// what the point-wise `update` gives, for Swift and tabulated hardening,
+    /// The section-wise update (`update_points`) gives bit for bit what the
+    /// point-wise `update` gives, for Swift and tabulated hardening,
     /// with elastic and plastic points mixed; and the cached flow stress after
     /// a small plastic step (binomial series, no `powf`) equals the Swift law
     /// at the new ε_p to 1e-13 relative.
