@@ -460,8 +460,10 @@ impl Material for J2PlaneStress {
         u
     }
 
-    /// The `N` points of a section one after the other, each through the
-    /// one projected return ([`J2PlaneStress::project`] with `T = f64`).
+    /// The `N` points of a section: with Swift hardening four at a time in
+    /// lanes (the same kernel as four elements', so a one-element run is
+    /// lane `l` of a four-element run bit for bit); a tabulated curve point
+    /// by point.
     #[inline(always)]
     fn update_points<const N: usize>(
         &self,
@@ -469,46 +471,17 @@ impl Material for J2PlaneStress {
         h: &mut [J2History; N],
         de: &[[f64; 3]; N],
     ) -> [PointUpdate; N] {
-        let mut out = [PointUpdate::default(); N];
-        for p in 0..N {
-            let (t, elastic) = self.trial(&s[p], h[p].sigma_y, de[p]);
-            s[p] = t;
-            out[p].deps_zz = (de[p][0] + de[p][1]) * -self.nu_ratio;
-            if elastic {
-                continue;
+        match &self.hardening {
+            Hardening::Swift { k, eps0, n } => self.swift_points(*k, *eps0, *n, s, h, de),
+            hard @ Hardening::Table { .. } => {
+                std::array::from_fn(|p| self.table_point(hard, &mut s[p], &mut h[p], de[p]))
             }
-            let J2History {
-                eps_p,
-                sigma_y: sy0,
-            } = h[p];
-            let r = match &self.hardening {
-                Hardening::Swift { k, eps0, n } => {
-                    let (curve, hm0, dhm0) = self.swift_curve(*k, *eps0, *n, eps_p, sy0);
-                    self.project(t, true, sy0, hm0, dhm0, &curve)
-                }
-                hard @ Hardening::Table { .. } => {
-                    let curve = Table { hard, eps_p };
-                    self.project(t, true, sy0, hard.eval(eps_p).1, 0.0, &curve)
-                }
-            };
-            let (sn, deps_zz) = self.finish(t, de[p], &r);
-            s[p] = sn;
-            out[p] = PointUpdate {
-                deps_zz,
-                dissipation: r.sy * r.d,
-            };
-            h[p] = J2History {
-                eps_p: eps_p + r.d,
-                sigma_y: r.sy,
-            };
         }
-        out
     }
 
     /// Four elements' sections in lanes: the same projected return, each
-    /// branch a lane mask, the lanes' [`update_points`](Material::update_points)
-    /// to rounding (fused [`Real::madd`](crate::Real::madd); Swift hardening, a tabulated curve
-    /// goes lane by lane).
+    /// branch a lane mask (Swift hardening; a tabulated curve goes lane by
+    /// lane).
     #[inline(always)]
     fn update_points_x4<L: Lanes4, const N: usize>(
         &self,
@@ -554,11 +527,13 @@ impl J2PlaneStress {
         (curve, hm0, dhm0)
     }
 
-    /// [`Material::update_points_x4`] with Swift hardening: the one trial,
-    /// return and finish in lanes, each branch a lane mask. The plastic
-    /// points return one after the other, each in registers (their
+    /// [`Material::update_points_x4`] with Swift hardening: every point's
+    /// trial first, then the returns of the points with a lane outside the
+    /// yield surface, one after the other, each in registers (their
     /// independent division / square-root chains overlap in the processor's
-    /// out-of-order window); lanes that are elastic or converged are masked.
+    /// out-of-order window); elastic or converged lanes masked. Plain loops,
+    /// no closures: a closure would not be compiled with the AVX2 features
+    /// of the kernel that inlines this.
     #[inline(always)]
     fn swift_x4<L: Lanes4, const N: usize>(
         &self,
@@ -573,7 +548,12 @@ impl J2PlaneStress {
         let mut plastic = [L::splat(0.0).gt(L::splat(0.0)); N];
         let mut any_plastic = false;
         for p in 0..N {
-            let sy0 = L::from_array(std::array::from_fn(|l| h[l][p].sigma_y));
+            let sy0 = L::from_array([
+                h[0][p].sigma_y,
+                h[1][p].sigma_y,
+                h[2][p].sigma_y,
+                h[3][p].sigma_y,
+            ]);
             let (t, elastic) = self.trial(&s[p], sy0, de[p]);
             s[p] = t;
             out[p].deps_zz = (de[p][0] + de[p][1]) * -self.nu_ratio;
@@ -605,6 +585,132 @@ impl J2PlaneStress {
             );
         }
         out
+    }
+
+    /// One element's `N` points with Swift hardening, four at a time in
+    /// lanes, through the four-element kernel: on AVX2 registers where
+    /// the processor has AVX2 and FMA, else in portable lanes (the same bits).
+    #[inline(always)]
+    fn swift_points<const N: usize>(
+        &self,
+        k: f64,
+        eps0: f64,
+        n: f64,
+        s: &mut [[f64; 3]; N],
+        h: &mut [J2History; N],
+        de: &[[f64; 3]; N],
+    ) -> [PointUpdate; N] {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the processor has AVX2 and FMA (checked just above).
+            return unsafe { self.swift_points_avx2((k, eps0, n), s, h, de) };
+        }
+        self.swift_points_in::<F4, N>((k, eps0, n), s, h, de)
+    }
+
+    /// [`swift_points`](Self::swift_points) compiled for AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn swift_points_avx2<const N: usize>(
+        &self,
+        swift: (f64, f64, f64),
+        s: &mut [[f64; 3]; N],
+        h: &mut [J2History; N],
+        de: &[[f64; 3]; N],
+    ) -> [PointUpdate; N] {
+        self.swift_points_in::<crate::lanes::F4x, N>(swift, s, h, de)
+    }
+
+    /// Points `g..g+4` of the section in the lanes of `L` as four one-point
+    /// elements through [`swift_x4`](Self::swift_x4) (unused lanes zero: no
+    /// stress, elastic). Plain loops (see `swift_x4`).
+    #[inline(always)]
+    fn swift_points_in<L: Lanes4, const N: usize>(
+        &self,
+        (k, eps0, n): (f64, f64, f64),
+        s: &mut [[f64; 3]; N],
+        h: &mut [J2History; N],
+        de: &[[f64; 3]; N],
+    ) -> [PointUpdate; N] {
+        let mut out = [PointUpdate::default(); N];
+        let mut g = 0;
+        while g < N {
+            let m = if N - g < 4 { N - g } else { 4 };
+            let mut sa = [[0.0; 4]; 3];
+            let mut da = [[0.0; 4]; 3];
+            let mut hl = [[J2History::default()]; 4];
+            for l in 0..m {
+                for c in 0..3 {
+                    sa[c][l] = s[g + l][c];
+                    da[c][l] = de[g + l][c];
+                }
+                hl[l][0] = h[g + l];
+            }
+            let mut sl = [[
+                L::from_array(sa[0]),
+                L::from_array(sa[1]),
+                L::from_array(sa[2]),
+            ]];
+            let dl = [[
+                L::from_array(da[0]),
+                L::from_array(da[1]),
+                L::from_array(da[2]),
+            ]];
+            let [u] = self.swift_x4::<L, 1>(k, eps0, n, &mut sl, &mut hl, &dl);
+            let sn = [
+                sl[0][0].to_array(),
+                sl[0][1].to_array(),
+                sl[0][2].to_array(),
+            ];
+            let (dz, dd) = (u.deps_zz.to_array(), u.dissipation.to_array());
+            for l in 0..m {
+                s[g + l] = [sn[0][l], sn[1][l], sn[2][l]];
+                out[g + l] = PointUpdate {
+                    deps_zz: dz[l],
+                    dissipation: dd[l],
+                };
+                h[g + l] = hl[l][0];
+            }
+            g += 4;
+        }
+        out
+    }
+
+    /// One point with a tabulated curve: the return with `f64`.
+    #[inline(always)]
+    fn table_point(
+        &self,
+        hard: &Hardening,
+        s: &mut [f64; 3],
+        h: &mut J2History,
+        de: [f64; 3],
+    ) -> PointUpdate {
+        let (t, elastic) = self.trial(s, h.sigma_y, de);
+        *s = t;
+        let elastic_dzz = (de[0] + de[1]) * -self.nu_ratio;
+        if elastic {
+            return PointUpdate {
+                deps_zz: elastic_dzz,
+                dissipation: 0.0,
+            };
+        }
+        let J2History {
+            eps_p,
+            sigma_y: sy0,
+        } = *h;
+        let curve = Table { hard, eps_p };
+        let r = self.project(t, true, sy0, hard.eval(eps_p).1, 0.0, &curve);
+        let (sn, deps_zz) = self.finish(t, de, &r);
+        *s = sn;
+        *h = J2History {
+            eps_p: eps_p + r.d,
+            sigma_y: r.sy,
+        };
+        PointUpdate {
+            deps_zz,
+            dissipation: r.sy * r.d,
+        }
     }
 }
 
@@ -921,5 +1027,43 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// With Swift hardening one element's points run through the
+    /// four-element lane kernel (written once), so a one-element update is
+    /// lane `l` of a four-element update bit for bit: 3000 steps of five
+    /// points, elastic and plastic, each lane its own path.
+    #[test]
+    fn one_element_update_is_its_lane_of_the_four_element_update() {
+        let m = steel();
+        let mut one = [[[0.0; 3]; 5]; 4];
+        let mut one_h = [[m.initial_history(); 5]; 4];
+        let mut lanes = [[F4::splat(0.0); 3]; 5];
+        let mut lanes_h = [[m.initial_history(); 5]; 4];
+        let scale = [1.0, 0.5, -1.0, 2.0];
+        for step in 0..3000 {
+            let a = 4e-4 * (1.0 + 0.9 * (step as f64 * 0.37).sin());
+            let de: [[f64; 3]; 5] = std::array::from_fn(|k| {
+                let c = (step as f64 * 0.05).cos();
+                [a * (k as f64 - 1.5) * c, -0.4 * a, 0.3 * a * k as f64]
+            });
+            let de_l: [[F4; 3]; 5] = std::array::from_fn(|k| {
+                std::array::from_fn(|c| F4(scale.map(|f| f * de[k][c])))
+            });
+            let u = m.update_points_x4(&mut lanes, &mut lanes_h, &de_l);
+            for l in 0..4 {
+                let de_one = de.map(|d| d.map(|x| scale[l] * x));
+                let v = m.update_points(&mut one[l], &mut one_h[l], &de_one);
+                for k in 0..5 {
+                    for c in 0..3 {
+                        assert_eq!(one[l][k][c].to_bits(), lanes[k][c].0[l].to_bits());
+                    }
+                    assert_eq!(v[k].deps_zz.to_bits(), u[k].deps_zz.0[l].to_bits());
+                    assert_eq!(v[k].dissipation.to_bits(), u[k].dissipation.0[l].to_bits());
+                    assert_eq!(one_h[l][k], lanes_h[l][k], "step {step} lane {l} point {k}");
+                }
+            }
+        }
+        assert!(one_h.iter().flatten().all(|h| h.eps_p > 0.0), "every point yields");
     }
 }
