@@ -11,7 +11,7 @@
 
 mod batch;
 
-use crate::kinematics::{tangent_part, tangent_projector};
+use crate::kinematics::{is_identity, tangent_part, tangent_projector};
 use crate::{
     DirectionInputs, FrictionError, FrictionLaw, KinematicFormulation, Mat3, PointNeeds,
     ShearInputs, StepKinematics, Vec3,
@@ -105,6 +105,34 @@ pub struct StepOutput {
 }
 
 impl StepOutput {
+    /// Write every field once: the given values, contact closed, no
+    /// tangents (a tangent asked for is written after).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn write(
+        &mut self,
+        t: Vec3,
+        tau_c: f64,
+        stick: bool,
+        dgamma: f64,
+        slip: Vec3,
+        dissipation: f64,
+        clamped: bool,
+    ) {
+        *self = StepOutput {
+            t,
+            tau_c,
+            open: false,
+            stick,
+            dgamma,
+            slip,
+            dissipation,
+            tangent: Mat3::zeros(),
+            dt_dp: Vec3::zeros(),
+            clamped,
+        };
+    }
+
     /// Set every field to its default in place (no temporary, no copy).
     #[inline]
     fn reset(&mut self) {
@@ -171,40 +199,48 @@ fn nonfinite_bits_mat(m: &Mat3) -> u64 {
     nonfinite_bits([a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2]])
 }
 
-/// Fast validity test of a step's input: every read value finite, pressure
-/// `≥ 0`, `Δt > 0`, unit normals. When it says no, [`check_input`] finds the
+/// `0 < x < ∞` (false for NaN): on the bit pattern, `x` positive, non-zero
+/// and below `+∞` is `bits - 1 < bits(+∞) - 1` (zero wraps to the top).
+#[inline(always)]
+fn positive_finite(x: f64) -> bool {
+    x.to_bits().wrapping_sub(1) < f64::INFINITY.to_bits() - 1
+}
+
+/// `|n|²` of a normal within 1e-6 of unit length (kept slightly inside `2e-6`;
+/// false for NaN and infinities, so it also proves the normal finite).
+#[inline(always)]
+fn unit_norm2(n2: f64) -> bool {
+    (n2 - 1.0).abs() <= 1.999e-6
+}
+
+/// The one fast validity test of a step's input, folded into values the step
+/// computes anyway: pressure `+0 ≤ p < ∞`, `0 < Δt < ∞`, unit normals (`|n|²`,
+/// which a NaN or infinity fails), the declared point data (flow stress and
+/// temperature finite and `> 0`, matrices finite; a tool rotation that is
+/// exactly the identity needs no test). The slip `Δu` is not tested here:
+/// a non-finite one makes the trial traction's square norm non-finite, which
+/// the step tests. When either test says no, [`check_input`] finds the
 /// culprit and words the error.
 #[inline(always)]
 fn input_ok(input: &StepInput, needs: PointNeeds) -> bool {
     let k = &input.kin;
-    let mut bits = nonfinite_bits([
-        input.p, k.dt, input.du.x, input.du.y, input.du.z, k.n_new.x, k.n_new.y, k.n_new.z,
-        k.n_old.x, k.n_old.y, k.n_old.z,
-    ]);
-    if needs.contains(PointNeeds::FLOW_STRESS) {
-        bits |= nonfinite_bits([input.flow_stress]);
-    }
-    if needs.contains(PointNeeds::TEMPERATURE) {
-        bits |= nonfinite_bits([input.temperature]);
-    }
+    let mut bits = 0;
     if (needs.0 & (PointNeeds::SPIN.0 | PointNeeds::VELOCITY_GRADIENT.0)) != 0 {
         bits |= nonfinite_bits_mat(&k.vel_grad);
     }
     if needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
         bits |= nonfinite_bits_mat(&k.f_old) | nonfinite_bits_mat(&k.f_new);
     }
-    if needs.contains(PointNeeds::TOOL_ROTATION) {
+    if needs.contains(PointNeeds::TOOL_ROTATION) && !is_identity(&k.tool_rotation) {
         bits |= nonfinite_bits_mat(&k.tool_rotation);
     }
-    // |n| within 1e-6 of 1 ⇔ |n|² within about 2e-6 of 1 (kept slightly inside).
-    let unit = |n: &Vec3| (n.norm_squared() - 1.0).abs() <= 1.999e-6;
-    (bits >> 63) == 0
-        && input.p >= 0.0
-        && k.dt > 0.0
-        && unit(&k.n_new)
-        && unit(&k.n_old)
-        && (!needs.contains(PointNeeds::FLOW_STRESS) || input.flow_stress > 0.0)
-        && (!needs.contains(PointNeeds::TEMPERATURE) || input.temperature > 0.0)
+    (input.p == 0.0 || positive_finite(input.p))
+        && positive_finite(k.dt)
+        && unit_norm2(k.n_new.norm_squared())
+        && unit_norm2(k.n_old.norm_squared())
+        && (bits >> 63) == 0
+        && (!needs.contains(PointNeeds::FLOW_STRESS) || positive_finite(input.flow_stress))
+        && (!needs.contains(PointNeeds::TEMPERATURE) || positive_finite(input.temperature))
 }
 
 fn check_input(input: &StepInput, needs: PointNeeds) -> Result<(), FrictionError> {
@@ -393,33 +429,30 @@ where
     L: FrictionLaw + ?Sized,
     F: KinematicFormulation + ?Sized,
 {
-    let needs = law.needs().union(formulation.needs());
-    if !input_ok(input, needs) {
-        check_input(input, needs)?;
+    let pairing = Pairing::new(law, formulation);
+    if !input_ok(input, pairing.needs) {
+        check_input(input, pairing.needs)?;
     }
-    let kin = &input.kin;
-    // |n| is within 1e-6 of 1 (checked above): one Newton step for 1/|n| around 1
-    // normalises to ~1e-12 without a square root or a division.
-    let n = kin.n_new * (1.5 - 0.5 * kin.n_new.norm_squared());
     let p = input.p;
-    out.reset();
-
     if p == 0.0 {
-        // Open contact: no traction, history cleared, internal variables kept.
+        // Open contact: no traction, history cleared, internal variables
+        // kept; the slip, not read, must still be finite.
+        if nonfinite_bits([input.du.x, input.du.y, input.du.z]) >> 63 != 0 {
+            check_input(input, pairing.needs)?;
+        }
+        out.reset();
         state.t = Vec3::zeros();
         state.p = 0.0;
         out.open = true;
         return Ok(());
     }
-
-    let k_t = law.stick_stiffness();
-    let project = |v: Vec3| tangent_part(&n, &v);
-    let t_star = if state.t == Vec3::zeros() {
-        Vec3::zeros()
-    } else {
-        project(formulation.transport(&state.t, kin))
-    };
-    if !t_star.iter().all(|v| v.is_finite()) {
+    let trial = Trial::new(&pairing, state, input);
+    if !trial.norm2_tr.is_finite() {
+        // A non-finite slip (refused here), a non-finite transported history
+        // (below) or a square norm that overflows (carried on).
+        check_input(input, pairing.needs)?;
+    }
+    if !trial.t_star.iter().all(|v| v.is_finite()) {
         return Err(FrictionError::NonFiniteResult {
             component: formulation.name().to_string(),
             what: "a non-finite transported traction",
@@ -427,51 +460,139 @@ where
             p,
         });
     }
-    let du_t = project(input.du);
-    let t_tr = t_star - du_t * k_t;
-    let norm2_tr = t_tr.norm_squared();
-    let sliding_speed = if needs.contains(PointNeeds::SLIDING_VELOCITY) {
-        du_t.norm() / kin.dt
-    } else {
-        f64::NAN
-    };
-    let mut x = ShearInputs {
-        p,
-        omega: state.omega,
-        sliding_speed,
-        flow_stress: input.flow_stress,
-        temperature: input.temperature,
-    };
-    let cs = evaluate(law, &x)?;
+    let cs = evaluate(law, &trial.x)?;
+    conclude(&pairing, tangent_mode, state, input, &trial, cs, out)
+}
 
-    if tangent_mode == TangentMode::None && !law.work_dependent() && formulation.backward_euler() {
-        // The explicit-dynamics hot path: radial return with selects instead of
-        // a stick/slip branch (random stick/slip patterns defeat the branch
-        // predictor). Bit for bit the same results as the general path below.
-        let slip = !(norm2_tr <= cs.tau * cs.tau || norm2_tr == 0.0);
+/// What is fixed for a whole batch, or for one step: the law, the
+/// formulation and what they declare.
+#[derive(Clone, Copy)]
+pub(crate) struct Pairing<'a, L: ?Sized, F: ?Sized> {
+    law: &'a L,
+    formulation: &'a F,
+    needs: PointNeeds,
+    k_t: f64,
+    work_dependent: bool,
+    backward_euler: bool,
+}
+
+impl<'a, L: FrictionLaw + ?Sized, F: KinematicFormulation + ?Sized> Pairing<'a, L, F> {
+    #[inline(always)]
+    pub(crate) fn new(law: &'a L, formulation: &'a F) -> Self {
+        Self {
+            law,
+            formulation,
+            needs: law.needs().union(formulation.needs()),
+            k_t: law.stick_stiffness(),
+            work_dependent: law.work_dependent(),
+            backward_euler: formulation.backward_euler(),
+        }
+    }
+}
+
+/// A closed point's trial state (friction-math §2): the unit normal, the
+/// transported history `t*`, the tangential slip `Δu_T`, the trial traction
+/// `t_tr = t* − k_T Δu_T` and its square norm, and what the law is asked.
+struct Trial {
+    n: Vec3,
+    t_star: Vec3,
+    du_t: Vec3,
+    t_tr: Vec3,
+    norm2_tr: f64,
+    x: ShearInputs,
+}
+
+impl Trial {
+    /// The trial of a validated input with `p > 0`.
+    #[inline(always)]
+    fn new<L, F>(pairing: &Pairing<'_, L, F>, state: &PointState, input: &StepInput) -> Self
+    where
+        L: FrictionLaw + ?Sized,
+        F: KinematicFormulation + ?Sized,
+    {
+        let kin = &input.kin;
+        // |n| is within 1e-6 of 1 (validated): one Newton step for 1/|n|
+        // around 1 normalises to ~1e-12 without a square root or a division.
+        let n = kin.n_new * (1.5 - 0.5 * kin.n_new.norm_squared());
+        let t_star = if state.t == Vec3::zeros() {
+            Vec3::zeros()
+        } else {
+            tangent_part(&n, &pairing.formulation.transport(&state.t, kin))
+        };
+        let du_t = tangent_part(&n, &input.du);
+        let t_tr = t_star - du_t * pairing.k_t;
+        let sliding_speed = if pairing.needs.contains(PointNeeds::SLIDING_VELOCITY) {
+            du_t.norm() / kin.dt
+        } else {
+            f64::NAN
+        };
+        Self {
+            n,
+            t_star,
+            du_t,
+            t_tr,
+            norm2_tr: t_tr.norm_squared(),
+            x: ShearInputs {
+                p: input.p,
+                omega: state.omega,
+                sliding_speed,
+                flow_stress: input.flow_stress,
+                temperature: input.temperature,
+            },
+        }
+    }
+}
+
+/// The return proper, once the law has answered `cs` at the start of the
+/// step: stick (`|t_tr| ≤ τ_c`) or radial return onto `τ_c`, backward Euler
+/// for a work-dependent law, the tangent asked for. Writes every field of
+/// `out` and, on success only, the state.
+///
+/// # Errors
+/// The work-dependent solve's, or the consistent tangent's law evaluations'.
+#[inline(always)]
+fn conclude<L, F>(
+    pairing: &Pairing<'_, L, F>,
+    tangent_mode: TangentMode,
+    state: &mut PointState,
+    input: &StepInput,
+    trial: &Trial,
+    cs: crate::CriticalShear,
+    out: &mut StepOutput,
+) -> Result<(), FrictionError>
+where
+    L: FrictionLaw + ?Sized,
+    F: KinematicFormulation + ?Sized,
+{
+    let &Trial {
+        n,
+        t_star,
+        du_t,
+        t_tr,
+        norm2_tr,
+        x,
+    } = trial;
+    let (k_t, p) = (pairing.k_t, input.p);
+    let stick = norm2_tr <= cs.tau * cs.tau || norm2_tr == 0.0;
+    if tangent_mode == TangentMode::None && !pairing.work_dependent && pairing.backward_euler {
+        // The explicit-dynamics hot path: radial return with selects instead
+        // of a stick/slip branch (random stick/slip patterns defeat the
+        // branch predictor); the same bits as the branches below.
+        let slip = !stick;
         let norm_tr = norm2_tr.sqrt();
         let phi = t_tr * if slip { norm_tr.recip() } else { 0.0 };
         let t = if slip { phi * cs.tau } else { t_tr };
         let dgamma = if slip { (norm_tr - cs.tau) / k_t } else { 0.0 };
-        let dissipation = if slip { 1.0 * cs.tau * dgamma } else { 0.0 };
-        out.t = t;
-        out.tau_c = cs.tau;
-        out.stick = !slip;
-        out.dgamma = dgamma;
-        out.slip = if slip { -dgamma * phi } else { Vec3::zeros() };
-        out.dissipation = dissipation;
-        out.clamped = cs.clamped;
+        let dissipation = if slip { cs.tau * dgamma } else { 0.0 };
+        let slip_vec = if slip { -dgamma * phi } else { Vec3::zeros() };
+        out.write(t, cs.tau, !slip, dgamma, slip_vec, dissipation, cs.clamped);
         state.t = t;
         state.p = p;
         state.omega += dissipation;
         return Ok(());
     }
-
-    if norm2_tr <= cs.tau * cs.tau || norm2_tr == 0.0 {
-        out.t = t_tr;
-        out.tau_c = cs.tau;
-        out.stick = true;
-        out.clamped = cs.clamped;
+    if stick {
+        out.write(t_tr, cs.tau, true, 0.0, Vec3::zeros(), 0.0, cs.clamped);
         if tangent_mode != TangentMode::None {
             out.tangent = -k_t * tangent_projector(&n);
         }
@@ -479,82 +600,137 @@ where
         state.p = p;
         return Ok(());
     }
-
     // Slip.
     let norm_tr = norm2_tr.sqrt();
     let phi = t_tr * norm_tr.recip();
     let frame = Frame {
-        formulation,
-        kin,
+        formulation: pairing.formulation,
+        kin: &input.kin,
         n,
         t_old: state.t,
         p_old: state.p,
         t_star,
         k_t,
-        needs,
+        needs: pairing.needs,
     };
     let (d, c, from_formulation) = frame.direction(t_tr, norm_tr, cs.tau, p);
-
-    let (dgamma, tau, dissipation, cs_end) = if law.work_dependent() {
-        solve_work_dependent(law, &mut x, state.omega, norm_tr, k_t, c, cs)?
+    let mut x = x;
+    let (dgamma, tau, dissipation, cs_end) = if pairing.work_dependent {
+        solve_work_dependent(pairing.law, &mut x, state.omega, norm_tr, k_t, c, cs)?
     } else {
         let dgamma = (norm_tr - cs.tau) / k_t;
         (dgamma, cs.tau, c * cs.tau * dgamma, cs)
     };
-
-    out.t = phi * tau;
-    out.tau_c = cs_end.tau;
-    out.dgamma = dgamma;
-    out.slip = -dgamma * d;
-    out.dissipation = dissipation;
-    out.clamped = cs_end.clamped;
-
-    match tangent_mode {
-        TangentMode::None => {}
-        TangentMode::Simplified => {
-            out.dt_dp = phi * cs_end.dtau_dp;
-        }
-        TangentMode::Consistent => {
-            // Implicit differentiation of g(τ) = τ - τ_c(p, ω(τ), v) = 0,
-            // ω(τ) = ω_n + c τ (|t_tr| - τ)/k_T (see `solve_work_dependent`).
-            let tau_w = cs_end.dtau_domega;
-            let g_tau = 1.0 - tau_w * c * (norm_tr - 2.0 * tau) / k_t;
-            let dtau_dnorm = tau_w * c * tau / (k_t * g_tau);
-            let dtau_dc = tau_w * tau * (norm_tr - tau) / (k_t * g_tau);
-            let mut dtau_dp = cs_end.dtau_dp / g_tau;
-            let dtau_dv = cs_end.dtau_dspeed / g_tau;
-            let pp = phi * phi.transpose();
-            let mut tangent =
-                -k_t * ((tau / norm_tr) * (tangent_projector(&n) - pp) + dtau_dnorm * pp);
-            let du_norm = du_t.norm();
-            if dtau_dv != 0.0 && du_norm > 0.0 {
-                tangent += phi * (du_t / (du_norm * kin.dt)).transpose() * dtau_dv;
-            }
-            if dtau_dc != 0.0 && from_formulation {
-                // The dissipated share c = φ_tr·d depends on Δu_T and p through the
-                // formulation's slip direction: differentiate it numerically
-                // (central differences over the slip scale |t_tr|/k_T; only when a
-                // consistent tangent is asked for).
-                let (dc_du, dc_dp) = frame.share_gradient(
-                    law,
-                    input.du,
-                    ShearInputs {
-                        omega: state.omega,
-                        ..x
-                    },
-                    norm_tr,
-                )?;
-                tangent += phi * dc_du.transpose() * dtau_dc;
-                dtau_dp += dtau_dc * dc_dp;
-            }
-            out.tangent = tangent;
-            out.dt_dp = phi * dtau_dp;
-        }
+    let t = phi * tau;
+    out.write(
+        t,
+        cs_end.tau,
+        false,
+        dgamma,
+        -dgamma * d,
+        dissipation,
+        cs_end.clamped,
+    );
+    if tangent_mode != TangentMode::None {
+        let slip = Slip {
+            phi,
+            norm_tr,
+            tau,
+            c,
+            from_formulation,
+            cs_end,
+        };
+        slip_tangent(
+            pairing.law,
+            &frame,
+            tangent_mode,
+            input,
+            state.omega,
+            x,
+            du_t,
+            &slip,
+            out,
+        )?;
     }
-
-    state.t = out.t;
+    state.t = t;
     state.p = p;
     state.omega += dissipation;
+    Ok(())
+}
+
+/// What a slip step's tangent reads of the return.
+struct Slip {
+    phi: Vec3,
+    norm_tr: f64,
+    tau: f64,
+    c: f64,
+    from_formulation: bool,
+    cs_end: crate::CriticalShear,
+}
+
+/// `∂t/∂Δu_T` and `∂t/∂p` of a slip step, into `out`.
+///
+/// # Errors
+/// A law evaluation of the share's differentiation.
+#[allow(clippy::too_many_arguments)]
+fn slip_tangent<L, F>(
+    law: &L,
+    frame: &Frame<'_, F>,
+    tangent_mode: TangentMode,
+    input: &StepInput,
+    omega_n: f64,
+    x: ShearInputs,
+    du_t: Vec3,
+    slip: &Slip,
+    out: &mut StepOutput,
+) -> Result<(), FrictionError>
+where
+    L: FrictionLaw + ?Sized,
+    F: KinematicFormulation + ?Sized,
+{
+    let &Slip {
+        phi,
+        norm_tr,
+        tau,
+        c,
+        from_formulation,
+        cs_end,
+    } = slip;
+    let k_t = frame.k_t;
+    if tangent_mode == TangentMode::Simplified {
+        out.dt_dp = phi * cs_end.dtau_dp;
+        return Ok(());
+    }
+    // Implicit differentiation of g(τ) = τ - τ_c(p, ω(τ), v) = 0,
+    // ω(τ) = ω_n + c τ (|t_tr| - τ)/k_T (see `solve_work_dependent`).
+    let tau_w = cs_end.dtau_domega;
+    let g_tau = 1.0 - tau_w * c * (norm_tr - 2.0 * tau) / k_t;
+    let dtau_dnorm = tau_w * c * tau / (k_t * g_tau);
+    let dtau_dc = tau_w * tau * (norm_tr - tau) / (k_t * g_tau);
+    let mut dtau_dp = cs_end.dtau_dp / g_tau;
+    let dtau_dv = cs_end.dtau_dspeed / g_tau;
+    let pp = phi * phi.transpose();
+    let mut tangent =
+        -k_t * ((tau / norm_tr) * (tangent_projector(&frame.n) - pp) + dtau_dnorm * pp);
+    let du_norm = du_t.norm();
+    if dtau_dv != 0.0 && du_norm > 0.0 {
+        tangent += phi * (du_t / (du_norm * input.kin.dt)).transpose() * dtau_dv;
+    }
+    if dtau_dc != 0.0 && from_formulation {
+        // The dissipated share c = φ_tr·d depends on Δu_T and p through the
+        // formulation's slip direction: differentiate it numerically (central
+        // differences over the slip scale |t_tr|/k_T; only when a consistent
+        // tangent is asked for).
+        let x = ShearInputs {
+            omega: omega_n,
+            ..x
+        };
+        let (dc_du, dc_dp) = frame.share_gradient(law, input.du, x, norm_tr)?;
+        tangent += phi * dc_du.transpose() * dtau_dc;
+        dtau_dp += dtau_dc * dc_dp;
+    }
+    out.tangent = tangent;
+    out.dt_dp = phi * dtau_dp;
     Ok(())
 }
 

@@ -65,8 +65,8 @@ fn a_panic_in_a_loaded_material_is_an_error_not_an_abort() {
     assert!(e.contains("in update at point 0"), "{e}");
 }
 
-/// Parameters go through the schema: unknown and out of range are refused,
-/// each naming the parameter.
+/// Parameters go through the schema (unknown and out of range are refused,
+/// each naming the parameter) and then the plugin (its own refusal passed on).
 #[test]
 fn material_parameters_are_checked_against_the_schema() {
     let lib = MaterialLibrary::open(&libraries()[0]).expect("open");
@@ -75,17 +75,16 @@ fn material_parameters_are_checked_against_the_schema() {
         .unwrap_err()
         .to_string();
     assert!(unknown.contains("unknown parameter `sigma_0`"), "{unknown}");
-    let missing = lib
-        .build(
-            &Params::new()
-                .with("youngs_modulus", 1.0)
-                .with("density", 1.0),
-        )
+    // In range for the schema (≤ 0.5), refused by the plugin itself.
+    let refused = lib
+        .build(&steel().with("poissons_ratio", 0.5))
         .unwrap_err()
         .to_string();
     assert!(
-        missing.contains("missing parameter `sigma0` (MPa)"),
-        "{missing}"
+        refused.contains(
+            "invalid parameters of material plugin j2-voce: poissons_ratio = 0.5 must be < 0.5"
+        ),
+        "{refused}"
     );
     let range = lib
         .build(&steel().with("poissons_ratio", 0.7))

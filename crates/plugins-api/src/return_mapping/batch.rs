@@ -1,69 +1,27 @@
 //! The explicit-dynamics batch kernel behind [`PairedIntegrator::step_batch`]
 //! under [`TangentMode::None`](super::TangentMode::None).
 //!
-//! It performs, point by point, exactly the floating-point operations of
-//! [`step_into`] (so its results are the same bits), but it is organised for
-//! the common case that nothing is wrong:
+//! It runs, point by point, the one return of [`step_into`] (the same
+//! validation `input_ok`, the same trial and the same `conclude`, so its
+//! results are the same bits), organised for the common case that nothing is
+//! wrong:
 //!
 //! - The law's and formulation's properties (`needs`, `k_T`, work dependence,
 //!   backward Euler) are read once per batch, not once per point.
-//! - Input validation is folded into values the step computes anyway: `|n|²`
-//!   of both normals (a NaN or infinity fails the unit test), and `|t_tr|²`
-//!   (finite only if `Δu_T`, its tangent part and the transported history
-//!   `t*` are all finite). Only the declared point data (flow stress,
-//!   temperature, matrices) are checked on their own.
-//! - Every output field is written once (no reset, then overwrite).
-//! - Anything unusual — open contact (`p = 0`), a value the checks refuse, a
-//!   trial traction whose square norm overflows, a law answer out of contract,
-//!   a failed backward-Euler solve — hands the point, its state untouched, to
-//!   [`step_into`], which produces the documented answer or the error.
+//! - Failures are not worded here: anything unusual — open contact
+//!   (`p = 0`), an input `input_ok` refuses, a non-finite transported history
+//!   or a trial traction whose square norm overflows, a law answer out of
+//!   contract, a failed backward-Euler solve — hands the point, its state
+//!   untouched, to [`step_into`], which produces the documented answer or
+//!   the error.
 //!
 //! [`PairedIntegrator::step_batch`]: super::PairedIntegrator
 
 use super::{
-    Frame, PointState, StepInput, StepOutput, TangentMode, nonfinite_bits, nonfinite_bits_mat,
-    solve_work_dependent, step_into,
+    Pairing, PointState, StepInput, StepOutput, TangentMode, Trial, conclude, input_ok,
+    nonfinite_bits, step_into,
 };
-use crate::kinematics::{is_identity, tangent_part};
-use crate::{
-    CriticalShear, FrictionError, FrictionLaw, KinematicFormulation, Mat3, PointNeeds, ShearInputs,
-    Vec3,
-};
-
-/// `0 < x < ∞` (false for NaN): on the bit pattern, `x` positive, non-zero
-/// and below `+∞` is `bits - 1 < bits(+∞) - 1` (zero wraps to the top).
-#[inline(always)]
-fn positive_finite(x: f64) -> bool {
-    x.to_bits().wrapping_sub(1) < f64::INFINITY.to_bits() - 1
-}
-
-/// `|n|²` of a normal within the tolerance of `input_ok` (false for NaN and
-/// infinities, so it also proves the normal finite).
-#[inline(always)]
-fn unit_norm2(n2: f64) -> bool {
-    (n2 - 1.0).abs() <= 1.999e-6
-}
-
-/// The declared point data beyond pressure, slip and normals pass the checks
-/// of `check_input`: flow stress and temperature finite and `> 0`, matrices
-/// finite (a tool rotation that is exactly the identity needs no test).
-#[inline(always)]
-fn declared_data_ok(input: &StepInput, needs: PointNeeds) -> bool {
-    let k = &input.kin;
-    let mut bits = 0;
-    if (needs.0 & (PointNeeds::SPIN.0 | PointNeeds::VELOCITY_GRADIENT.0)) != 0 {
-        bits |= nonfinite_bits_mat(&k.vel_grad);
-    }
-    if needs.contains(PointNeeds::DEFORMATION_GRADIENT) {
-        bits |= nonfinite_bits_mat(&k.f_old) | nonfinite_bits_mat(&k.f_new);
-    }
-    if needs.contains(PointNeeds::TOOL_ROTATION) && !is_identity(&k.tool_rotation) {
-        bits |= nonfinite_bits_mat(&k.tool_rotation);
-    }
-    (bits >> 63) == 0
-        && (!needs.contains(PointNeeds::FLOW_STRESS) || positive_finite(input.flow_stress))
-        && (!needs.contains(PointNeeds::TEMPERATURE) || positive_finite(input.temperature))
-}
+use crate::{CriticalShear, FrictionError, FrictionLaw, KinematicFormulation};
 
 /// A law's answer within its contract (`check_shear` accepts it): `τ_c` in
 /// `[+0, ∞)` is its bit pattern below that of `+∞` (a `-0.0`, which the
@@ -72,45 +30,6 @@ fn declared_data_ok(input: &StepInput, needs: PointNeeds) -> bool {
 fn shear_ok(cs: &CriticalShear) -> bool {
     cs.tau.to_bits() < f64::INFINITY.to_bits()
         && nonfinite_bits([cs.dtau_dp, cs.dtau_domega, cs.dtau_dspeed]) >> 63 == 0
-}
-
-/// Write every field of `out` once: the given values, no tangents (explicit
-/// dynamics), contact closed.
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn write_output(
-    out: &mut StepOutput,
-    t: Vec3,
-    tau_c: f64,
-    stick: bool,
-    dgamma: f64,
-    slip: Vec3,
-    dissipation: f64,
-    clamped: bool,
-) {
-    *out = StepOutput {
-        t,
-        tau_c,
-        open: false,
-        stick,
-        dgamma,
-        slip,
-        dissipation,
-        tangent: Mat3::zeros(),
-        dt_dp: Vec3::zeros(),
-        clamped,
-    };
-}
-
-/// What is fixed for a whole batch.
-#[derive(Clone, Copy)]
-struct Pairing<'a, L: ?Sized, F: ?Sized> {
-    law: &'a L,
-    formulation: &'a F,
-    needs: PointNeeds,
-    k_t: f64,
-    work_dependent: bool,
-    backward_euler: bool,
 }
 
 /// Integrate every point of the batch without tangents; see the module docs.
@@ -128,14 +47,7 @@ where
     L: FrictionLaw + ?Sized,
     F: KinematicFormulation + ?Sized,
 {
-    let pairing = Pairing {
-        law,
-        formulation,
-        needs: law.needs().union(formulation.needs()),
-        k_t: law.stick_stiffness(),
-        work_dependent: law.work_dependent(),
-        backward_euler: formulation.backward_euler(),
-    };
+    let pairing = Pairing::new(law, formulation);
     for ((state, input), out) in states.iter_mut().zip(inputs).zip(outputs.iter_mut()) {
         if !explicit_point(&pairing, state, input, out) {
             general_point(law, formulation, state, input, out)?;
@@ -161,7 +73,9 @@ where
     step_into(law, formulation, TangentMode::None, state, input, out)
 }
 
-/// One point; `false` (state and output untouched) hands it to [`step_into`].
+/// One point through the one return of [`step_into`] (its trial and
+/// `conclude`); `false`, with the state untouched, hands it to
+/// [`step_into`] itself.
 #[inline(always)]
 fn explicit_point<L, F>(
     pairing: &Pairing<'_, L, F>,
@@ -173,138 +87,37 @@ where
     L: FrictionLaw + ?Sized,
     F: KinematicFormulation + ?Sized,
 {
-    let &Pairing {
-        law,
-        formulation,
-        needs,
-        k_t,
-        work_dependent,
-        backward_euler,
-    } = pairing;
-    let kin = &input.kin;
-    let p = input.p;
-    let n2 = kin.n_new.norm_squared();
     // `p > 0`: open contact (and every refused input) goes the general way.
-    if !(positive_finite(p)
-        && positive_finite(kin.dt)
-        && unit_norm2(n2)
-        && unit_norm2(kin.n_old.norm_squared())
-        && declared_data_ok(input, needs))
-    {
+    if !(input.p != 0.0 && input_ok(input, pairing.needs)) {
         return false;
     }
-    // As in `step_into`: one Newton step for 1/|n| around 1.
-    let n = kin.n_new * (1.5 - 0.5 * n2);
-    let t_star = if state.t == Vec3::zeros() {
-        Vec3::zeros()
-    } else {
-        tangent_part(&n, &formulation.transport(&state.t, kin))
-    };
-    let du_t = tangent_part(&n, &input.du);
-    let t_tr = t_star - du_t * k_t;
-    let norm2_tr = t_tr.norm_squared();
-    // Finite only if `t*` and `k_T Δu_T` are (a difference with an infinite or
-    // NaN operand is not finite), and so `Δu_T` itself: its tangent part has a
-    // non-finite component whenever it has one.
-    if !norm2_tr.is_finite() {
+    let trial = Trial::new(pairing, state, input);
+    // Finite only if `t*` is (a difference with an infinite or NaN operand is
+    // not finite) and the square norm does not overflow.
+    if !trial.norm2_tr.is_finite() {
         return false;
     }
-    let sliding_speed = if needs.contains(PointNeeds::SLIDING_VELOCITY) {
-        du_t.norm() / kin.dt
-    } else {
-        f64::NAN
-    };
-    let x = ShearInputs {
-        p,
-        omega: state.omega,
-        sliding_speed,
-        flow_stress: input.flow_stress,
-        temperature: input.temperature,
-    };
-    let cs = law.critical_shear(&x);
+    let cs = pairing.law.critical_shear(&trial.x);
     if !shear_ok(&cs) {
         return false;
     }
-
-    if !work_dependent && backward_euler {
-        // Radial return with selects instead of a stick/slip branch (random
-        // stick/slip patterns defeat the branch predictor), as in `step_into`.
-        let slip = !(norm2_tr <= cs.tau * cs.tau || norm2_tr == 0.0);
-        let norm_tr = norm2_tr.sqrt();
-        let phi = t_tr * if slip { norm_tr.recip() } else { 0.0 };
-        let t = if slip { phi * cs.tau } else { t_tr };
-        let dgamma = if slip { (norm_tr - cs.tau) / k_t } else { 0.0 };
-        let dissipation = if slip { cs.tau * dgamma } else { 0.0 };
-        let slip_vec = if slip { -dgamma * phi } else { Vec3::zeros() };
-        write_output(
-            out,
-            t,
-            cs.tau,
-            !slip,
-            dgamma,
-            slip_vec,
-            dissipation,
-            cs.clamped,
-        );
-        state.t = t;
-        state.p = p;
-        state.omega += dissipation;
-        return true;
-    }
-
-    if norm2_tr <= cs.tau * cs.tau || norm2_tr == 0.0 {
-        write_output(out, t_tr, cs.tau, true, 0.0, Vec3::zeros(), 0.0, cs.clamped);
-        state.t = t_tr;
-        state.p = p;
-        return true;
-    }
-
-    // Slip.
-    let norm_tr = norm2_tr.sqrt();
-    let phi = t_tr * norm_tr.recip();
-    let frame = Frame {
-        formulation,
-        kin,
-        n,
-        t_old: state.t,
-        p_old: state.p,
-        t_star,
-        k_t,
-        needs,
-    };
-    let (d, c, _) = frame.direction(t_tr, norm_tr, cs.tau, p);
-    let (dgamma, tau, dissipation, cs_end) = if work_dependent {
-        let mut x = x;
-        match solve_work_dependent(law, &mut x, state.omega, norm_tr, k_t, c, cs) {
-            Ok(solved) => solved,
-            Err(_) => return false,
-        }
-    } else {
-        let dgamma = (norm_tr - cs.tau) / k_t;
-        (dgamma, cs.tau, c * cs.tau * dgamma, cs)
-    };
-    let t = phi * tau;
-    write_output(
-        out,
-        t,
-        cs_end.tau,
-        false,
-        dgamma,
-        -dgamma * d,
-        dissipation,
-        cs_end.clamped,
-    );
-    state.t = t;
-    state.p = p;
-    state.omega += dissipation;
-    true
+    conclude(pairing, TangentMode::None, state, input, &trial, cs, out)
+        .map_err(discard)
+        .is_ok()
 }
+
+/// Drop an error out of line: the general path words it again, and the hot
+/// path keeps no drop of a `Result<(), FrictionError>` per point.
+#[cold]
+#[inline(never)]
+fn discard(_: FrictionError) {}
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::kinematics::{forward_direction, rotate_minimal};
     use crate::{DirectionInputs, StepKinematics};
+    use crate::{PointNeeds, ShearInputs, Vec3};
     use rand::{Rng, SeedableRng};
 
     /// `τ_c = μ(ω) p` with `μ = max(0.15 - 2e-4 ω, 0.05)` (clamp reported), read

@@ -1047,9 +1047,8 @@ mod tests {
                 let c = (step as f64 * 0.05).cos();
                 [a * (k as f64 - 1.5) * c, -0.4 * a, 0.3 * a * k as f64]
             });
-            let de_l: [[F4; 3]; 5] = std::array::from_fn(|k| {
-                std::array::from_fn(|c| F4(scale.map(|f| f * de[k][c])))
-            });
+            let de_l: [[F4; 3]; 5] =
+                std::array::from_fn(|k| std::array::from_fn(|c| F4(scale.map(|f| f * de[k][c]))));
             let u = m.update_points_x4(&mut lanes, &mut lanes_h, &de_l);
             for l in 0..4 {
                 let de_one = de.map(|d| d.map(|x| scale[l] * x));
@@ -1064,6 +1063,9 @@ mod tests {
                 }
             }
         }
-        assert!(one_h.iter().flatten().all(|h| h.eps_p > 0.0), "every point yields");
+        assert!(
+            one_h.iter().flatten().all(|h| h.eps_p > 0.0),
+            "every point yields"
+        );
     }
 }
