@@ -97,9 +97,6 @@ fn v3(p: &fem_core::Vec3) -> V3 {
     [p.x, p.y, p.z]
 }
 
-/// The serial part of a step: element results added to the nodal forces,
-/// energy increments summed (internal, hourglass, plastic, drilling) and the
-/// smallest stable time step kept.
 /// The nodal areas and area-weighted normals the shells write when another
 /// effect reads them ([`NodalField::AREA`], [`NodalField::NORMAL_X`], …),
 /// summed over the elements in the serial scatter.
@@ -140,6 +137,93 @@ impl<'a> NodalFrames<'a> {
     }
 }
 
+/// What every element's kernel reads in one step: the formulation,
+/// material and section, the nodal state, the step.
+struct Kernel<'a, E, M> {
+    form: &'a E,
+    mat: &'a M,
+    sec: &'a Section,
+    xs: &'a [fem_core::Vec3],
+    vs: &'a [fem_core::Vec3],
+    ws: &'a [fem_core::Vec3],
+    dt: f64,
+}
+
+impl<E: ShellFormulation, M: Material> Kernel<'_, E, M> {
+    /// One element (node indices `q`) with its state slices.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn one(
+        &self,
+        q: &[u32; 4],
+        t: &mut f64,
+        s: &mut [[f64; 3]],
+        h: &mut [M::History],
+        sh: &mut [[f64; 2]],
+        hg: &mut [f64],
+        dr: &mut [f64; 4],
+        r: &mut ElementResult,
+    ) {
+        let x = q.map(|n| v3(&self.xs[n as usize]));
+        let v = q.map(|n| v3(&self.vs[n as usize]));
+        let w = q.map(|n| v3(&self.ws[n as usize]));
+        *r = self.form.compute(
+            self.mat,
+            self.sec,
+            &x,
+            &v,
+            &w,
+            self.dt,
+            ElementState {
+                thickness: t,
+                stress: s,
+                history: h,
+                shear: sh,
+                hourglass: &mut hg[..E::HOURGLASS_VARS],
+                drilling: dr,
+            },
+        );
+    }
+
+    /// A block of four consecutive elements through the formulation's
+    /// four-element kernel.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn block(
+        &self,
+        q: &[[u32; 4]; 4],
+        t: &mut [f64; 4],
+        s: &mut [[f64; 3]],
+        h: &mut [M::History],
+        sh: &mut [[f64; 2]],
+        hg: &mut [f64],
+        dr: &mut [[f64; 4]; 4],
+        r: &mut ElementResult<F4>,
+    ) {
+        // SAFETY: every node index is at most `max_node`, which `add_forces`
+        // checked against the three arrays' lengths before any kernel runs.
+        let nodes = unsafe { BlockNodes::new_unchecked(self.xs, self.vs, self.ws, q) };
+        self.form.compute_x4(
+            self.mat,
+            self.sec,
+            &nodes,
+            self.dt,
+            ElementBlock {
+                thickness: t,
+                stress: s,
+                history: h,
+                shear: sh,
+                hourglass: hg,
+                drilling: dr,
+            },
+            r,
+        );
+    }
+}
+
+/// The serial part of a step: element results added to the nodal forces,
+/// energy increments summed (internal, hourglass, plastic, drilling) and the
+/// smallest stable time step kept.
 struct Scatter {
     best: StableDt,
     energy: [f64; 4],
@@ -482,6 +566,166 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             .collect()
     }
 
+    /// Every element's forces into `results_x4` / `results` (blocks of four
+    /// consecutive elements through the formulation's four-element kernel,
+    /// SIMD lanes for BT; the rest one by one), stresses and histories
+    /// updated; in parallel from `parallel_min` elements on. The nodal state
+    /// holds every node the shells use (checked by the caller).
+    fn compute_elements(&mut self, dt: f64, state: &NodalState) {
+        let ip = E::IN_PLANE_POINTS;
+        let nsp = ip * self.section.rule.n;
+        let nhg = E::HOURGLASS_VARS.max(1);
+        let kernel = Kernel {
+            form: &self.formulation,
+            mat: &self.material,
+            sec: &self.section,
+            xs: &state.x,
+            vs: &state.v,
+            ws: &state.w,
+            dt,
+        };
+        let nb = self.conn.len() / 4;
+        let (conn_b, conn_r) = self.conn.as_chunks::<4>();
+        let (t_b, t_r) = self.thickness.as_chunks_mut::<4>();
+        let (dr_b, dr_r) = self.drilling.as_chunks_mut::<4>();
+        let (s_b, s_r) = self.stress.split_at_mut(4 * nb * nsp);
+        let (h_b, h_r) = self.history.split_at_mut(4 * nb * nsp);
+        let (sh_b, sh_r) = self.shear.split_at_mut(4 * nb * ip);
+        let (hg_b, hg_r) = self.hourglass.split_at_mut(4 * nb * nhg);
+        let res_b = &mut self.results_x4[..];
+        if self.conn.len() >= self.parallel_min {
+            conn_b
+                .par_iter()
+                .zip(t_b.par_iter_mut())
+                .zip(s_b.par_chunks_mut(4 * nsp))
+                .zip(h_b.par_chunks_mut(4 * nsp))
+                .zip(sh_b.par_chunks_mut(4 * ip))
+                .zip(hg_b.par_chunks_mut(4 * nhg))
+                .zip(dr_b.par_iter_mut())
+                .zip(res_b.par_iter_mut())
+                .with_min_len(32)
+                .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| {
+                    kernel.block(q, t, s, h, sh, hg, dr, r)
+                });
+        } else {
+            conn_b
+                .iter()
+                .zip(t_b.iter_mut())
+                .zip(s_b.chunks_mut(4 * nsp))
+                .zip(h_b.chunks_mut(4 * nsp))
+                .zip(sh_b.chunks_mut(4 * ip))
+                .zip(hg_b.chunks_mut(4 * nhg))
+                .zip(dr_b.iter_mut())
+                .zip(res_b.iter_mut())
+                .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| {
+                    kernel.block(q, t, s, h, sh, hg, dr, r)
+                });
+        }
+        conn_r
+            .iter()
+            .zip(t_r.iter_mut())
+            .zip(s_r.chunks_mut(nsp))
+            .zip(h_r.chunks_mut(nsp))
+            .zip(sh_r.chunks_mut(ip))
+            .zip(hg_r.chunks_mut(nhg))
+            .zip(dr_r.iter_mut())
+            .zip(self.results.iter_mut())
+            .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| {
+                kernel.one(q, t, s, h, sh, hg, dr, r)
+            });
+    }
+
+    /// The serial part of a step after the elements: each element's forces
+    /// and moments onto its nodes, energies, the stable step, the nodal
+    /// fields; the blocks' results read in their lanes. An element that
+    /// degenerated stops it with an error naming it.
+    fn scatter(
+        &mut self,
+        ctx: &StepContext,
+        forces: &mut Forces,
+        fields: &mut FieldAccess<'_>,
+    ) -> Result<(), FemError> {
+        let mut acc = Scatter {
+            best: StableDt {
+                dt: f64::INFINITY,
+                element: 0,
+                what: "shell area / longest side / plate wave speed",
+            },
+            energy: [0.0; 4],
+        };
+        let (ds, c) = (&self.density_scale, self.wave_speed);
+        let [thickness, top, bottom, area, nx, ny, nz] = fields.write_each(WRITES);
+        let mut frames = NodalFrames::new(area, nx, ny, nz);
+        let nb = self.conn.len() / 4;
+        let (conn_b, conn_r) = self.conn.as_chunks::<4>();
+        let mut bad = None;
+        'blocks: for (b, (qs, r)) in conn_b.iter().zip(&self.results_x4).enumerate() {
+            for l in 0..4 {
+                let e = 4 * b + l;
+                let en = [
+                    r.d_internal.0[l],
+                    r.d_hourglass.0[l],
+                    r.d_plastic.0[l],
+                    r.d_drilling.0[l],
+                ];
+                let ok = acc.element(forces, e, &qs[l], r.length.0[l], ds[e], c, en, |k, i| {
+                    (r.f[k][i].0[l], r.m[k][i].0[l])
+                });
+                if !ok {
+                    bad = Some((e, r.length.0[l]));
+                    break 'blocks;
+                }
+                if let Some(g) = frames.as_mut() {
+                    let n = [r.normal[0].0[l], r.normal[1].0[l], r.normal[2].0[l]];
+                    g.add(&qs[l], r.area.0[l], n);
+                }
+            }
+        }
+        if bad.is_none() {
+            for (j, (q, r)) in conn_r.iter().zip(&self.results).enumerate() {
+                let e = 4 * nb + j;
+                let en = [r.d_internal, r.d_hourglass, r.d_plastic, r.d_drilling];
+                if !acc.element(forces, e, q, r.length, ds[e], c, en, |k, i| {
+                    (r.f[k][i], r.m[k][i])
+                }) {
+                    bad = Some((e, r.length));
+                    break;
+                }
+                if let Some(g) = frames.as_mut() {
+                    g.add(q, r.area, r.normal);
+                }
+            }
+        }
+        if let Some((e, length)) = bad {
+            self.cached_dt = Some(StableDt {
+                dt: 0.0,
+                element: e,
+                what: "shell degenerated (zero or negative area)",
+            });
+            return Err(FemError::Element {
+                effect: self.name.clone(),
+                element: e,
+                message: format!(
+                    "shell inverted or degenerated at t = {} s (projected area or Jacobian {length} mm²)",
+                    ctx.time
+                ),
+            });
+        }
+        let (best, [di, dh, dp, dd]) = (acc.best, acc.energy);
+        self.energy.internal += di;
+        self.energy.hourglass += dh;
+        self.energy.plastic += dp;
+        self.drilling_energy += dd;
+        self.forces_computed = true;
+        self.cached_dt = if self.conn.is_empty() {
+            None
+        } else {
+            Some(best)
+        };
+        self.write_fields(thickness, top, bottom);
+        Ok(())
+    }
+
     /// Write the shared nodal fields that another effect reads (no allocation).
     fn write_fields(
         &self,
@@ -687,10 +931,6 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         forces: &mut Forces,
         fields: &mut FieldAccess<'_>,
     ) -> Result<(), FemError> {
-        let ip = E::IN_PLANE_POINTS;
-        let nsp = ip * self.section.rule.n;
-        let nhg = E::HOURGLASS_VARS.max(1);
-        let dt = ctx.dt;
         let (xs, vs, ws) = (&state.x, &state.v, &state.w);
         let nodes = xs.len().min(vs.len()).min(ws.len());
         if !self.conn.is_empty() && self.max_node >= nodes {
@@ -703,197 +943,14 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                 ),
             });
         }
-        let (form, mat, sec) = (&self.formulation, &self.material, &self.section);
-        let kernel = |q: &[u32; 4],
-                      t: &mut f64,
-                      s: &mut [[f64; 3]],
-                      h: &mut [M::History],
-                      sh: &mut [[f64; 2]],
-                      hg: &mut [f64],
-                      dr: &mut [f64; 4],
-                      r: &mut ElementResult| {
-            let x = q.map(|n| v3(&xs[n as usize]));
-            let v = q.map(|n| v3(&vs[n as usize]));
-            let w = q.map(|n| v3(&ws[n as usize]));
-            *r = form.compute(
-                mat,
-                sec,
-                &x,
-                &v,
-                &w,
-                dt,
-                ElementState {
-                    thickness: t,
-                    stress: s,
-                    history: h,
-                    shear: sh,
-                    hourglass: &mut hg[..E::HOURGLASS_VARS],
-                    drilling: dr,
-                },
-            );
-        };
-        // Blocks of four consecutive elements go through the formulation's
-        // four-element kernel (SIMD lanes for BT), the rest one by one.
-        let block = |q: &[[u32; 4]; 4],
-                     t: &mut [f64; 4],
-                     s: &mut [[f64; 3]],
-                     h: &mut [M::History],
-                     sh: &mut [[f64; 2]],
-                     hg: &mut [f64],
-                     dr: &mut [[f64; 4]; 4],
-                     r: &mut ElementResult<F4>| {
-            // SAFETY: every node index is at most `max_node`, which
-            // `add_forces` checked against the three arrays' lengths.
-            let nodes = unsafe { BlockNodes::new_unchecked(xs, vs, ws, q) };
-            form.compute_x4(
-                mat,
-                sec,
-                &nodes,
-                dt,
-                ElementBlock {
-                    thickness: t,
-                    stress: s,
-                    history: h,
-                    shear: sh,
-                    hourglass: hg,
-                    drilling: dr,
-                },
-                r,
-            );
-        };
-        let nb = self.conn.len() / 4;
-        let (conn_b, conn_r) = self.conn.as_chunks::<4>();
-        let (t_b, t_r) = self.thickness.as_chunks_mut::<4>();
-        let (dr_b, dr_r) = self.drilling.as_chunks_mut::<4>();
-        let res_b = &mut self.results_x4[..];
-        let res_r = &mut self.results[..];
-        let (s_b, s_r) = self.stress.split_at_mut(4 * nb * nsp);
-        let (h_b, h_r) = self.history.split_at_mut(4 * nb * nsp);
-        let (sh_b, sh_r) = self.shear.split_at_mut(4 * nb * ip);
-        let (hg_b, hg_r) = self.hourglass.split_at_mut(4 * nb * nhg);
-        if self.conn.len() >= self.parallel_min {
-            conn_b
-                .par_iter()
-                .zip(t_b.par_iter_mut())
-                .zip(s_b.par_chunks_mut(4 * nsp))
-                .zip(h_b.par_chunks_mut(4 * nsp))
-                .zip(sh_b.par_chunks_mut(4 * ip))
-                .zip(hg_b.par_chunks_mut(4 * nhg))
-                .zip(dr_b.par_iter_mut())
-                .zip(res_b.par_iter_mut())
-                .with_min_len(32)
-                .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| {
-                    block(q, t, s, h, sh, hg, dr, r)
-                });
-        } else {
-            conn_b
-                .iter()
-                .zip(t_b.iter_mut())
-                .zip(s_b.chunks_mut(4 * nsp))
-                .zip(h_b.chunks_mut(4 * nsp))
-                .zip(sh_b.chunks_mut(4 * ip))
-                .zip(hg_b.chunks_mut(4 * nhg))
-                .zip(dr_b.iter_mut())
-                .zip(res_b.iter_mut())
-                .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| {
-                    block(q, t, s, h, sh, hg, dr, r)
-                });
-        }
-        conn_r
-            .iter()
-            .zip(t_r.iter_mut())
-            .zip(s_r.chunks_mut(nsp))
-            .zip(h_r.chunks_mut(nsp))
-            .zip(sh_r.chunks_mut(ip))
-            .zip(hg_r.chunks_mut(nhg))
-            .zip(dr_r.iter_mut())
-            .zip(res_r.iter_mut())
-            .for_each(|(((((((q, t), s), h), sh), hg), dr), r)| kernel(q, t, s, h, sh, hg, dr, r));
+        self.compute_elements(ctx.dt, state);
         if let Some(message) = self.material.take_failure() {
             return Err(FemError::Effect {
                 effect: self.name.clone(),
                 message,
             });
         }
-        // Serial scatter, energies and the stable time step; the blocks'
-        // results are read in their lanes.
-        let mut acc = Scatter {
-            best: StableDt {
-                dt: f64::INFINITY,
-                element: 0,
-                what: "shell area / longest side / plate wave speed",
-            },
-            energy: [0.0; 4],
-        };
-        let (ds, c) = (&self.density_scale, self.wave_speed);
-        let [thickness, top, bottom, area, nx, ny, nz] = fields.write_each(WRITES);
-        let mut frames = NodalFrames::new(area, nx, ny, nz);
-        let mut bad = None;
-        'blocks: for (b, (qs, r)) in conn_b.iter().zip(&self.results_x4).enumerate() {
-            for l in 0..4 {
-                let e = 4 * b + l;
-                let en = [
-                    r.d_internal.0[l],
-                    r.d_hourglass.0[l],
-                    r.d_plastic.0[l],
-                    r.d_drilling.0[l],
-                ];
-                let ok = acc.element(forces, e, &qs[l], r.length.0[l], ds[e], c, en, |k, i| {
-                    (r.f[k][i].0[l], r.m[k][i].0[l])
-                });
-                if !ok {
-                    bad = Some((e, r.length.0[l]));
-                    break 'blocks;
-                }
-                if let Some(g) = frames.as_mut() {
-                    let n = [r.normal[0].0[l], r.normal[1].0[l], r.normal[2].0[l]];
-                    g.add(&qs[l], r.area.0[l], n);
-                }
-            }
-        }
-        if bad.is_none() {
-            for (j, (q, r)) in conn_r.iter().zip(&self.results).enumerate() {
-                let e = 4 * nb + j;
-                let en = [r.d_internal, r.d_hourglass, r.d_plastic, r.d_drilling];
-                if !acc.element(forces, e, q, r.length, ds[e], c, en, |k, i| {
-                    (r.f[k][i], r.m[k][i])
-                }) {
-                    bad = Some((e, r.length));
-                    break;
-                }
-                if let Some(g) = frames.as_mut() {
-                    g.add(q, r.area, r.normal);
-                }
-            }
-        }
-        if let Some((e, length)) = bad {
-            self.cached_dt = Some(StableDt {
-                dt: 0.0,
-                element: e,
-                what: "shell degenerated (zero or negative area)",
-            });
-            return Err(FemError::Element {
-                effect: self.name.clone(),
-                element: e,
-                message: format!(
-                    "shell inverted or degenerated at t = {} s (projected area or Jacobian {length} mm²)",
-                    ctx.time
-                ),
-            });
-        }
-        let (best, [di, dh, dp, dd]) = (acc.best, acc.energy);
-        self.energy.internal += di;
-        self.energy.hourglass += dh;
-        self.energy.plastic += dp;
-        self.drilling_energy += dd;
-        self.forces_computed = true;
-        self.cached_dt = if self.conn.is_empty() {
-            None
-        } else {
-            Some(best)
-        };
-        self.write_fields(thickness, top, bottom);
-        Ok(())
+        self.scatter(ctx, forces, fields)
     }
 
     fn energies(&self) -> EnergyTally {
