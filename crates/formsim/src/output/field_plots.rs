@@ -9,6 +9,8 @@
 use std::ops::Range;
 use std::path::Path;
 
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -156,6 +158,52 @@ fn equal_aspect(x: Range<f64>, y: Range<f64>, (w, h): (u32, u32)) -> (Range<f64>
     (cx - hx..cx + hx, cy - hy..cy + hy)
 }
 
+/// The error of a failed drawing step on `path`.
+fn plot_error<E: std::fmt::Display>(path: &Path) -> impl Fn(E) -> OutputError + '_ {
+    move |e| OutputError::Plot {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
+
+/// The colour scale of a map: the range the colours span (`lo..hi`) and the
+/// data's own minimum and maximum, written at the ends of the colour bar.
+struct ColourScale {
+    /// Value at the dark-blue end.
+    lo: f64,
+    /// Value at the yellow end.
+    hi: f64,
+    /// The data's minimum.
+    vmin: f64,
+    /// The data's maximum.
+    vmax: f64,
+}
+
+impl ColourScale {
+    /// The scale of values from `vmin` to `vmax`. A constant field still gets
+    /// a non-empty scale (all elements mid-colour).
+    fn new(vmin: f64, vmax: f64) -> Self {
+        let (lo, hi) = if vmax > vmin {
+            (vmin, vmax)
+        } else {
+            let d = (vmin.abs() * 1e-3).max(1e-12);
+            (vmin - d, vmax + d)
+        };
+        Self { lo, hi, vmin, vmax }
+    }
+
+    /// The colour of `v` on the viridis scale.
+    fn colour(&self, v: f64) -> RGBColor {
+        viridis((v - self.lo) / (self.hi - self.lo))
+    }
+}
+
+/// The image's drawing area.
+type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+/// A chart with f64 axes on the image.
+type Chart<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
 /// Draw a plan-view (x, y) colour map of one scalar per element into a PNG of
 /// 800 × 700 px: every quadrilateral filled with its value's colour on the
 /// viridis scale from the minimum (dark blue) to the maximum (yellow), axes in
@@ -179,42 +227,43 @@ pub fn element_map_png(
     values: &[f64],
 ) -> Result<(), OutputError> {
     let (vmin, vmax) = validate(path, quads, xy, values)?;
-    let fail = |e: &dyn std::fmt::Display| OutputError::Plot {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    };
-    crate::plot::ensure_font().map_err(|e| fail(&e))?;
+    crate::plot::ensure_font().map_err(plot_error(path))?;
     create_parent_dir(path)?;
-
-    // A constant field still gets a non-empty scale (all elements mid-colour).
-    let (lo, hi) = if vmax > vmin {
-        (vmin, vmax)
-    } else {
-        let d = (vmin.abs() * 1e-3).max(1e-12);
-        (vmin - d, vmax + d)
-    };
-    let colour = |v: f64| viridis((v - lo) / (hi - lo));
+    let scale = ColourScale::new(vmin, vmax);
 
     let root = BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| fail(&e))?;
+    root.fill(&WHITE).map_err(plot_error(path))?;
     let body = root
         .titled(title, ("sans-serif", 22))
-        .map_err(|e| fail(&e))?;
+        .map_err(plot_error(path))?;
     let (map_area, bar_area) = body.split_horizontally(WIDTH - BAR_COLUMN);
+    draw_map(path, &map_area, quads, xy, values, &scale)?;
+    draw_colour_bar(path, &root, &bar_area, colorbar_label, &scale)?;
+    root.present().map_err(plot_error(path))
+}
 
-    // Build once to learn the plotting area's size, then with equal-aspect ranges.
+/// The map's chart on `map_area`: built once to learn the plotting area's
+/// size, then with equal-aspect ranges around the elements, axes drawn.
+fn map_chart<'a, 'b>(
+    path: &Path,
+    map_area: &'a Area<'b>,
+    quads: &[[u32; 4]],
+    xy: &[[f64; 2]],
+) -> Result<Chart<'a, 'b>, OutputError> {
     let (bx, by) = bounding_box(quads, xy);
     let builder = || {
-        let mut b = ChartBuilder::on(&map_area);
+        let mut b = ChartBuilder::on(map_area);
         b.margin(15).x_label_area_size(45).y_label_area_size(65);
         b
     };
     let probe = builder()
         .build_cartesian_2d(bx.clone(), by.clone())
-        .map_err(|e| fail(&e))?;
+        .map_err(plot_error(path))?;
     let (rx, ry) = equal_aspect(bx, by, probe.plotting_area().dim_in_pixel());
     drop(probe);
-    let mut chart = builder().build_cartesian_2d(rx, ry).map_err(|e| fail(&e))?;
+    let mut chart = builder()
+        .build_cartesian_2d(rx, ry)
+        .map_err(plot_error(path))?;
     chart
         .configure_mesh()
         .disable_mesh()
@@ -223,25 +272,40 @@ pub fn element_map_png(
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
         .draw()
-        .map_err(|e| fail(&e))?;
+        .map_err(plot_error(path))?;
+    Ok(chart)
+}
 
-    let ring = |q: &[u32; 4]| -> Vec<(f64, f64)> {
-        q.iter()
-            .chain(&q[..1])
-            .map(|&n| {
-                let [x, y] = xy[n as usize];
-                (x, y)
-            })
-            .collect()
-    };
+/// The closed outline of element `q` (its four corners, then the first again).
+fn ring(q: &[u32; 4], xy: &[[f64; 2]]) -> Vec<(f64, f64)> {
+    q.iter()
+        .chain(&q[..1])
+        .map(|&n| {
+            let [x, y] = xy[n as usize];
+            (x, y)
+        })
+        .collect()
+}
+
+/// The map on `map_area`: axes, every element filled with its value's
+/// colour, then the element edges.
+fn draw_map(
+    path: &Path,
+    map_area: &Area<'_>,
+    quads: &[[u32; 4]],
+    xy: &[[f64; 2]],
+    values: &[f64],
+    scale: &ColourScale,
+) -> Result<(), OutputError> {
+    let mut chart = map_chart(path, map_area, quads, xy)?;
     chart
         .draw_series(
             quads
                 .iter()
                 .zip(values)
-                .map(|(q, &v)| Polygon::new(ring(q), colour(v).filled())),
+                .map(|(q, &v)| Polygon::new(ring(q, xy), scale.colour(v).filled())),
         )
-        .map_err(|e| fail(&e))?;
+        .map_err(plot_error(path))?;
     // Edges: dark lines on coarse meshes; on fine meshes each element's own
     // colour, which closes the hairline gaps the rasteriser leaves between
     // neighbouring polygons.
@@ -251,21 +315,32 @@ pub fn element_map_png(
             let edge = if outlined {
                 BLACK.mix(0.35).stroke_width(1)
             } else {
-                colour(v).stroke_width(1)
+                scale.colour(v).stroke_width(1)
             };
-            PathElement::new(ring(q), edge)
+            PathElement::new(ring(q, xy), edge)
         }))
-        .map_err(|e| fail(&e))?;
+        .map_err(plot_error(path))?;
+    Ok(())
+}
 
-    // Colour bar: same vertical margins as the map so both line up; nice
-    // ticks on the right, the exact minimum and maximum written at its ends.
-    let mut bar = ChartBuilder::on(&bar_area)
+/// The colour bar on `bar_area`: same vertical margins as the map so both
+/// line up; nice ticks on the right, the exact minimum and maximum written
+/// at its ends (on `root`).
+fn draw_colour_bar(
+    path: &Path,
+    root: &Area<'_>,
+    bar_area: &Area<'_>,
+    colorbar_label: &str,
+    scale: &ColourScale,
+) -> Result<(), OutputError> {
+    let (lo, hi) = (scale.lo, scale.hi);
+    let mut bar = ChartBuilder::on(bar_area)
         .margin(15)
         .margin_left(5)
         .x_label_area_size(45)
         .right_y_label_area_size(95)
         .build_cartesian_2d(0.0..1.0, lo..hi)
-        .map_err(|e| fail(&e))?;
+        .map_err(plot_error(path))?;
     bar.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
@@ -275,19 +350,34 @@ pub fn element_map_png(
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
         .draw()
-        .map_err(|e| fail(&e))?;
+        .map_err(plot_error(path))?;
     let dv = (hi - lo) / BAR_STEPS as f64;
     bar.draw_series((0..BAR_STEPS).map(|i| {
         let v0 = lo + dv * i as f64;
-        Rectangle::new([(0.0, v0), (1.0, v0 + dv)], colour(v0 + 0.5 * dv).filled())
+        Rectangle::new(
+            [(0.0, v0), (1.0, v0 + dv)],
+            scale.colour(v0 + 0.5 * dv).filled(),
+        )
     }))
-    .map_err(|e| fail(&e))?;
+    .map_err(plot_error(path))?;
     bar.draw_series(std::iter::once(Rectangle::new(
         [(0.0, lo), (1.0, hi)],
         BLACK.stroke_width(1),
     )))
-    .map_err(|e| fail(&e))?;
+    .map_err(plot_error(path))?;
     let (top, bottom) = (bar.backend_coord(&(0.0, hi)), bar.backend_coord(&(0.0, lo)));
+    draw_end_labels(path, root, top, bottom, scale)
+}
+
+/// The data's maximum above the colour bar's `top` and its minimum below its
+/// `bottom` (pixel positions on `root`).
+fn draw_end_labels(
+    path: &Path,
+    root: &Area<'_>,
+    top: (i32, i32),
+    bottom: (i32, i32),
+    scale: &ColourScale,
+) -> Result<(), OutputError> {
     let end_label = |name: &str, v: f64, at: (i32, i32)| {
         Text::new(
             format!("{name} {}", label(v)),
@@ -298,12 +388,11 @@ pub fn element_map_png(
                 .pos(Pos::new(HPos::Left, VPos::Center)),
         )
     };
-    root.draw(&end_label("max", vmax, (top.0, top.1 - 12)))
-        .map_err(|e| fail(&e))?;
-    root.draw(&end_label("min", vmin, (bottom.0, bottom.1 + 13)))
-        .map_err(|e| fail(&e))?;
-
-    root.present().map_err(|e| fail(&e))
+    root.draw(&end_label("max", scale.vmax, (top.0, top.1 - 12)))
+        .map_err(plot_error(path))?;
+    root.draw(&end_label("min", scale.vmin, (bottom.0, bottom.1 + 13)))
+        .map_err(plot_error(path))?;
+    Ok(())
 }
 
 #[cfg(test)]
