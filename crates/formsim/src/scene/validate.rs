@@ -6,7 +6,7 @@
 use super::LoadedScene;
 use super::SceneError;
 use super::estimate::{self, MeshSize};
-use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, SceneKind};
+use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, SceneKind, Step};
 
 /// Check `loaded.scene`.
 ///
@@ -337,126 +337,168 @@ fn tools_and_contact(loaded: &LoadedScene) -> Result<(), SceneError> {
 
 /// The press programme (`[[steps]]`).
 fn press(loaded: &LoadedScene) -> Result<(), SceneError> {
-    let (s, keys) = (&loaded.scene, Keys(loaded));
+    let s = &loaded.scene;
     // Press programme.
     for (i, step) in s.steps.iter().enumerate() {
-        let key = |k: &str| format!("steps[{i}].{k}");
-        match (step.duration, &step.until) {
-            (Some(d), None) => keys.positive(&key("duration"), d, "s")?,
-            (None, Some(u)) => {
-                if !s.tools.contains_key(&u.tool) {
-                    return keys.err(&key("until.tool"), format!("\"{}\": no such tool", u.tool));
-                }
-                keys.positive(&key("until.distance"), u.distance, "mm")?;
-                keys.positive(&key("until.max_duration"), u.max_duration, "s")?;
-            }
-            _ => {
-                return keys.err(
-                    &format!("steps[{i}]"),
-                    format!(
-                        "step \"{}\": give exactly one of duration or until",
-                        step.name
-                    ),
-                );
-            }
-        }
+        step_end(loaded, i, step)?;
         for (j, motion) in step.motions.iter().enumerate() {
-            let mkey = |k: &str| format!("steps[{i}].motions[{j}].{k}");
-            if !s.tools.contains_key(motion.tool()) {
-                return keys.err(
-                    &mkey("tool"),
-                    format!("\"{}\": no such tool", motion.tool()),
-                );
-            }
-            // The vector the motion is along or about, and its key.
-            let direction = match motion {
-                Motion::Hold { .. } => None,
-                Motion::Travel {
-                    direction,
-                    distance,
-                    amplitude,
-                    ..
-                } => {
-                    if !distance.is_finite() {
-                        return keys
-                            .err(&mkey("distance"), format!("{distance} mm: must be finite"));
-                    }
-                    check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-                    Some(("direction", direction))
-                }
-                Motion::Velocity {
-                    direction,
-                    speed,
-                    amplitude,
-                    ..
-                } => {
-                    if !speed.is_finite() {
-                        return keys.err(&mkey("speed"), format!("{speed} mm/s: must be finite"));
-                    }
-                    check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-                    Some(("direction", direction))
-                }
-                Motion::Spin {
-                    axis,
-                    rate,
-                    amplitude,
-                    ..
-                } => {
-                    if !rate.is_finite() {
-                        return keys.err(&mkey("rate"), format!("{rate} rad/s: must be finite"));
-                    }
-                    check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-                    Some(("axis", axis))
-                }
-                Motion::Force {
-                    direction,
-                    force,
-                    force_curve,
-                    amplitude,
-                    mass,
-                    damping,
-                    relative_damping,
-                    ..
-                } => {
-                    match (force, force_curve) {
-                        (Some(f), None) => keys.non_negative(&mkey("force"), *f, "N")?,
-                        (None, Some(rows)) => {
-                            check_force_curve(loaded, &mkey("force_curve"), rows)?
-                        }
-                        _ => {
-                            return keys.err(
-                                &mkey("force"),
-                                "give either `force` (N) or `force_curve` ([compression mm, force N] rows), not both or neither".into(),
-                            );
-                        }
-                    }
-                    keys.positive(&mkey("mass"), *mass, "tonne")?;
-                    keys.non_negative(&mkey("damping"), *damping, "N*s/mm")?;
-                    if !(0.0..=1.0).contains(relative_damping) {
-                        return keys.err(
-                            &mkey("relative_damping"),
-                            format!("{relative_damping}: must be in [0, 1] (fraction of critical)"),
-                        );
-                    }
-                    check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-                    Some(("direction", direction))
-                }
-            };
-            if let Some((key, d)) = direction {
-                let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                if !(n.is_finite() && n > 1e-12) {
-                    return keys.err(&mkey(key), format!("{d:?}: must be a non-zero vector"));
-                }
-            }
+            step_motion(loaded, &format!("steps[{i}].motions[{j}]"), motion)?;
         }
-        if let Some(pairs) = &step.pairs {
-            for (j, t) in pairs.iter().enumerate() {
-                if !s.tools.contains_key(t) {
-                    return keys.err(
-                        &format!("steps[{i}].pairs[{j}]"),
-                        format!("\"{t}\": no such tool"),
-                    );
-                }
+        step_pairs(loaded, i, step)?;
+    }
+    Ok(())
+}
+
+/// How step `i` ends: a duration or an `until` on a tool's travel, exactly one.
+fn step_end(loaded: &LoadedScene, i: usize, step: &Step) -> Result<(), SceneError> {
+    let (s, keys) = (&loaded.scene, Keys(loaded));
+    let key = |k: &str| format!("steps[{i}].{k}");
+    match (step.duration, &step.until) {
+        (Some(d), None) => keys.positive(&key("duration"), d, "s")?,
+        (None, Some(u)) => {
+            if !s.tools.contains_key(&u.tool) {
+                return keys.err(&key("until.tool"), format!("\"{}\": no such tool", u.tool));
+            }
+            keys.positive(&key("until.distance"), u.distance, "mm")?;
+            keys.positive(&key("until.max_duration"), u.max_duration, "s")?;
+        }
+        _ => {
+            return keys.err(
+                &format!("steps[{i}]"),
+                format!(
+                    "step \"{}\": give exactly one of duration or until",
+                    step.name
+                ),
+            );
+        }
+    }
+    Ok(())
+}
+
+/// One motion of a step (`prefix` is its key, `steps[i].motions[j]`): its
+/// tool exists, its numbers are in range and its direction or axis is not zero.
+fn step_motion(loaded: &LoadedScene, prefix: &str, motion: &Motion) -> Result<(), SceneError> {
+    let keys = Keys(loaded);
+    let mkey = |k: &str| format!("{prefix}.{k}");
+    if !loaded.scene.tools.contains_key(motion.tool()) {
+        return keys.err(
+            &mkey("tool"),
+            format!("\"{}\": no such tool", motion.tool()),
+        );
+    }
+    if let Some((key, d)) = motion_values(loaded, prefix, motion)? {
+        let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        if !(n.is_finite() && n > 1e-12) {
+            return keys.err(&mkey(key), format!("{d:?}: must be a non-zero vector"));
+        }
+    }
+    Ok(())
+}
+
+/// The numbers of one motion (`prefix` is its key); returns the vector the
+/// motion is along or about, and its key (`None` for a hold).
+fn motion_values<'m>(
+    loaded: &LoadedScene,
+    prefix: &str,
+    motion: &'m Motion,
+) -> Result<Option<(&'static str, &'m [f64; 3])>, SceneError> {
+    let keys = Keys(loaded);
+    let mkey = |k: &str| format!("{prefix}.{k}");
+    let direction = match motion {
+        Motion::Hold { .. } => None,
+        Motion::Travel {
+            direction,
+            distance,
+            amplitude,
+            ..
+        } => {
+            if !distance.is_finite() {
+                return keys.err(&mkey("distance"), format!("{distance} mm: must be finite"));
+            }
+            check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
+            Some(("direction", direction))
+        }
+        Motion::Velocity {
+            direction,
+            speed,
+            amplitude,
+            ..
+        } => {
+            if !speed.is_finite() {
+                return keys.err(&mkey("speed"), format!("{speed} mm/s: must be finite"));
+            }
+            check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
+            Some(("direction", direction))
+        }
+        Motion::Spin {
+            axis,
+            rate,
+            amplitude,
+            ..
+        } => {
+            if !rate.is_finite() {
+                return keys.err(&mkey("rate"), format!("{rate} rad/s: must be finite"));
+            }
+            check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
+            Some(("axis", axis))
+        }
+        Motion::Force { direction, .. } => {
+            force_motion(loaded, prefix, motion)?;
+            Some(("direction", direction))
+        }
+    };
+    Ok(direction)
+}
+
+/// The numbers of a force-controlled motion (`prefix` is its key): a force
+/// or a force curve, mass, damping, relative damping, amplitude (other
+/// motions have none of these: nothing to check).
+fn force_motion(loaded: &LoadedScene, prefix: &str, motion: &Motion) -> Result<(), SceneError> {
+    let Motion::Force {
+        force,
+        force_curve,
+        amplitude,
+        mass,
+        damping,
+        relative_damping,
+        ..
+    } = motion
+    else {
+        return Ok(());
+    };
+    let keys = Keys(loaded);
+    let mkey = |k: &str| format!("{prefix}.{k}");
+    match (force, force_curve) {
+        (Some(f), None) => keys.non_negative(&mkey("force"), *f, "N")?,
+        (None, Some(rows)) => check_force_curve(loaded, &mkey("force_curve"), rows)?,
+        _ => {
+            return keys.err(
+                &mkey("force"),
+                "give either `force` (N) or `force_curve` ([compression mm, force N] rows), not both or neither".into(),
+            );
+        }
+    }
+    keys.positive(&mkey("mass"), *mass, "tonne")?;
+    keys.non_negative(&mkey("damping"), *damping, "N*s/mm")?;
+    if !(0.0..=1.0).contains(relative_damping) {
+        return keys.err(
+            &mkey("relative_damping"),
+            format!("{relative_damping}: must be in [0, 1] (fraction of critical)"),
+        );
+    }
+    check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)
+}
+
+/// The tools whose pairs step `i` activates (`pairs`) exist.
+fn step_pairs(loaded: &LoadedScene, i: usize, step: &Step) -> Result<(), SceneError> {
+    let keys = Keys(loaded);
+    if let Some(pairs) = &step.pairs {
+        for (j, t) in pairs.iter().enumerate() {
+            if !loaded.scene.tools.contains_key(t) {
+                return keys.err(
+                    &format!("steps[{i}].pairs[{j}]"),
+                    format!("\"{t}\": no such tool"),
+                );
             }
         }
     }
