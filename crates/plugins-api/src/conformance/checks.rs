@@ -613,133 +613,17 @@ impl<'a> Suite<'a> {
 
     /// Check 8: The edge cases of friction-math §2: finite, documented answers.
     fn edge_cases(&self, drv: &Driver<'_>, u_star: f64) -> Result<String, String> {
-        let k_t = self.law.k_t;
         let n = Vec3::new(0.2, -0.3, 0.93).normalize();
-        let (a, b) = tangent_basis(&n);
+        let (a, _) = tangent_basis(&n);
         let slipped = self.slipped_state(drv, u_star, n)?;
-        let zero = PointState::default();
+        let cases = edge_case_inputs(self.law.k_t, u_star, n, slipped);
         let mut worst_excess: f64 = 0.0;
-        let cases: [(&str, PointState, StepInput); 11] = [
-            (
-                "|t_tr| = 0 (zero history, Δu_T = 0)",
-                zero,
-                single(P_REF, Vec3::zeros(), n),
-            ),
-            (
-                "|t_tr| ≈ 0 after slip (Δu_T = t_n/k_T)",
-                slipped,
-                single(P_REF, slipped.t / k_t, n),
-            ),
-            ("p = 0 after slip", slipped, single(0.0, a * u_star, n)),
-            (
-                "p = 1e-300 MPa after slip",
-                slipped,
-                single(1e-300, a * u_star, n),
-            ),
-            (
-                "p = 1e-12 MPa after slip",
-                slipped,
-                single(1e-12, b * u_star, n),
-            ),
-            (
-                "p = 1e-300 MPa from zero history",
-                zero,
-                single(1e-300, b * u_star, n),
-            ),
-            (
-                "Δu_T = 0 after slip",
-                slipped,
-                single(P_REF, Vec3::zeros(), n),
-            ),
-            (
-                "|Δu_T| = 1e6 mm after slip",
-                slipped,
-                single(P_REF, b * 1e6, n),
-            ),
-            (
-                "p = 1e6 MPa after slip",
-                slipped,
-                single(1e6, a * u_star, n),
-            ),
-            (
-                "p = 1e6 MPa, |Δu_T| = 1e6 mm from zero history",
-                zero,
-                single(1e6, a * -1e6, n),
-            ),
-            (
-                "p = 1e-12 MPa, |Δu_T| = 1e6 mm after slip",
-                slipped,
-                single(1e-12, a * 1e6, n),
-            ),
-        ];
         for (label, start, raw) in cases {
-            let input = drv.prepare(&raw);
-            let mut state = start;
-            let out = drv
-                .step(&mut state, &input)
-                .map_err(|f| format!("{label}: {f}"))?;
-            if !all_finite(&out, &state) {
-                return Err(format!(
-                    "{label}: non-finite output {out:?}, state {state:?}"
-                ));
-            }
-            let cs = drv
-                .critical_shear(&input, state.omega)
-                .map_err(|f| format!("{label}: τ_c(p, ω_n+1) = {f}"))?;
-            let t = out.t.norm();
-            if t > cs.tau * (1.0 + BOUND_TOL) {
-                return Err(format!(
-                    "{label}: |t| = {t:e} MPa > τ_c(p, ω_n+1) = {:e} MPa (ω_n+1 = {:e} N/mm)",
-                    cs.tau, state.omega
-                ));
-            }
-            if cs.tau > 0.0 {
-                worst_excess = worst_excess.max(t / cs.tau - 1.0);
-            }
-            if state.omega < start.omega {
-                return Err(format!(
-                    "{label}: ω decreased from {:e} to {:e} N/mm",
-                    start.omega, state.omega
-                ));
-            }
-            if raw.p == 0.0
-                && !(out.open
-                    && out.t == Vec3::zeros()
-                    && state.t == Vec3::zeros()
-                    && state.omega == start.omega)
-            {
-                return Err(format!(
-                    "{label}: expected open contact with t = 0, history cleared and ω kept; got open = {}, t = {:?}, history {:?}, ω {:e} → {:e}",
-                    out.open,
-                    out.t.as_slice(),
-                    state.t.as_slice(),
-                    start.omega,
-                    state.omega
-                ));
-            }
-            if start == zero && raw.du == Vec3::zeros() && !(out.stick && out.t == Vec3::zeros()) {
-                return Err(format!(
-                    "{label}: expected stick with t = 0; got stick = {}, t = {:?}",
-                    out.stick,
-                    out.t.as_slice()
-                ));
+            if let Some(excess) = edge_case(drv, label, start, &raw)? {
+                worst_excess = worst_excess.max(excess);
             }
         }
-        // The law's own contract, probed directly rather than only where the
-        // return mapping happens to evaluate it: τ_c finite and ≥ 0 for every
-        // p ≥ 0, ω ≥ 0 and sliding speed ≥ 0 (trait `FrictionLaw`).
-        let mut probes = 0;
-        for p in [0.0, 1e-300, 1e-12, 1e-3, 1.0, 100.0, 1e4, 1e6] {
-            for omega in [0.0, 1.0, 1e2, 1e4, 1e6, 1e9] {
-                for du in [0.0, 1e-6, 1e-3, 1.0, 1e3] {
-                    let input = single(p, a * du, n);
-                    drv.critical_shear(&input, omega).map_err(|f| {
-                        format!("τ_c(p = {p:e} MPa, ω = {omega:e} N/mm, |Δu_T| = {du:e} mm): {f}")
-                    })?;
-                    probes += 1;
-                }
-            }
-        }
+        let probes = critical_shear_probes(drv, a, n)?;
         Ok(format!(
             "{} cases finite: |t_tr| = 0 sticks with a finite tangent; p = 0 opens, clears the history, keeps ω; p → 0⁺ (1e-300, 1e-12 MPa), Δu_T = 0, |Δu_T| = 1e6 mm, p = 1e6 MPa; max |t|/τ_c - 1 = {worst_excess:.1e}; τ_c finite and ≥ 0 at {probes} probes of p ∈ [0, 1e6] MPa, ω ∈ [0, 1e9] N/mm, |Δu_T| ∈ [0, 1e3] mm",
             cases.len()
@@ -920,6 +804,157 @@ impl<'a> Suite<'a> {
         }
         Ok(state)
     }
+}
+
+/// The edge cases of check 8 (friction-math §2), each a label, a starting
+/// state (the zero history or `slipped`) and a step at normal `n`, scaled by
+/// the stick limit `u_star` and the stick stiffness `k_t`.
+fn edge_case_inputs(
+    k_t: f64,
+    u_star: f64,
+    n: Vec3,
+    slipped: PointState,
+) -> [(&'static str, PointState, StepInput); 11] {
+    let (a, b) = tangent_basis(&n);
+    let zero = PointState::default();
+    [
+        (
+            "|t_tr| = 0 (zero history, Δu_T = 0)",
+            zero,
+            single(P_REF, Vec3::zeros(), n),
+        ),
+        (
+            "|t_tr| ≈ 0 after slip (Δu_T = t_n/k_T)",
+            slipped,
+            single(P_REF, slipped.t / k_t, n),
+        ),
+        ("p = 0 after slip", slipped, single(0.0, a * u_star, n)),
+        (
+            "p = 1e-300 MPa after slip",
+            slipped,
+            single(1e-300, a * u_star, n),
+        ),
+        (
+            "p = 1e-12 MPa after slip",
+            slipped,
+            single(1e-12, b * u_star, n),
+        ),
+        (
+            "p = 1e-300 MPa from zero history",
+            zero,
+            single(1e-300, b * u_star, n),
+        ),
+        (
+            "Δu_T = 0 after slip",
+            slipped,
+            single(P_REF, Vec3::zeros(), n),
+        ),
+        (
+            "|Δu_T| = 1e6 mm after slip",
+            slipped,
+            single(P_REF, b * 1e6, n),
+        ),
+        (
+            "p = 1e6 MPa after slip",
+            slipped,
+            single(1e6, a * u_star, n),
+        ),
+        (
+            "p = 1e6 MPa, |Δu_T| = 1e6 mm from zero history",
+            zero,
+            single(1e6, a * -1e6, n),
+        ),
+        (
+            "p = 1e-12 MPa, |Δu_T| = 1e6 mm after slip",
+            slipped,
+            single(1e-12, a * 1e6, n),
+        ),
+    ]
+}
+
+/// One edge case of check 8: the step from `start` must give a finite answer
+/// within the traction bound, never decrease ω, open at `p = 0` and stick with
+/// `t = 0` for a zero increment from the zero history. Returns `|t|/τ_c - 1`
+/// when `τ_c > 0`.
+fn edge_case(
+    drv: &Driver<'_>,
+    label: &str,
+    start: PointState,
+    raw: &StepInput,
+) -> Result<Option<f64>, String> {
+    let input = drv.prepare(raw);
+    let mut state = start;
+    let out = drv
+        .step(&mut state, &input)
+        .map_err(|f| format!("{label}: {f}"))?;
+    if !all_finite(&out, &state) {
+        return Err(format!(
+            "{label}: non-finite output {out:?}, state {state:?}"
+        ));
+    }
+    let cs = drv
+        .critical_shear(&input, state.omega)
+        .map_err(|f| format!("{label}: τ_c(p, ω_n+1) = {f}"))?;
+    let t = out.t.norm();
+    if t > cs.tau * (1.0 + BOUND_TOL) {
+        return Err(format!(
+            "{label}: |t| = {t:e} MPa > τ_c(p, ω_n+1) = {:e} MPa (ω_n+1 = {:e} N/mm)",
+            cs.tau, state.omega
+        ));
+    }
+    let excess = (cs.tau > 0.0).then(|| t / cs.tau - 1.0);
+    if state.omega < start.omega {
+        return Err(format!(
+            "{label}: ω decreased from {:e} to {:e} N/mm",
+            start.omega, state.omega
+        ));
+    }
+    if raw.p == 0.0
+        && !(out.open
+            && out.t == Vec3::zeros()
+            && state.t == Vec3::zeros()
+            && state.omega == start.omega)
+    {
+        return Err(format!(
+            "{label}: expected open contact with t = 0, history cleared and ω kept; got open = {}, t = {:?}, history {:?}, ω {:e} → {:e}",
+            out.open,
+            out.t.as_slice(),
+            state.t.as_slice(),
+            start.omega,
+            state.omega
+        ));
+    }
+    if start == PointState::default()
+        && raw.du == Vec3::zeros()
+        && !(out.stick && out.t == Vec3::zeros())
+    {
+        return Err(format!(
+            "{label}: expected stick with t = 0; got stick = {}, t = {:?}",
+            out.stick,
+            out.t.as_slice()
+        ));
+    }
+    Ok(excess)
+}
+
+/// The law's own contract, probed directly rather than only where the
+/// return mapping happens to evaluate it: τ_c finite and ≥ 0 for every
+/// p ≥ 0, ω ≥ 0 and sliding speed ≥ 0 (trait `FrictionLaw`), along `a` at
+/// normal `n`. Returns the number of probes.
+fn critical_shear_probes(drv: &Driver<'_>, a: Vec3, n: Vec3) -> Result<usize, String> {
+    let mut probes = 0;
+    for p in [0.0, 1e-300, 1e-12, 1e-3, 1.0, 100.0, 1e4, 1e6] {
+        for omega in [0.0, 1.0, 1e2, 1e4, 1e6, 1e9] {
+            for du in [0.0, 1e-6, 1e-3, 1.0, 1e3] {
+                let input = single(p, a * du, n);
+                drv.critical_shear(&input, omega).map_err(|f| {
+                    format!("τ_c(p = {p:e} MPa, ω = {omega:e} N/mm, |Δu_T| = {du:e} mm): {f}")
+                })?;
+                probes += 1;
+            }
+        }
+    }
+    Ok(probes)
 }
 
 /// Compare a rotated run with its base: max relative errors of `t' = Q t` and
