@@ -20,8 +20,9 @@ use std::time::{Duration, Instant};
 
 use contact::{BlankGeometry, ContactEffect, ContactPair, PairSpec};
 use fem_core::{
-    Control, Effect, EnergyTally, FemError, FieldAccess, Forces, NodalField, NodalState, Press,
-    PressStep, Solver, SolverSettings, StableDt, StepContext, StepEnd, ToolMotion, Vec3, rectangle,
+    Control, Effect, EffectId, EnergyTally, FemError, FieldAccess, Forces, NodalField, NodalState,
+    Press, PressStep, RunSummary, Solver, SolverSettings, StableDt, StepContext, StepEnd,
+    ToolMotion, Vec3, rectangle,
 };
 use friction_laws::builtin;
 use plugins_api::{Params, RigidPose, TangentMode, ToolSurface};
@@ -72,7 +73,56 @@ impl Effect for Timed {
     }
 }
 
+/// Blank thickness (mm).
+const T0: f64 = 0.78;
+/// Steps per timing window. On a shared machine the fastest window is the
+/// least disturbed one.
+const WINDOW: u64 = 100;
+
+/// The command-line options.
+struct Options {
+    /// Whether far nodes are skipped (`PairSpec::skip_far`; `--no-skip`).
+    skip: bool,
+    /// Blank divisions per side (`--n N`).
+    n: usize,
+    /// Simulated time (s; `--t-end T`).
+    t_end: f64,
+}
+
+/// The cup set up by hand, ready to run.
+struct Cup {
+    /// The solver, initialised.
+    solver: Solver,
+    /// The timed contact effect.
+    contact: EffectId,
+    /// Number of blank nodes.
+    nn: usize,
+    /// Index of the punch among the tools.
+    punch: usize,
+    /// Index of the blankholder among the tools.
+    holder: usize,
+}
+
+/// What the timed run measured.
+struct Timing {
+    /// The run's summary (steps taken).
+    summary: RunSummary,
+    /// Wall time of the whole run.
+    wall: Duration,
+    /// The fastest window: wall and contact time per step (ms).
+    best: (f64, f64),
+}
+
+/// Parse the options, build the cup, run it timed and print the report.
 fn main() {
+    let options = parse_options();
+    let mut cup = build_cup(&options);
+    let timing = run_timed(&mut cup.solver, cup.contact, options.t_end);
+    report(&options, &cup, &timing);
+}
+
+/// Read `--no-skip`, `--n N` and `--t-end T` from the command line.
+fn parse_options() -> Options {
     let mut skip = true;
     let mut n = 50usize;
     let mut t_end = 2e-3;
@@ -90,15 +140,65 @@ fn main() {
             other => panic!("unknown option `{other}` (--no-skip, --n N, --t-end T)"),
         }
     }
+    Options { skip, n, t_end }
+}
 
-    let t0 = 0.78;
+/// The quarter cup: the blank's shells, the three tools of
+/// `scenes/tools/square-cup-tools.toml` under the press programme, one timed
+/// contact pair per tool, the symmetry planes; initialised.
+fn build_cup(options: &Options) -> Cup {
+    let (mut solver, nodes, quads) = blank(options.n);
+    let nn = nodes.len();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let tools = tools_nurbs::spec::load(&root.join("scenes/tools/square-cup-tools.toml")).unwrap();
+    let names: Vec<String> = tools.iter().map(|t| t.name().to_string()).collect();
+    let index = |name: &str| names.iter().position(|n| n == name).unwrap();
+    let (punch, die, holder) = (index("punch"), index("die"), index("blankholder"));
+    let poses: Vec<RigidPose> = tools.iter().map(|t| t.pose()).collect();
+    let press = press_programme(&names, &poses, punch, holder);
+    let geometry = BlankGeometry::new(nn, &quads).unwrap();
+    let pairs = contact_pairs(
+        options.skip,
+        [
+            (punch, "punch-blank"),
+            (die, "die-blank"),
+            (holder, "holder-blank"),
+        ],
+        &geometry,
+        &nodes,
+    );
+    let boxed: Vec<Box<dyn ToolSurface>> = tools
+        .into_iter()
+        .map(|t| Box::new(t) as Box<dyn ToolSurface>)
+        .collect();
+    let contact = ContactEffect::new(boxed, Some(press), pairs, geometry, vec![T0; nn]).unwrap();
+    let cid = solver.add_effect(Timed {
+        inner: contact,
+        spent: Duration::ZERO,
+    });
+    solver.symmetry("x0", 0).unwrap();
+    solver.symmetry("y0", 1).unwrap();
+    solver.initialize().unwrap();
+    Cup {
+        solver,
+        contact: cid,
+        nn,
+        punch,
+        holder,
+    }
+}
+
+/// The blank: an `n` × `n` mesh of the quarter [0, 75]² mm with its
+/// mid-surface at t0/2, the solver over it (mass scaling to 1e-6 s) and its
+/// Belytschko–Tsay shells of Swift steel. Returns the solver, the nodes and
+/// the quads.
+fn blank(n: usize) -> (Solver, Vec<Vec3>, Vec<[u32; 4]>) {
     let mut mesh = rectangle(75.0, 75.0, n, n).unwrap();
     for p in &mut mesh.nodes {
-        p.z = 0.5 * t0;
+        p.z = 0.5 * T0;
     }
     let nodes = mesh.nodes.clone();
     let quads = mesh.quads.clone();
-    let nn = nodes.len();
     let settings = SolverSettings {
         mass_scaling_dt: Some(1e-6),
         ..Default::default()
@@ -116,18 +216,18 @@ fn main() {
             "blank",
             &nodes,
             &quads,
-            Section::new(t0).unwrap(),
+            Section::new(T0).unwrap(),
             BelytschkoTsay::default(),
             steel,
         )
         .unwrap(),
     );
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let tools = tools_nurbs::spec::load(&root.join("scenes/tools/square-cup-tools.toml")).unwrap();
-    let names: Vec<String> = tools.iter().map(|t| t.name().to_string()).collect();
-    let index = |name: &str| names.iter().position(|n| n == name).unwrap();
-    let (punch, die, holder) = (index("punch"), index("die"), index("blankholder"));
-    let poses: Vec<RigidPose> = tools.iter().map(|t| t.pose()).collect();
+    (solver, nodes, quads)
+}
+
+/// The press programme: clamp (the holder force-controlled at 4.9 kN, 1 ms),
+/// then draw (the holder held, the punch travelling 5 mm in 5 ms).
+fn press_programme(names: &[String], poses: &[RigidPose], punch: usize, holder: usize) -> Press {
     let force_quarter = 4900.0;
     let holder_motion = ToolMotion::Force {
         direction: -Vec3::z(),
@@ -161,15 +261,21 @@ fn main() {
             active_pairs: None,
         },
     ];
-    let press = Press::new(&names, &poses, steps).unwrap();
-    let geometry = BlankGeometry::new(nn, &quads).unwrap();
+    Press::new(names, poses, steps).unwrap()
+}
+
+/// One contact pair per `(tool index, pair name)`, AC friction μ = 0.144
+/// (convective), penalty from the steel's bulk modulus; `skip` sets
+/// `PairSpec::skip_far`.
+fn contact_pairs(
+    skip: bool,
+    tools: [(usize, &str); 3],
+    geometry: &BlankGeometry,
+    nodes: &[Vec3],
+) -> Vec<ContactPair> {
     let bulk = 2.06e5 / (3.0 * (1.0 - 0.6));
     let mut pairs = Vec::new();
-    for (tool, name) in [
-        (punch, "punch-blank"),
-        (die, "die-blank"),
-        (holder, "holder-blank"),
-    ] {
+    for (tool, name) in tools {
         let integ = builtin::integrator(
             "ac",
             &Params::new().with("mu", 0.144),
@@ -181,24 +287,14 @@ fn main() {
             skip_far: skip,
             ..PairSpec::new(name, tool, bulk)
         };
-        pairs.push(ContactPair::new(&spec, integ, &geometry, &nodes).unwrap());
+        pairs.push(ContactPair::new(&spec, integ, geometry, nodes).unwrap());
     }
-    let boxed: Vec<Box<dyn ToolSurface>> = tools
-        .into_iter()
-        .map(|t| Box::new(t) as Box<dyn ToolSurface>)
-        .collect();
-    let contact = ContactEffect::new(boxed, Some(press), pairs, geometry, vec![t0; nn]).unwrap();
-    let cid = solver.add_effect(Timed {
-        inner: contact,
-        spent: Duration::ZERO,
-    });
-    solver.symmetry("x0", 0).unwrap();
-    solver.symmetry("y0", 1).unwrap();
-    solver.initialize().unwrap();
+    pairs
+}
 
-    // Per window of WINDOW steps: wall time and time in contact. On a shared
-    // machine the fastest window is the least disturbed one.
-    const WINDOW: u64 = 100;
+/// Run to `t_end`, measuring per window of [`WINDOW`] steps the wall time and
+/// the time in contact; keeps the fastest window.
+fn run_timed(solver: &mut Solver, cid: EffectId, t_end: f64) -> Timing {
     let wall = Instant::now();
     let mut mark = (Instant::now(), Duration::ZERO);
     let mut best = (f64::INFINITY, f64::INFINITY);
@@ -217,9 +313,45 @@ fn main() {
         })
         .unwrap();
     let wall = wall.elapsed();
-    let steps = summary.steps as f64;
-    let timed: &Timed = solver.effect(cid).unwrap();
+    Timing {
+        summary,
+        wall,
+        best,
+    }
+}
+
+/// Print the set-up, the timings per step, the projections per step, the
+/// state at the end and a full-precision fingerprint.
+fn report(options: &Options, cup: &Cup, timing: &Timing) {
+    let Options { skip, n, .. } = *options;
+    let (solver, nn, wall) = (&cup.solver, cup.nn, timing.wall);
+    let steps = timing.summary.steps as f64;
+    let timed: &Timed = solver.effect(cup.contact).unwrap();
     let c = &timed.inner;
+    let press = c.press().unwrap();
+    println!(
+        "cup {n}x{n} ({nn} nodes), skip_far {skip}, rayon threads {}",
+        rayon::current_num_threads()
+    );
+    println!(
+        "steps {}, simulated {:.3e} s, wall {:.3} s: {:.3} ms/step, contact {:.3} ms/step",
+        timing.summary.steps,
+        solver.time(),
+        wall.as_secs_f64(),
+        wall.as_secs_f64() * 1e3 / steps,
+        timed.spent.as_secs_f64() * 1e3 / steps,
+    );
+    println!(
+        "fastest {WINDOW}-step window: {:.3} ms/step, contact {:.3} ms/step",
+        timing.best.0, timing.best.1
+    );
+    print_projections(c, steps);
+    print_end_state(cup, c, press);
+}
+
+/// Print the tool projections per step, in total and per pair (done, from
+/// flat regions, skipped).
+fn print_projections(c: &ContactEffect, steps: f64) {
     // Contact does nothing at the initial force computation, so every
     // projection belongs to one of the `steps` steps.
     let per_pair: Vec<(f64, f64, f64)> = c
@@ -234,25 +366,6 @@ fn main() {
         })
         .collect();
     let total: f64 = per_pair.iter().map(|p| p.0).sum();
-    let press = c.press().unwrap();
-    let e = solver.ledger();
-    let state = solver.state();
-    println!(
-        "cup {n}x{n} ({nn} nodes), skip_far {skip}, rayon threads {}",
-        rayon::current_num_threads()
-    );
-    println!(
-        "steps {}, simulated {:.3e} s, wall {:.3} s: {:.3} ms/step, contact {:.3} ms/step",
-        summary.steps,
-        solver.time(),
-        wall.as_secs_f64(),
-        wall.as_secs_f64() * 1e3 / steps,
-        timed.spent.as_secs_f64() * 1e3 / steps,
-    );
-    println!(
-        "fastest {WINDOW}-step window: {:.3} ms/step, contact {:.3} ms/step",
-        best.0, best.1
-    );
     println!(
         "projections/step: {total:.0} ({})",
         c.pairs()
@@ -265,6 +378,13 @@ fn main() {
             .collect::<Vec<_>>()
             .join("; ")
     );
+}
+
+/// Print the state at the end (touching points per pair, stroke, forces,
+/// energies, the centre's height) and the full-precision fingerprint.
+fn print_end_state(cup: &Cup, c: &ContactEffect, press: &Press) {
+    let e = cup.solver.ledger();
+    let state = cup.solver.state();
     let touching: Vec<usize> = c
         .pairs()
         .iter()
@@ -278,9 +398,9 @@ fn main() {
     println!(
         "touching at the end: {touching:?}; stroke {:.4} mm; punch force {:.3} N, holder {:.3} N; \
          friction {:.6} mJ, tools' work {:.6} mJ, contact stored {:.6e} mJ; centre z {:.9} mm",
-        -press.displacement(punch).z,
-        c.reactions()[punch].z,
-        c.reactions()[holder].z,
+        -press.displacement(cup.punch).z,
+        c.reactions()[cup.punch].z,
+        c.reactions()[cup.holder].z,
         e.friction,
         e.external_tools,
         c.energy().stored,
