@@ -77,22 +77,13 @@ const T0: f64 = 0.02;
 /// End of the ramp (s).
 const T1: f64 = 0.12;
 
+/// Block thickness (mm).
+const THICKNESS: f64 = 1.0;
+
+/// The whole example, stage by stage (the numbers of the header).
 fn run() {
     // --- 1. Nodes and sets ---------------------------------------------------
-    // A 10 × 10 mm block, 1 mm thick. Contact measures the gap of the
-    // blank's *face* (the nodes are its mid-surface, offset by half the
-    // thickness towards the tool), so nodes at z = t/2 put the face exactly
-    // on the plane z = 0.
-    let side = 10.0;
-    let thickness = 1.0;
-    let z = 0.5 * thickness;
-    let nodes = vec![
-        Vec3::new(0.0, 0.0, z),
-        Vec3::new(side, 0.0, z),
-        Vec3::new(side, side, z),
-        Vec3::new(0.0, side, z),
-    ];
-    let sets = BTreeMap::from([("block".to_string(), vec![0, 1, 2, 3])]);
+    let (nodes, sets) = block_nodes_and_sets();
 
     // --- 2. The solver --------------------------------------------------------
     let mut solver = Solver::from_nodes(&nodes, sets, SolverSettings::default())
@@ -106,6 +97,48 @@ fn run() {
         .expect("the set exists and the mass is positive");
 
     // --- 4. Springs -----------------------------------------------------------
+    add_block_springs(&mut solver, &nodes);
+
+    // --- 5. The tool ----------------------------------------------------------
+    let tools = plane_tool();
+
+    // --- 6. The contact pair ----------------------------------------------------
+    let contact_id = add_contact(&mut solver, &nodes, tools);
+
+    // --- 7. Loads and amplitudes ------------------------------------------------
+    let (t_max, ramp) = add_loads(&mut solver);
+
+    // Set-up: masses gathered, effects ordered, the first stable step found.
+    initialize_and_print_setup(&mut solver, t_max);
+
+    // --- 8. Run, watching the contact points ----------------------------------
+    let slip_at = run_watching_contact(&mut solver, contact_id, t_max, &ramp);
+    check_slip_onset(slip_at, t_max, &ramp);
+
+    // --- 9. The energy ledger ----------------------------------------------------
+    check_energy_ledger(&solver);
+}
+
+/// Stage 1: the block's four nodes and the node set `block` that holds them.
+fn block_nodes_and_sets() -> (Vec<Vec3>, BTreeMap<String, Vec<u32>>) {
+    // A 10 × 10 mm block, 1 mm thick. Contact measures the gap of the
+    // blank's *face* (the nodes are its mid-surface, offset by half the
+    // thickness towards the tool), so nodes at z = t/2 put the face exactly
+    // on the plane z = 0.
+    let side = 10.0;
+    let z = 0.5 * THICKNESS;
+    let nodes = vec![
+        Vec3::new(0.0, 0.0, z),
+        Vec3::new(side, 0.0, z),
+        Vec3::new(side, side, z),
+        Vec3::new(0.0, side, z),
+    ];
+    let sets = BTreeMap::from([("block".to_string(), vec![0, 1, 2, 3])]);
+    (nodes, sets)
+}
+
+/// Stage 4: the block's stiffness, six springs (an effect) between its nodes.
+fn add_block_springs(solver: &mut Solver, nodes: &[Vec3]) {
     // Four edges and two diagonals, 1e5 N/mm each: stiff enough that the
     // block deforms by micrometres, so it moves as one body.
     let springs = [(0, 1), (1, 2), (2, 3), (3, 0), (0, 2), (1, 3)]
@@ -120,8 +153,10 @@ fn run() {
     solver.add_effect(
         Springs::new("block springs", nodes.len(), springs).expect("valid node indices and k > 0"),
     );
+}
 
-    // --- 5. The tool ----------------------------------------------------------
+/// Stage 5: the tool, an exact NURBS plane, as the list of tools contact owns.
+fn plane_tool() -> Vec<Box<dyn ToolSurface>> {
     // A 100 × 100 mm plane through the origin, its normal (the side the blank
     // may be on) pointing up. Tools are rigid: a press could move them, and
     // contact only sees them through the `ToolSurface` trait.
@@ -135,9 +170,17 @@ fn run() {
         },
     )
     .expect("positive length and width");
-    let tools: Vec<Box<dyn ToolSurface>> = vec![Box::new(tool)];
+    vec![Box::new(tool)]
+}
 
-    // --- 6. The contact pair ----------------------------------------------------
+/// Stage 6: the contact pair (the plane against every node, AC friction)
+/// inside a `ContactEffect`; returns the effect's id, to read the contact
+/// state back during the run.
+fn add_contact(
+    solver: &mut Solver,
+    nodes: &[Vec3],
+    tools: Vec<Box<dyn ToolSurface>>,
+) -> fem_core::EffectId {
     // The blank's geometry: one quad over the four nodes gives each node a
     // quarter of the 100 mm² face as its area (pressure = normal force / area).
     let quads = [[0u32, 1, 2, 3]];
@@ -154,14 +197,17 @@ fn run() {
     // follows the blank's bulk modulus (steel's E/(3(1 - 2ν)) here, in MPa)
     // and the pair's penalty scale (default 0.1; docs/contact.md).
     let spec = PairSpec::new("plane-block", 0, 1.7e5);
-    let pair = ContactPair::new(&spec, friction, &geometry, &nodes).expect("valid pair settings");
+    let pair = ContactPair::new(&spec, friction, &geometry, nodes).expect("valid pair settings");
     // No press: the plane stays where it was built.
-    let contact = ContactEffect::new(tools, None, vec![pair], geometry, vec![thickness; 4])
+    let contact = ContactEffect::new(tools, None, vec![pair], geometry, vec![THICKNESS; 4])
         .expect("the pair's tool exists and there is one thickness per node");
-    // Keep the effect's id to read the contact state back during the run.
-    let contact_id = solver.add_effect(contact);
+    solver.add_effect(contact)
+}
 
-    // --- 7. Loads and amplitudes ------------------------------------------------
+/// Stage 7: the normal force `N` (a smooth step over 10 ms) and the pull `T`
+/// (a linear ramp to `2 μ N` from `T0` to `T1`). Returns `2 μ N` and the
+/// pull's ramp.
+fn add_loads(solver: &mut Solver) -> (f64, Amplitude) {
     // A load is a force per node times a time function A(t). N rises over
     // 10 ms with a C² smooth step (no jerk to set the block ringing) ...
     solver
@@ -183,8 +229,12 @@ fn run() {
             amplitude: ramp.clone(),
         })
         .expect("valid load");
+    (t_max, ramp)
+}
 
-    // Set-up: masses gathered, effects ordered, the first stable step found.
+/// Set-up: masses gathered, effects ordered, the first stable step found;
+/// print the problem and the time step.
+fn initialize_and_print_setup(solver: &mut Solver, t_max: f64) {
     let setup = solver.initialize().expect("a valid model");
     println!(
         "Step 2: block on a plane, N = {N} N, AC mu = {MU}; T ramps to 2 mu N = {t_max} N over \
@@ -198,8 +248,16 @@ fn run() {
             .as_ref()
             .map_or("dt_max", |l| solver.effect_name(l.effect))
     );
+}
 
-    // --- 8. Run, watching the contact points ----------------------------------
+/// Stage 8: run to `T1`, printing a history every 10 ms; returns the time
+/// of the first step at which all four points slipped.
+fn run_watching_contact(
+    solver: &mut Solver,
+    contact_id: fem_core::EffectId,
+    t_max: f64,
+    ramp: &Amplitude,
+) -> Option<f64> {
     // The callback runs after every step with the solver (read-only) and the
     // step's report; it could also stop the run (`Control::Stop`).
     let mut slip_at: Option<f64> = None;
@@ -241,9 +299,12 @@ fn run() {
             Control::Continue
         })
         .expect("the run completes");
+    slip_at
+}
 
-    // The pull at the first step where every point slipped, against μ N
-    // (docs/benchmarks.md §3; tolerance 1 %).
+/// The pull at the first step where every point slipped, against μ N
+/// (docs/benchmarks.md §3; tolerance 1 %).
+fn check_slip_onset(slip_at: Option<f64>, t_max: f64, ramp: &Amplitude) {
     assert!(slip_at.is_some(), "the block never slid: T reached 2 mu N");
     let t_slip = t_max * ramp.value(slip_at.unwrap_or_default());
     let mu_n = MU * N;
@@ -253,8 +314,11 @@ fn run() {
         100.0 * err
     );
     assert!(err < 0.01, "T_slip = {t_slip} N vs mu N = {mu_n} N");
+}
 
-    // --- 9. The energy ledger ----------------------------------------------------
+/// Stage 9: print the energy ledger and check that friction dissipated
+/// energy and that the books close.
+fn check_energy_ledger(solver: &Solver) {
     // Work of the loads = kinetic + springs (internal) + stored contact
     // (penalty and stick springs) + frictional dissipation, up to the
     // balance error (fem-core's energy module documents each term).
