@@ -66,10 +66,10 @@
 
 use contact::{BlankGeometry, ContactEffect, ContactPair, PairSpec, PenaltySettings};
 use fem_core::{
-    Amplitude, Control, EnergyLedger, ForceLaw, Press, PressStep, Solver, SolverSettings, StepEnd,
-    ToolMotion, Vec3,
+    Amplitude, Control, EnergyLedger, ForceLaw, Mesh, Press, PressStep, Solver, SolverSettings,
+    StepEnd, ToolMotion, Vec3,
 };
-use formsim::scene;
+use formsim::scene::{self, Model};
 use friction_laws::builtin;
 use plugins_api::{Params, TangentMode, ToolSurface};
 use shell_elements::{BelytschkoTsay, Hardening, J2PlaneStress, RuleKind, Section, ShellSet};
@@ -115,26 +115,63 @@ struct Cup {
 /// from `scenes/square-cup.toml` with the overrides of [`scene_overrides`].
 fn build_in_code() -> Cup {
     // --- Mesh -------------------------------------------------------------------
-    // A structured 10 × 10 quad mesh of the quarter blank [0, 75]², lifted so
-    // that its mid-surface lies t0/2 above the die face z = 0. `rectangle`
-    // also names the edge node sets x0, x1, y0, y1 and `all`.
+    let mesh = blank_mesh();
+
+    // --- Solver -----------------------------------------------------------------
+    let mut solver = mass_scaled_solver(&mesh);
+
+    // --- Shells: section, material, element -------------------------------------
+    solver.add_effect(blank_shells(&mesh));
+
+    // --- Tools --------------------------------------------------------------------
+    let tools = cup_tools();
+
+    // --- Press programme ------------------------------------------------------------
+    let press = press_programme(&tools);
+    let end_time = press.nominal_duration();
+
+    // --- Contact ----------------------------------------------------------------------
+    let contact = solver.add_effect(contact_effect(&mesh, tools, press));
+
+    // --- Boundary conditions ----------------------------------------------------------
+    // Symmetry planes x = 0 and y = 0: normal translation and in-plane
+    // rotations fixed.
+    solver.symmetry("x0", 0).expect("set x0 exists");
+    solver.symmetry("y0", 1).expect("set y0 exists");
+
+    Cup {
+        solver,
+        contact,
+        end_time,
+    }
+}
+
+/// The blank's mesh: a structured 10 × 10 quad mesh of the quarter blank
+/// [0, 75]², lifted so that its mid-surface lies t0/2 above the die face
+/// z = 0. `rectangle` also names the edge node sets x0, x1, y0, y1 and `all`.
+fn blank_mesh() -> Mesh {
     let mut mesh = fem_core::rectangle(75.0, 75.0, DIVISIONS, DIVISIONS)
         .expect("positive sizes and divisions");
     for p in &mut mesh.nodes {
         *p += Vec3::new(0.0, 0.0, 0.5 * T0);
     }
+    mesh
+}
 
-    // --- Solver -----------------------------------------------------------------
-    // Fixed-step mass scaling at 0.5 µs: elements (and contact springs) whose
-    // stable step is shorter get mass added until it is not ([solver] of the scene).
+/// The solver over the mesh, with fixed-step mass scaling at 0.5 µs:
+/// elements (and contact springs) whose stable step is shorter get mass
+/// added until it is not ([solver] of the scene).
+fn mass_scaled_solver(mesh: &Mesh) -> Solver {
     let settings = SolverSettings {
         safety_factor: 0.9,
         mass_scaling_dt: Some(5e-7),
         ..SolverSettings::default()
     };
-    let mut solver = Solver::new(&mesh, settings).expect("a valid mesh and settings");
+    Solver::new(mesh, settings).expect("a valid mesh and settings")
+}
 
-    // --- Shells: section, material, element -------------------------------------
+/// The blank's shells: section, material and element over every quad.
+fn blank_shells(mesh: &Mesh) -> ShellSet<BelytschkoTsay, J2PlaneStress> {
     // 5 Gauss points through the thickness, hourglass coefficient 0.05.
     let section = Section::new(T0)
         .and_then(|s| s.with_rule(RuleKind::Gauss, 5))
@@ -146,7 +183,7 @@ fn build_in_code() -> Cup {
         J2PlaneStress::new(206_000.0, 0.30, 7.85e-9, hardening).expect("valid elastic constants");
     // Belytschko–Tsay with its defaults (warping correction on, drilling
     // coefficient 1e-3): what a scene gets when it names no other value.
-    let shells = ShellSet::new(
+    ShellSet::new(
         "blank",
         &mesh.nodes,
         &mesh.quads,
@@ -154,14 +191,16 @@ fn build_in_code() -> Cup {
         BelytschkoTsay::default(),
         material,
     )
-    .expect("valid shells");
-    solver.add_effect(shells);
+    .expect("valid shells")
+}
 
-    // --- Tools --------------------------------------------------------------------
-    // Exact NURBS, quarter models. Each builder bakes its placement into the
-    // geometry (the pose starts at the identity; the press moves it from
-    // there). Punch and holder start on the blank's top face (z = t0) and
-    // face down; the die face is z = 0, facing up.
+/// The three tools, exact NURBS quarter models, in index order (`HOLDER`,
+/// `DIE`, `PUNCH`: see the header on why order matters).
+fn cup_tools() -> Vec<Box<dyn ToolSurface>> {
+    // Each builder bakes its placement into the geometry (the pose starts at
+    // the identity; the press moves it from there). Punch and holder start
+    // on the blank's top face (z = t0) and face down; the die face is z = 0,
+    // facing up.
     let on_top = Placement {
         origin: Vec3::new(0.0, 0.0, T0),
         facing: Facing::Down,
@@ -211,16 +250,17 @@ fn build_in_code() -> Cup {
         &on_top,
     )
     .expect("valid punch");
-    // In index order (HOLDER, DIE, PUNCH): see the header on why order matters.
-    let tools: Vec<Box<dyn ToolSurface>> = vec![Box::new(holder), Box::new(die), Box::new(punch)];
+    vec![Box::new(holder), Box::new(die), Box::new(punch)]
+}
 
-    // --- Press programme ------------------------------------------------------------
-    // Double action: (1) the punch moves 0.01 mm to touch the blank; (2) the
-    // holder force rises to 4.9 kN (force control: the holder's travel is
-    // integrated from the force and the contact reaction, with a 10 kg
-    // mass on its free degree of freedom); (3) the draw, the holder force
-    // held, the punch travelling with the slow-start profile (speed ∝
-    // ξ⁴(1 - ξ)², gentle while the blank is still elastic).
+/// The double-action press programme that moves `tools` (from their poses).
+fn press_programme(tools: &[Box<dyn ToolSurface>]) -> Press {
+    // (1) the punch moves 0.01 mm to touch the blank; (2) the holder force
+    // rises to 4.9 kN (force control: the holder's travel is integrated from
+    // the force and the contact reaction, with a 10 kg mass on its free
+    // degree of freedom); (3) the draw, the holder force held, the punch
+    // travelling with the slow-start profile (speed ∝ ξ⁴(1 - ξ)², gentle
+    // while the blank is still elastic).
     let down = Vec3::new(0.0, 0.0, -1.0);
     let holder_force = |amplitude| ToolMotion::Force {
         direction: down,
@@ -275,15 +315,16 @@ fn build_in_code() -> Cup {
     ];
     let names = TOOLS.map(String::from);
     let poses: Vec<_> = tools.iter().map(|t| t.pose()).collect();
-    let press = Press::new(&names, &poses, steps).expect("a valid programme");
-    let end_time = press.nominal_duration();
+    Press::new(&names, &poses, steps).expect("a valid programme")
+}
 
-    // --- Contact ----------------------------------------------------------------------
-    // One pair per tool against every blank node, each with its own
-    // integrator (law × formulation; the pairs keep per-point state). The
-    // penalty stiffness follows the blank's bulk modulus and the scene's
-    // penalty scale 0.1; nodes farther than 1 mm from a tool's box are not
-    // projected.
+/// The contact effect: one pair per tool against every blank node, the
+/// tools, the press that moves them and the blank's nodal geometry.
+fn contact_effect(mesh: &Mesh, tools: Vec<Box<dyn ToolSurface>>, press: Press) -> ContactEffect {
+    // Each pair has its own integrator (law × formulation; the pairs keep
+    // per-point state). The penalty stiffness follows the blank's bulk
+    // modulus and the scene's penalty scale 0.1; nodes farther than 1 mm
+    // from a tool's box are not projected.
     let geometry = BlankGeometry::new(mesh.nodes.len(), &mesh.quads).expect("a valid mesh");
     let bulk = 206_000.0 / (3.0 * (1.0 - 2.0 * 0.30));
     let pairs = TOOLS
@@ -306,30 +347,16 @@ fn build_in_code() -> Cup {
             ContactPair::new(&spec, friction, &geometry, &mesh.nodes).expect("valid pair")
         })
         .collect();
-    // The effect owns the tools, the press that moves them, the pairs and the
-    // blank's nodal geometry; it starts from the initial thickness and then
-    // reads the shells' nodal thickness every step (a shared field).
-    let contact = ContactEffect::new(
+    // The effect starts from the initial thickness and then reads the
+    // shells' nodal thickness every step (a shared field).
+    ContactEffect::new(
         tools,
         Some(press),
         pairs,
         geometry,
         vec![T0; mesh.nodes.len()],
     )
-    .expect("valid contact");
-    let contact = solver.add_effect(contact);
-
-    // --- Boundary conditions ----------------------------------------------------------
-    // Symmetry planes x = 0 and y = 0: normal translation and in-plane
-    // rotations fixed.
-    solver.symmetry("x0", 0).expect("set x0 exists");
-    solver.symmetry("y0", 1).expect("set y0 exists");
-
-    Cup {
-        solver,
-        contact,
-        end_time,
-    }
+    .expect("valid contact")
 }
 
 /// The `--set` overrides that make `scenes/square-cup.toml` this cup.
@@ -370,9 +397,26 @@ fn ledger_bits(e: &EnergyLedger) -> [u64; 8] {
     .map(f64::to_bits)
 }
 
+/// The whole example: build and run the cup in code, check it, then check
+/// it against the same cup built from the scene file.
 fn run() {
     let started = Instant::now();
     let mut cup = build_in_code();
+    initialize_and_print_setup(&mut cup);
+
+    // --- Run: history of the draw, mean holder force --------------------------------
+    let draw = run_draw(&mut cup);
+    let in_code_time = started.elapsed().as_secs_f64();
+    check_end_of_draw(&cup, draw.punch_max, in_code_time);
+    check_holder_force(&draw);
+
+    // --- The check: the same cup from the scene file ---------------------------------
+    check_against_scene(&cup);
+}
+
+/// Set-up (masses, effects, first stable step); print the model's size and
+/// time step.
+fn initialize_and_print_setup(cup: &mut Cup) {
     let setup = cup.solver.initialize().expect("a valid model");
     println!(
         "Step 4: NUMISHEET'93 square cup in code, quarter model, {DIVISIONS} x {DIVISIONS} shells, \
@@ -385,8 +429,22 @@ fn run() {
         setup.added_mass_percent,
         cup.end_time
     );
+}
 
-    // --- Run: history of the draw, mean holder force --------------------------------
+/// What the run records along the draw.
+struct DrawHistory {
+    /// Sum of the holder force over the draw's steps (N).
+    holder_sum: f64,
+    /// Steps summed in `holder_sum`.
+    holder_n: u32,
+    /// Largest punch force (N, full cup).
+    punch_max: f64,
+}
+
+/// Run the press programme to its end, printing a history of the draw every
+/// 0.25 ms; record the punch's largest force and the holder force during
+/// the draw.
+fn run_draw(cup: &mut Cup) -> DrawHistory {
     println!(" stroke (mm)  punch (kN)  holder (kN)  internal (J)  friction (J)  kinetic/internal");
     let draw_starts = 1.1e-3; // after "punch contact" and "clamp"
     let (mut holder_sum, mut holder_n) = (0.0, 0u32);
@@ -416,7 +474,17 @@ fn run() {
             Control::Continue
         })
         .expect("the cup runs to the end of its programme");
-    let in_code_time = started.elapsed().as_secs_f64();
+    DrawHistory {
+        holder_sum,
+        holder_n,
+        punch_max,
+    }
+}
+
+/// Print the stroke, the punch force and the energy ledger after the draw
+/// (`in_code_time` s of wall time); check that the books close and that the
+/// blank was drawn.
+fn check_end_of_draw(cup: &Cup, punch_max: f64, in_code_time: f64) {
     let (stroke, punch, _) = forces(&cup.solver, cup.contact);
     let e = *cup.solver.ledger();
     println!(
@@ -445,9 +513,12 @@ fn run() {
         e.balance_error
     );
     assert!(e.plastic > 0.0 && e.friction > 0.0 && stroke > 0.99 * DRAW);
-    // Force control: the holder delivers its 4.9 kN through the draw
-    // (mean of the contact reaction; 2 %).
-    let holder_mean = holder_sum / f64::from(holder_n.max(1));
+}
+
+/// Force control: the holder delivers its 4.9 kN through the draw (mean of
+/// the contact reaction; 2 %).
+fn check_holder_force(draw: &DrawHistory) {
+    let holder_mean = draw.holder_sum / f64::from(draw.holder_n.max(1));
     let err = (holder_mean - HOLDER_FORCE).abs() / HOLDER_FORCE;
     println!(
         "holder: mean force during the draw {holder_mean:.1} N, prescribed {HOLDER_FORCE} N \
@@ -455,8 +526,11 @@ fn run() {
         100.0 * err
     );
     assert!(err < 0.02, "holder delivered {holder_mean} N");
+}
 
-    // --- The check: the same cup from the scene file ---------------------------------
+/// Build the same cup from `scenes/square-cup.toml` with the overrides of
+/// [`scene_overrides`], run it to the end and compare it with `cup`.
+fn check_against_scene(cup: &Cup) {
     let overrides = scene_overrides();
     println!(
         "\nthe same cup from scenes/square-cup.toml --set {}",
@@ -476,6 +550,13 @@ fn run() {
         .solver
         .run_until(model.end_time, &mut |_: &Solver, _| Control::Continue)
         .expect("the scene's cup runs to its end");
+    compare_to_the_bit(cup, &model, started);
+}
+
+/// The cup built in code against the one built from the scene (run since
+/// `started`): time steps, nodal positions and velocities, punch and holder
+/// forces and every energy must be identical to the bit.
+fn compare_to_the_bit(cup: &Cup, model: &Model, started: Instant) {
     let contact = model.contact.expect("the scene has tools");
     let a = &cup.solver;
     let b = &model.solver;
