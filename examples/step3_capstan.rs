@@ -68,8 +68,8 @@
 //! ```
 
 use fem_core::{Control, Solver, Vec3};
-use formsim::scene::schema::MeshSpec;
-use formsim::scene::{self, LoadedScene};
+use formsim::scene::schema::{CapstanOutput, MeshSpec};
+use formsim::scene::{self, LoadedScene, Model, Scene};
 use shell_elements::{BelytschkoTsay, J2PlaneStress, ShellSet};
 use std::path::Path;
 use std::time::Instant;
@@ -78,13 +78,30 @@ use std::time::Instant;
 /// from any working directory.
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/capstan.toml");
 
+/// The whole example: load and build the scene, run it, check the capstan
+/// ratio and the energy books, print the tension along the wrap.
 fn run() {
     println!("Step 3: capstan (belt friction) from scenes/capstan.toml\n");
     let loaded: LoadedScene =
         scene::load(Path::new(SCENE), &[]).expect("scenes/capstan.toml is a valid scene");
     let s = &loaded.scene;
-    // What the scene says about its own analytic reference (its
-    // `[output.capstan]` table) and the Coulomb coefficient of its law.
+    let (capstan, mu, theta) = capstan_reference(s);
+
+    // The model: solver, shells, contact (drum, pair, law), loads and
+    // boundary conditions, all from the scene.
+    let mut model = scene::build(&loaded).expect("the scene builds");
+    print_model(s, &model, capstan, mu);
+
+    let pull = run_averaging_pull(&mut model, capstan);
+    check_capstan_ratio(&pull, capstan, mu, theta);
+    check_energy_ledger(&model);
+    print_tension_along_wrap(s, &model, capstan, mu);
+}
+
+/// What the scene says about its own analytic reference (its
+/// `[output.capstan]` table) and the Coulomb coefficient of its law: the
+/// table, `μ` and the wrap angle `θ` (rad).
+fn capstan_reference(s: &Scene) -> (&CapstanOutput, f64, f64) {
     let capstan = s
         .output
         .capstan
@@ -96,10 +113,11 @@ fn run() {
     );
     let mu = s.contact.params["ac"]["mu"];
     let theta = capstan.angle_deg.to_radians();
+    (capstan, mu, theta)
+}
 
-    // The model: solver, shells, contact (drum, pair, law), loads and
-    // boundary conditions, all from the scene.
-    let mut model = scene::build(&loaded).expect("the scene builds");
+/// Print what the scene built and what the run will measure.
+fn print_model(s: &Scene, model: &Model, capstan: &CapstanOutput, mu: f64) {
     println!(
         "scene `{}`: {} shells, {} nodes, tools [{}], law {} x {}, end time {} s",
         s.scene.name,
@@ -119,9 +137,23 @@ fn run() {
         capstan.angle_deg,
         capstan.average_from
     );
+}
 
-    // Step the solver to the end, averaging the reaction of the pulled end
-    // (the force its prescribed motion needs, i.e. T_out) once sliding is steady.
+/// The pulled end's force averaged over steady sliding.
+struct PullForce {
+    /// Mean force (N): `T_out`.
+    mean: f64,
+    /// Steps averaged.
+    samples: u32,
+    /// Steps run.
+    steps: u64,
+    /// Wall time of the run (s).
+    seconds: f64,
+}
+
+/// Step the solver to the end, averaging the reaction of the pulled end
+/// (the force its prescribed motion needs, i.e. T_out) once sliding is steady.
+fn run_averaging_pull(model: &mut Model, capstan: &CapstanOutput) -> PullForce {
     let axis = match capstan.pull_dof.as_str() {
         "uy" => 1,
         "uz" => 2,
@@ -144,25 +176,38 @@ fn run() {
         })
         .expect("the capstan runs to its end time");
     assert!(samples > 0, "no step after average_from");
-    let t_out = sum / f64::from(samples);
+    PullForce {
+        mean: sum / f64::from(samples),
+        samples,
+        steps: summary.steps,
+        seconds: started.elapsed().as_secs_f64(),
+    }
+}
+
+/// `T_out/T_in` against Euler–Eytelwein's `exp(μ θ)` (docs/benchmarks.md §3),
+/// tolerance 2 %.
+fn check_capstan_ratio(pull: &PullForce, capstan: &CapstanOutput, mu: f64, theta: f64) {
+    let t_out = pull.mean;
     let measured = t_out / capstan.hold_force;
     let analytic = (mu * theta).exp();
     let err = (measured - analytic).abs() / analytic;
     println!(
-        "T_out = {t_out:.2} N (mean over {samples} of {} steps, {:.1} s), T_out/T_in = \
+        "T_out = {t_out:.2} N (mean over {} of {} steps, {:.1} s), T_out/T_in = \
          {measured:.4}, exp(mu theta) = {analytic:.4} (rel. error {:.2} %, tolerance 2 %)",
-        summary.steps,
-        started.elapsed().as_secs_f64(),
+        pull.samples,
+        pull.steps,
+        pull.seconds,
         100.0 * err
     );
-    // Euler–Eytelwein (docs/benchmarks.md §3), tolerance 2 %.
     assert!(
         err < 0.02,
         "T_out/T_in = {measured} vs exp(mu theta) = {analytic}"
     );
+}
 
-    // The ledger: nearly all the work of the pull and the hanging load is
-    // dissipated by friction.
+/// The ledger: nearly all the work of the pull and the hanging load is
+/// dissipated by friction.
+fn check_energy_ledger(model: &Model) {
     let e = model.solver.ledger();
     println!(
         "energy (mJ): external work {:.1} = kinetic {:.1} + internal {:.1} + contact {:.1} + \
@@ -170,13 +215,15 @@ fn run() {
         e.external, e.kinetic, e.internal, e.contact, e.friction, e.balance_error
     );
     assert!(e.friction > 0.0 && e.balance_error < 0.01, "{e:?}");
+}
 
-    // The tension along the wrap, from the shells' membrane resultants N_xx
-    // (N/mm, element frame: x along the strip) times the element width,
-    // summed over the two elements across the strip. The scene chose
-    // Belytschko–Tsay shells and an elastic material (J2 that never
-    // yields): the handle's `get` returns the shells as that `ShellSet`
-    // type (`None` for any other element or material).
+/// The tension along the wrap, from the shells' membrane resultants N_xx
+/// (N/mm, element frame: x along the strip) times the element width,
+/// summed over the two elements across the strip, beside `T_in exp(μ φ)`.
+fn print_tension_along_wrap(s: &Scene, model: &Model, capstan: &CapstanOutput, mu: f64) {
+    // The scene chose Belytschko–Tsay shells and an elastic material (J2
+    // that never yields): the handle's `get` returns the shells as that
+    // `ShellSet` type (`None` for any other element or material).
     let MeshSpec::WrappedStrip { width, .. } = s.blank.mesh else {
         panic!("scenes/capstan.toml meshes a wrapped strip");
     };
