@@ -290,6 +290,71 @@ struct Lanes<'a, T> {
     drilling: &'a mut [T; 4],
 }
 
+/// What the nodes of an element are loaded with at t_{n+1}.
+#[derive(Clone, Copy)]
+struct NodeLoads<T> {
+    /// Membrane forces and moments `[xx, yy, xy]` (N/mm, N·mm/mm).
+    n: [T; 3],
+    m: [T; 3],
+    /// Transverse shear forces `[Q_x, Q_y]` (N/mm).
+    q: [T; 2],
+    /// Hourglass generalised forces.
+    qf: [T; 5],
+    /// The drilling penalty's `S_x`, `S_y`.
+    s: [T; 2],
+    /// Half the drilling penalty's moment sum.
+    hmd: T,
+}
+
+/// Hourglass control: the five hourglass rates (membrane, bending, warping
+/// out-of-plane) with the warped element's rigid rotation removed, turned
+/// into the frame of t_{n+1}, the stiffness-based generalised forces
+/// advanced in `hg` (kept in that frame), and their work in the step.
+#[inline(always)]
+fn hourglass<T: Real>(md: &Moduli, rt: &Rates<T>, t: T, dt: f64, hg: &mut [T; 5]) -> ([T; 5], T) {
+    let zero = T::splat(0.0);
+    let (xl, yl, vl, wl) = (&rt.fr.x, &rt.fr.y, &rt.vl, &rt.wl);
+    let (b1, b2) = (&rt.b1, &rt.b2);
+    let gam = hourglass_vectors(xl, yl, b1, b2);
+    // Warped element: the rigid rotation about the in-plane axes moves the
+    // nodes in-plane by (ω̄y ẑ_I, −ω̄x ẑ_I) and is removed from the membrane
+    // hourglass rates (`formulation::remove_warp_rotation`; the centre B is
+    // orthogonal to ẑ, so only these rates change, by ∓ω̄ γ·ẑ with
+    // γ·ẑ = ½ h·ẑ).
+    let gz = rt.fr.warp * 0.5;
+    let mut q = [-rt.oy * gz, rt.ox * gz, zero, zero, zero];
+    for i in 0..4 {
+        q[0] = gam[i].madd(vl[i][0], q[0]);
+        q[1] = gam[i].madd(vl[i][1], q[1]);
+        q[2] = gam[i].madd(wl[i][0], q[2]);
+        q[3] = gam[i].madd(wl[i][1], q[3]);
+        let tilt = yl[i].madd(wl[i][0], -(xl[i] * wl[i][1]));
+        q[4] = gam[i].madd((-tilt).madd(T::splat(0.5), vl[i][2]), q[4]);
+    }
+    // Into the frame of t_{n+1}, where the hourglass forces are kept.
+    [q[0], q[1]] = turn_vector(rt.turn, [q[0], q[1]]);
+    [q[2], q[3]] = turn_vector(rt.turn, [q[2], q[3]]);
+    let mut bb = zero;
+    for i in 0..4 {
+        bb += b2[i].madd(b2[i], b1[i] * b1[i]);
+    }
+    let (r, e, g, ks, a) = (md.hourglass, md.young, md.shear, md.ks, rt.fr.area);
+    let cm = t * (r * e) * a * bb / 8.0;
+    let ct = t * (r * e) * t * t * a * bb / 192.0;
+    let cw = t * (r * ks * g) * a * bb / 8.0;
+    let cs = [cm, cm, ct, ct, cw];
+    let mut d_hg = zero;
+    let mut qf = [zero; 5];
+    for k in 0..5 {
+        let old = hg[k];
+        let new = (cs[k] * q[k]).madd(T::splat(dt), old);
+        hg[k] = new;
+        qf[k] = new;
+        d_hg = ((old + new) * 0.5 * q[k]).madd(T::splat(dt), d_hg);
+    }
+    (qf, d_hg)
+}
+
 impl BelytschkoTsay {
     /// Four elements in SIMD lanes: with AVX2 where the processor has it
     /// (checked once, cached by the standard library), else the same lane
@@ -645,13 +710,11 @@ impl BelytschkoTsay {
             gxz,
             gyz,
             end,
-            turn,
             ..
         } = rt;
         let (c, ox, oy, gxz, gyz) = (*c, *ox, *oy, *gxz, *gyz);
         // The rates and the generalised stresses' updates in the midpoint
-        // frame (`a`, `xl`, `gam`, …); the nodal forces at t_{n+1} (`ae`,
-        // `exl`, `egam`, …).
+        // frame (`a`, `xl`, …); the nodal forces at t_{n+1} (`nodal_forces`).
         let a = fr.area;
         let zero = T::splat(0.0);
         let (xl, yl) = (&fr.x, &fr.y);
@@ -665,59 +728,8 @@ impl BelytschkoTsay {
         *st.shear = tau;
         let shear_work =
             t * 0.5 * (tau_old[1] + tau[1]).madd(gyz, (tau_old[0] + tau[0]) * gxz) * dt;
-        let (nr, mr) = (sr.n, sr.m);
-        let (qx, qy) = (t * tau[0], t * tau[1]);
-
-        // Hourglass control.
-        let gam = hourglass_vectors(xl, yl, b1, b2);
-        let (ae, ce, exl, eyl, eb1, eb2, esb) = (
-            end.fr.area,
-            end.c,
-            &end.fr.x,
-            &end.fr.y,
-            &end.b1,
-            &end.b2,
-            &end.sb,
-        );
-        let egam = hourglass_vectors(exl, eyl, eb1, eb2);
-        let egz = end.fr.warp * 0.5;
-        // Warped element: the rigid rotation about the in-plane axes moves
-        // the nodes in-plane by (ω̄y ẑ_I, −ω̄x ẑ_I) and is removed from the
-        // membrane hourglass rates (`formulation::remove_warp_rotation`; the
-        // centre B is orthogonal to ẑ, so only these rates change, by ∓ω̄ γ·ẑ
-        // with γ·ẑ = ½ h·ẑ).
-        let gz = fr.warp * 0.5;
-        let mut q = [-oy * gz, ox * gz, zero, zero, zero];
-        for i in 0..4 {
-            q[0] = gam[i].madd(vl[i][0], q[0]);
-            q[1] = gam[i].madd(vl[i][1], q[1]);
-            q[2] = gam[i].madd(wl[i][0], q[2]);
-            q[3] = gam[i].madd(wl[i][1], q[3]);
-            let tilt = yl[i].madd(wl[i][0], -(xl[i] * wl[i][1]));
-            q[4] = gam[i].madd((-tilt).madd(T::splat(0.5), vl[i][2]), q[4]);
-        }
-        // Into the frame of t_{n+1}, where the hourglass forces are kept.
-        [q[0], q[1]] = turn_vector(*turn, [q[0], q[1]]);
-        [q[2], q[3]] = turn_vector(*turn, [q[2], q[3]]);
-        let mut bb = zero;
-        for i in 0..4 {
-            bb += b2[i].madd(b2[i], b1[i] * b1[i]);
-        }
-        let (r, e) = (md.hourglass, md.young);
-        let cm = t * (r * e) * a * bb / 8.0;
-        let ct = t * (r * e) * t * t * a * bb / 192.0;
-        let cw = t * (r * ks * g) * a * bb / 8.0;
-        let cs = [cm, cm, ct, ct, cw];
-        let hg = st.hourglass;
-        let mut d_hg = zero;
-        let mut qf = [zero; 5];
-        for k in 0..5 {
-            let old = hg[k];
-            let new = (cs[k] * q[k]).madd(T::splat(dt), old);
-            hg[k] = new;
-            qf[k] = new;
-            d_hg = ((old + new) * 0.5 * q[k]).madd(T::splat(dt), d_hg);
-        }
+        let (qf, d_hg) = hourglass(md, rt, t, dt, st.hourglass);
+        let (exl, eyl) = (&end.fr.x, &end.fr.y);
 
         // Relative drilling penalty (about the nodal normals with the correction).
         let tilt = if self.warping_correction {
@@ -737,19 +749,60 @@ impl BelytschkoTsay {
             (xl, yl),
             (exl, eyl),
         );
-        let hmd = md_sum * 0.5;
 
-        // Nodal forces (local, internal), then global forces on the nodes.
-        // (Every field of `out` is written: the energies here, the nodes below.)
+        // Every field of `out` is written: the energies here, the nodes in
+        // `nodal_forces`.
         out.d_internal = a * (sr.work + shear_work) + d_drill;
         out.d_drilling = d_drill;
         out.d_hourglass = d_hg;
         out.d_plastic = a * sr.dissipation;
-        out.length = T::select(*valid, end.fr.char_length(), ae);
-        out.area = T::select(*valid, ae, zero);
+        out.length = T::select(*valid, end.fr.char_length(), end.fr.area);
+        out.area = T::select(*valid, end.fr.area, zero);
         for c in 0..3 {
             out.normal[c] = T::select(*valid, end.fr.r[2][c], zero);
         }
+        let loads = NodeLoads {
+            n: sr.n,
+            m: sr.m,
+            q: [t * tau[0], t * tau[1]],
+            qf,
+            s: [sx, sy],
+            hmd: md_sum * 0.5,
+        };
+        self.nodal_forces(end, &loads, st.drilling, out);
+        *st.thickness = new_thickness(t, sr.deps_zz);
+    }
+
+    /// The nodal forces and moments at t_{n+1} from the element's
+    /// generalised stresses (`loads`) and drilling moments, in global axes
+    /// (`out.f`, `out.m`).
+    #[inline(always)]
+    fn nodal_forces<T: Real>(
+        &self,
+        end: &EndGeometry<T>,
+        loads: &NodeLoads<T>,
+        drilling: &[T; 4],
+        out: &mut ElementResult<T>,
+    ) {
+        let NodeLoads {
+            n: nr,
+            m: mr,
+            q: [qx, qy],
+            qf,
+            s: [sx, sy],
+            hmd,
+        } = *loads;
+        let (ae, ce, exl, eyl, eb1, eb2, esb) = (
+            end.fr.area,
+            end.c,
+            &end.fr.x,
+            &end.fr.y,
+            &end.b1,
+            &end.b2,
+            &end.sb,
+        );
+        let egam = hourglass_vectors(exl, eyl, eb1, eb2);
+        let egz = end.fr.warp * 0.5;
         // Transpose of the projection: f̂z_J += ½ h·ẑ (B1_J Q_x + B2_J Q_y).
         // The warping correction's membrane terms fold into the membrane
         // forces: f̂x = A((N_xx + c M_xy) B1 + (N_xy + c M_xx) B2), f̂y likewise;
@@ -780,20 +833,19 @@ impl BelytschkoTsay {
                 (exl[i] * 0.5).madd(qf[4], qf[3]),
                 ae.madd(qy.madd(esb.yz[2][i], qx * esb.xz[2][i]), myb),
             );
-            let mut mz = st.drilling[i];
+            let mut mz = drilling[i];
             if self.warping_correction {
                 // Tilted fibres: the bending moments' share about the normal,
                 // and the drilling moment's share about the in-plane axes.
                 mz = ce.madd(exl[i].madd(myb, eyl[i] * mxb), mz);
-                mx = (-(ce * eyl[i])).madd(st.drilling[i], mx);
-                my = (-(ce * exl[i])).madd(st.drilling[i], my);
+                mx = (-(ce * eyl[i])).madd(drilling[i], mx);
+                my = (-(ce * exl[i])).madd(drilling[i], my);
             }
             let fg = end.fr.global([fx, fy, fz]);
             let mg = end.fr.global([mx, my, mz]);
             out.f[i] = [-fg[0], -fg[1], -fg[2]];
             out.m[i] = [-mg[0], -mg[1], -mg[2]];
         }
-        *st.thickness = new_thickness(t, sr.deps_zz);
     }
 }
 

@@ -22,11 +22,11 @@
 
 use crate::error::ShellError;
 use crate::formulation::{
-    DEFAULT_DRILLING, ElementResult, ElementState, ShellFormulation, check_drilling,
+    DEFAULT_DRILLING, ElementResult, ElementState, SectionResult, ShellFormulation, check_drilling,
     drilling_penalty, frame_turn, integrate_section, local_velocities, midpoint, new_thickness,
     remove_warp_rotation, turn_tensor, turn_vector, warp_rotation_forces,
 };
-use crate::geometry::{Frame, V3, assumed_shear, b_matrix};
+use crate::geometry::{Frame, ShearB, V3, assumed_shear, b_matrix};
 use crate::material::Material;
 use crate::section::Section;
 
@@ -126,9 +126,11 @@ impl ShellFormulation for FullyIntegrated {
         let np = sec.rule.n;
         let g = mat.shear_modulus();
         let ks = sec.shear_factor;
-        let mut fl = [[0.0f64; 3]; 4];
-        let mut ml = [[0.0f64; 2]; 4];
-        let mut mb = [0.0f64; 4];
+        let mut acc = Forces {
+            fl: [[0.0f64; 3]; 4],
+            ml: [[0.0f64; 2]; 4],
+            mb: [0.0f64; 4],
+        };
         let mut out = ElementResult::default();
         let mut dzz = 0.0;
         for (p, &(xi, eta)) in GP.iter().enumerate() {
@@ -140,36 +142,15 @@ impl ShellFormulation for FullyIntegrated {
                     ..Default::default()
                 };
             }
-            let (mut dxx, mut dyy, mut vxy, mut vyx, mut kxx, mut kyy, mut kxy) =
-                (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-            for i in 0..4 {
-                dxx += b1[i] * vl[i][0];
-                dyy += b2[i] * vl[i][1];
-                vxy += b2[i] * vl[i][0];
-                vyx += b1[i] * vl[i][1];
-                kxx += b1[i] * tl[i][1];
-                kyy -= b2[i] * tl[i][0];
-                kxy += b2[i] * tl[i][1] - b1[i] * tl[i][0];
-            }
-            let gxy = vxy + vyx;
-            // Warping correction, twisted metric: c × in-plane velocity gradient.
-            kxx += c * vxy;
-            kyy += c * vyx;
-            kxy += c * (dxx + dyy);
-            let sb = assumed_shear(&fr, xi, eta);
-            let (mut gxz, mut gyz) = (0.0, 0.0);
-            for i in 0..4 {
-                gxz += sb.xz[0][i] * vl[i][2] + sb.xz[1][i] * wl[i][0] + sb.xz[2][i] * wl[i][1];
-                gyz += sb.yz[0][i] * vl[i][2] + sb.yz[1][i] * wl[i][0] + sb.yz[2][i] * wl[i][1];
-            }
+            let (de, dk, [gxz, gyz]) = point_rates(&fr, (xi, eta), (&b1, &b2), &vl, &wl, &tl, c);
             // The stresses are kept in the frame of t_{n+1}.
             let [gxz, gyz] = turn_vector(turn, [gxz, gyz]);
             let sr = integrate_section(
                 mat,
                 &sec.rule,
                 t,
-                turn_tensor(turn, [dxx * dt, dyy * dt, gxy * dt]),
-                turn_tensor(turn, [kxx * dt, kyy * dt, kxy * dt]),
+                turn_tensor(turn, de.map(|r| r * dt)),
+                turn_tensor(turn, dk.map(|r| r * dt)),
                 &mut st.stress[p * np..(p + 1) * np],
                 &mut st.history[p * np..(p + 1) * np],
             );
@@ -184,25 +165,11 @@ impl ShellFormulation for FullyIntegrated {
             out.d_internal += det * (sr.work + shear_work);
             out.d_plastic += det * sr.dissipation;
             dzz += 0.25 * sr.deps_zz;
-            let (nr, mr) = (sr.n, sr.m);
-            let (qx, qy) = (t * tau[0], t * tau[1]);
-            // Forces at t_{n+1}: membrane with the warping correction's terms
-            // folded in, f̂x = det((N_xx + c M_xy) B1 + (N_xy + c M_xx) B2),
-            // f̂y likewise.
-            let (b1, b2, det, sb, c) = (fb1, fb2, fdet, assumed_shear(&fe, xi, eta), ce);
-            let (nxx, nyy) = (det * (nr[0] + c * mr[2]), det * (nr[1] + c * mr[2]));
-            let (nxy_x, nxy_y) = (det * (nr[2] + c * mr[0]), det * (nr[2] + c * mr[1]));
-            for i in 0..4 {
-                fl[i][0] += nxx * b1[i] + nxy_x * b2[i];
-                fl[i][1] += nyy * b2[i] + nxy_y * b1[i];
-                fl[i][2] += det * (qx * sb.xz[0][i] + qy * sb.yz[0][i]);
-                let mxb = -det * (mr[1] * b2[i] + mr[2] * b1[i]);
-                let myb = det * (mr[0] * b1[i] + mr[2] * b2[i]);
-                mb[i] += fe.y[i] * mxb + fe.x[i] * myb;
-                ml[i][0] += mxb + det * (qx * sb.xz[1][i] + qy * sb.yz[1][i]);
-                ml[i][1] += myb + det * (qx * sb.xz[2][i] + qy * sb.yz[2][i]);
-            }
+            let q = [t * tau[0], t * tau[1]];
+            let point = (fb1, fb2, fdet, assumed_shear(&fe, xi, eta));
+            add_point_forces(&fe, ce, point, &sr, q, &mut acc);
         }
+        let Forces { mut fl, mut ml, mb } = acc;
         // Relative drilling penalty on the element's mean spin (about the nodal
         // normals with the warping correction).
         let tilt = if self.warping_correction {
@@ -245,5 +212,83 @@ impl ShellFormulation for FullyIntegrated {
         out.normal = fe.r[2];
         *st.thickness = new_thickness(t, dzz);
         out
+    }
+}
+
+/// The local nodal forces and moments summed over the Gauss points.
+struct Forces {
+    /// Forces `[f̂x, f̂y, f̂z]` per node.
+    fl: [[f64; 3]; 4],
+    /// In-plane moments `[m̂x, m̂y]` per node.
+    ml: [[f64; 2]; 4],
+    /// The bending moments' share about the normal (warping correction).
+    mb: [f64; 4],
+}
+
+/// The membrane rates `[ε̇xx, ε̇yy, γ̇xy]`, curvature rates `[κ̇xx, κ̇yy,
+/// 2κ̇xy]` (with the warping correction's twisted metric, `c`) and transverse
+/// shear rates `[γ̇xz, γ̇yz]` at a Gauss point `(ξ, η)` of the midpoint frame
+/// `fr`, with that point's `B` (`b`), the local velocities and the fibre
+/// rotation rates `tl`.
+#[inline(always)]
+fn point_rates(
+    fr: &Frame,
+    (xi, eta): (f64, f64),
+    (b1, b2): (&[f64; 4], &[f64; 4]),
+    vl: &[V3; 4],
+    wl: &[V3; 4],
+    tl: &[[f64; 2]; 4],
+    c: f64,
+) -> ([f64; 3], [f64; 3], [f64; 2]) {
+    let (mut dxx, mut dyy, mut vxy, mut vyx, mut kxx, mut kyy, mut kxy) =
+        (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    for i in 0..4 {
+        dxx += b1[i] * vl[i][0];
+        dyy += b2[i] * vl[i][1];
+        vxy += b2[i] * vl[i][0];
+        vyx += b1[i] * vl[i][1];
+        kxx += b1[i] * tl[i][1];
+        kyy -= b2[i] * tl[i][0];
+        kxy += b2[i] * tl[i][1] - b1[i] * tl[i][0];
+    }
+    let gxy = vxy + vyx;
+    // Warping correction, twisted metric: c × in-plane velocity gradient.
+    kxx += c * vxy;
+    kyy += c * vyx;
+    kxy += c * (dxx + dyy);
+    let sb = assumed_shear(fr, xi, eta);
+    let (mut gxz, mut gyz) = (0.0, 0.0);
+    for i in 0..4 {
+        gxz += sb.xz[0][i] * vl[i][2] + sb.xz[1][i] * wl[i][0] + sb.xz[2][i] * wl[i][1];
+        gyz += sb.yz[0][i] * vl[i][2] + sb.yz[1][i] * wl[i][0] + sb.yz[2][i] * wl[i][1];
+    }
+    ([dxx, dyy, gxy], [kxx, kyy, kxy], [gxz, gyz])
+}
+
+/// A Gauss point's nodal forces at t_{n+1} added to `acc`: membrane with
+/// the warping correction's terms folded in, f̂x = det((N_xx + c M_xy) B1 +
+/// (N_xy + c M_xx) B2), f̂y likewise; transverse shear `q = [Q_x, Q_y]`;
+/// `point` is that point's `(B1, B2, det, B̄_s)` in the frame `fe`.
+#[inline(always)]
+fn add_point_forces(
+    fe: &Frame,
+    c: f64,
+    (b1, b2, det, sb): ([f64; 4], [f64; 4], f64, ShearB),
+    sr: &SectionResult,
+    [qx, qy]: [f64; 2],
+    acc: &mut Forces,
+) {
+    let (nr, mr) = (sr.n, sr.m);
+    let (nxx, nyy) = (det * (nr[0] + c * mr[2]), det * (nr[1] + c * mr[2]));
+    let (nxy_x, nxy_y) = (det * (nr[2] + c * mr[0]), det * (nr[2] + c * mr[1]));
+    for i in 0..4 {
+        acc.fl[i][0] += nxx * b1[i] + nxy_x * b2[i];
+        acc.fl[i][1] += nyy * b2[i] + nxy_y * b1[i];
+        acc.fl[i][2] += det * (qx * sb.xz[0][i] + qy * sb.yz[0][i]);
+        let mxb = -det * (mr[1] * b2[i] + mr[2] * b1[i]);
+        let myb = det * (mr[0] * b1[i] + mr[2] * b2[i]);
+        acc.mb[i] += fe.y[i] * mxb + fe.x[i] * myb;
+        acc.ml[i][0] += mxb + det * (qx * sb.xz[1][i] + qy * sb.yz[1][i]);
+        acc.ml[i][1] += myb + det * (qx * sb.xz[2][i] + qy * sb.yz[2][i]);
     }
 }
