@@ -355,6 +355,118 @@ fn hourglass<T: Real>(md: &Moduli, rt: &Rates<T>, t: T, dt: f64, hg: &mut [T; 5]
     (qf, d_hg)
 }
 
+/// A block's element state in lanes (lane `l`: element `l`), loaded from
+/// and stored to the lane-major block (see `ElementBlock`).
+struct BlockState<L, const N: usize> {
+    /// Stresses of the section's `N` points.
+    s: [[L; 3]; N],
+    /// Thickness.
+    t: L,
+    /// Transverse shear stresses.
+    sh: [L; 2],
+    /// Hourglass generalised forces.
+    hg: [L; 5],
+    /// Drilling moments.
+    dr: [L; 4],
+}
+
+impl<L: Lanes4, const N: usize> BlockState<L, N> {
+    /// The state of the block's arrays, in lanes.
+    #[inline(always)]
+    fn load(
+        stress: &[[f64; 4]],
+        thickness: &[f64; 4],
+        shear: &[[f64; 4]; 2],
+        hourglass: &[[f64; 4]; 5],
+        drilling: &[[f64; 4]; 4],
+    ) -> Self {
+        let mut s = [[L::splat(0.0); 3]; N];
+        for k in 0..N {
+            for c in 0..3 {
+                s[k][c] = L::from_array(stress[3 * k + c]);
+            }
+        }
+        let mut hg = [L::splat(0.0); 5];
+        for k in 0..5 {
+            hg[k] = L::from_array(hourglass[k]);
+        }
+        let mut dr = [L::splat(0.0); 4];
+        for i in 0..4 {
+            dr[i] = L::from_array(drilling[i]);
+        }
+        Self {
+            s,
+            t: L::from_array(*thickness),
+            sh: [L::from_array(shear[0]), L::from_array(shear[1])],
+            hg,
+            dr,
+        }
+    }
+
+    /// `old` in the lanes not in `valid`.
+    #[inline(always)]
+    fn keep_where_not(&mut self, valid: L::Mask, old: &Self) {
+        for k in 0..N {
+            for c in 0..3 {
+                self.s[k][c] = L::select(valid, self.s[k][c], old.s[k][c]);
+            }
+        }
+        self.t = L::select(valid, self.t, old.t);
+        for c in 0..2 {
+            self.sh[c] = L::select(valid, self.sh[c], old.sh[c]);
+        }
+        for k in 0..5 {
+            self.hg[k] = L::select(valid, self.hg[k], old.hg[k]);
+        }
+        for i in 0..4 {
+            self.dr[i] = L::select(valid, self.dr[i], old.dr[i]);
+        }
+    }
+
+    /// Back into the block's arrays.
+    #[inline(always)]
+    fn store(
+        &self,
+        stress: &mut [[f64; 4]],
+        thickness: &mut [f64; 4],
+        shear: &mut [[f64; 4]; 2],
+        hourglass: &mut [[f64; 4]; 5],
+        drilling: &mut [[f64; 4]; 4],
+    ) {
+        for k in 0..N {
+            for c in 0..3 {
+                stress[3 * k + c] = self.s[k][c].to_array();
+            }
+        }
+        *thickness = self.t.to_array();
+        for c in 0..2 {
+            shear[c] = self.sh[c].to_array();
+        }
+        for k in 0..5 {
+            hourglass[k] = self.hg[k].to_array();
+        }
+        for i in 0..4 {
+            drilling[i] = self.dr[i].to_array();
+        }
+    }
+}
+
+/// Forces, moments and energies zero in the lanes not in `valid`.
+#[inline(always)]
+fn zero_where_not<L: Real>(valid: L::Mask, res: &mut ElementResult<L>) {
+    let zero = L::splat(0.0);
+    for i in 0..4 {
+        for c in 0..3 {
+            res.f[i][c] = L::select(valid, res.f[i][c], zero);
+            res.m[i][c] = L::select(valid, res.m[i][c], zero);
+        }
+    }
+    res.d_internal = L::select(valid, res.d_internal, zero);
+    res.d_drilling = L::select(valid, res.d_drilling, zero);
+    res.d_hourglass = L::select(valid, res.d_hourglass, zero);
+    res.d_plastic = L::select(valid, res.d_plastic, zero);
+}
+
 impl BelytschkoTsay {
     /// Four elements in SIMD lanes: with AVX2 where the processor has it
     /// (checked once, cached by the standard library), else the same lane
@@ -456,29 +568,22 @@ impl BelytschkoTsay {
         ) else {
             unreachable!("lanes_dispatch checked the block's sizes");
         };
-        let mut s = [[L::splat(0.0); 3]; N];
-        for k in 0..N {
-            for c in 0..3 {
-                s[k][c] = L::from_array(stress[3 * k + c]);
-            }
-        }
-        let mut t = L::from_array(*thickness);
-        let mut sh = [L::from_array(shear[0]), L::from_array(shear[1])];
-        let mut hg = [L::splat(0.0); 5];
-        for k in 0..5 {
-            hg[k] = L::from_array(hourglass[k]);
-        }
-        let mut dr = [L::splat(0.0); 4];
-        for i in 0..4 {
-            dr[i] = L::from_array(drilling[i]);
-        }
+        let mut b = BlockState::<L, N>::load(stress, thickness, shear, hourglass, drilling);
         let valid = rt.valid;
         let saved = if L::mask_all(valid) {
             None
         } else {
             Some(*history)
         };
-        let sr = integrate_section_x4(mat, &sec.rule, t, rt.membrane, rt.bending, &mut s, history);
+        let sr = integrate_section_x4(
+            mat,
+            &sec.rule,
+            b.t,
+            rt.membrane,
+            rt.bending,
+            &mut b.s,
+            history,
+        );
         let mut res = ElementResult::<L>::zero();
         self.forces(
             &Moduli::of(mat, sec),
@@ -486,10 +591,10 @@ impl BelytschkoTsay {
             sr,
             dt,
             Lanes {
-                thickness: &mut t,
-                shear: &mut sh,
-                hourglass: &mut hg,
-                drilling: &mut dr,
+                thickness: &mut b.t,
+                shear: &mut b.sh,
+                hourglass: &mut b.hg,
+                drilling: &mut b.dr,
             },
             &mut res,
         );
@@ -502,48 +607,11 @@ impl BelytschkoTsay {
                     history[l] = saved[l];
                 }
             }
-            for k in 0..N {
-                for c in 0..3 {
-                    s[k][c] = L::select(valid, s[k][c], L::from_array(stress[3 * k + c]));
-                }
-            }
-            t = L::select(valid, t, L::from_array(*thickness));
-            for c in 0..2 {
-                sh[c] = L::select(valid, sh[c], L::from_array(shear[c]));
-            }
-            for k in 0..5 {
-                hg[k] = L::select(valid, hg[k], L::from_array(hourglass[k]));
-            }
-            for i in 0..4 {
-                dr[i] = L::select(valid, dr[i], L::from_array(drilling[i]));
-            }
-            let zero = L::splat(0.0);
-            for i in 0..4 {
-                for c in 0..3 {
-                    res.f[i][c] = L::select(valid, res.f[i][c], zero);
-                    res.m[i][c] = L::select(valid, res.m[i][c], zero);
-                }
-            }
-            res.d_internal = L::select(valid, res.d_internal, zero);
-            res.d_drilling = L::select(valid, res.d_drilling, zero);
-            res.d_hourglass = L::select(valid, res.d_hourglass, zero);
-            res.d_plastic = L::select(valid, res.d_plastic, zero);
+            let old = BlockState::<L, N>::load(stress, thickness, shear, hourglass, drilling);
+            b.keep_where_not(valid, &old);
+            zero_where_not(valid, &mut res);
         }
-        for k in 0..N {
-            for c in 0..3 {
-                stress[3 * k + c] = s[k][c].to_array();
-            }
-        }
-        *thickness = t.to_array();
-        for c in 0..2 {
-            shear[c] = sh[c].to_array();
-        }
-        for k in 0..5 {
-            hourglass[k] = hg[k].to_array();
-        }
-        for i in 0..4 {
-            drilling[i] = dr[i].to_array();
-        }
+        b.store(stress, thickness, shear, hourglass, drilling);
         *out = res.into_f4();
     }
 

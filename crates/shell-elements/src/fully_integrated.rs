@@ -169,7 +169,6 @@ impl ShellFormulation for FullyIntegrated {
             let point = (fb1, fb2, fdet, assumed_shear(&fe, xi, eta));
             add_point_forces(&fe, ce, point, &sr, q, &mut acc);
         }
-        let Forces { mut fl, mut ml, mb } = acc;
         // Relative drilling penalty on the element's mean spin (about the nodal
         // normals with the warping correction).
         let tilt = if self.warping_correction {
@@ -191,22 +190,8 @@ impl ShellFormulation for FullyIntegrated {
         );
         out.d_internal += d_drill;
         out.d_drilling = d_drill;
-        let hmd = 0.5 * md;
-        for i in 0..4 {
-            fl[i][0] += hmd * eb2[i];
-            fl[i][1] -= hmd * eb1[i];
-            fl[i][2] += ce * (sy * eb2[i] - sx * eb1[i]);
-            ml[i][0] -= ce * fe.y[i] * st.drilling[i];
-            ml[i][1] -= ce * fe.x[i] * st.drilling[i];
-        }
-        warp_rotation_forces(&fe.z, &eb1, &eb2, &mut fl);
-        for i in 0..4 {
-            let fg = fe.global(fl[i]);
-            // Tilted fibres: the bending moments' share about the normal.
-            let mg = fe.global([ml[i][0], ml[i][1], st.drilling[i] + ce * mb[i]]);
-            out.f[i] = [-fg[0], -fg[1], -fg[2]];
-            out.m[i] = [-mg[0], -mg[1], -mg[2]];
-        }
+        let drill = (0.5 * md, [sx, sy], &*st.drilling);
+        global_forces(&fe, ce, (&eb1, &eb2), drill, acc, &mut out);
         out.length = fe.char_length();
         out.area = fe.area;
         out.normal = fe.r[2];
@@ -290,5 +275,36 @@ fn add_point_forces(
         acc.mb[i] += fe.y[i] * mxb + fe.x[i] * myb;
         acc.ml[i][0] += mxb + det * (qx * sb.xz[1][i] + qy * sb.yz[1][i]);
         acc.ml[i][1] += myb + det * (qx * sb.xz[2][i] + qy * sb.yz[2][i]);
+    }
+}
+
+/// The element's local forces and moments `acc`, with the drilling
+/// penalty's (`(½ Σ m_d, [S_x, S_y], the drilling moments)`), the warping
+/// correction's tilt `ce` and the warped element's rigid-rotation terms,
+/// turned into global nodal forces and moments in `out`.
+#[inline(always)]
+fn global_forces(
+    fe: &Frame,
+    ce: f64,
+    (eb1, eb2): (&[f64; 4], &[f64; 4]),
+    (hmd, [sx, sy], drilling): (f64, [f64; 2], &[f64; 4]),
+    acc: Forces,
+    out: &mut ElementResult,
+) {
+    let Forces { mut fl, mut ml, mb } = acc;
+    for i in 0..4 {
+        fl[i][0] += hmd * eb2[i];
+        fl[i][1] -= hmd * eb1[i];
+        fl[i][2] += ce * (sy * eb2[i] - sx * eb1[i]);
+        ml[i][0] -= ce * fe.y[i] * drilling[i];
+        ml[i][1] -= ce * fe.x[i] * drilling[i];
+    }
+    warp_rotation_forces(&fe.z, eb1, eb2, &mut fl);
+    for i in 0..4 {
+        let fg = fe.global(fl[i]);
+        // Tilted fibres: the bending moments' share about the normal.
+        let mg = fe.global([ml[i][0], ml[i][1], drilling[i] + ce * mb[i]]);
+        out.f[i] = [-fg[0], -fg[1], -fg[2]];
+        out.m[i] = [-mg[0], -mg[1], -mg[2]];
     }
 }
