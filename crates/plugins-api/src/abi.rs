@@ -343,7 +343,7 @@ pub mod __private {
         AbiCriticalShear, AbiParamSpec, AbiShearInputs, FrictionPluginV1, PluginLaw, STATUS_ERROR,
         STATUS_OK, STATUS_PANIC,
     };
-    use crate::ShearInputs;
+    use crate::{ParamSpec, ShearInputs};
 
     thread_local! {
         static LAST_ERROR: RefCell<String> = const { RefCell::new(String::new()) };
@@ -396,14 +396,17 @@ pub mod __private {
     }
 
     /// A leaked, immutable table that may live in a `static`.
-    pub struct StaticTable(&'static FrictionPluginV1);
+    pub struct Leaked<Tab: 'static>(pub &'static Tab);
 
-    // SAFETY: the table and everything it points to (leaked C strings, leaked
+    // SAFETY: a table and everything it points to (leaked C strings, leaked
     // parameter array, function pointers) is immutable after construction and
     // lives for the rest of the process, so sharing it between threads is sound.
-    unsafe impl Sync for StaticTable {}
+    unsafe impl<Tab> Sync for Leaked<Tab> {}
     // SAFETY: as for `Sync`: immutable 'static data.
-    unsafe impl Send for StaticTable {}
+    unsafe impl<Tab> Send for Leaked<Tab> {}
+
+    /// The friction table, leaked.
+    pub type StaticTable = Leaked<FrictionPluginV1>;
 
     /// Whether `s` has no NUL byte (and, for a name, is a non-empty scene key).
     pub const fn text_ok(s: &str, is_name: bool) -> bool {
@@ -436,9 +439,14 @@ pub mod __private {
             text_ok(T::SUMMARY, false),
             "PluginLaw::SUMMARY must not contain a NUL byte"
         );
+        check_params(T::PARAMS);
+    }
+
+    /// Compile-time check of a parameter schema's texts.
+    pub const fn check_params(params: &[ParamSpec]) {
         let mut i = 0;
-        while i < T::PARAMS.len() {
-            let p = &T::PARAMS[i];
+        while i < params.len() {
+            let p = &params[i];
             assert!(
                 text_ok(p.name, true),
                 "parameter names must be non-empty and made of lowercase ASCII letters, digits, `-` and `_`"
@@ -457,9 +465,10 @@ pub mod __private {
         Some(Box::leak(c.into_boxed_c_str()).as_ptr())
     }
 
-    fn build_table<T: PluginLaw>() -> Option<StaticTable> {
-        let mut params = Vec::with_capacity(T::PARAMS.len());
-        for p in T::PARAMS {
+    /// A parameter schema as C structs, leaked (texts as leaked C strings).
+    pub fn abi_params(specs: &[ParamSpec]) -> Option<&'static [AbiParamSpec]> {
+        let mut params = Vec::with_capacity(specs.len());
+        for p in specs {
             params.push(AbiParamSpec {
                 name: leak_c(p.name)?,
                 unit: leak_c(p.unit)?,
@@ -471,7 +480,11 @@ pub mod __private {
                 max: p.max,
             });
         }
-        let params: &'static [AbiParamSpec] = Box::leak(params.into_boxed_slice());
+        Some(Box::leak(params.into_boxed_slice()))
+    }
+
+    fn build_table<T: PluginLaw>() -> Option<StaticTable> {
+        let params = abi_params(T::PARAMS)?;
         let table = FrictionPluginV1 {
             abi_version: crate::ABI_VERSION,
             name: leak_c(T::NAME)?,
@@ -486,22 +499,30 @@ pub mod __private {
             critical_shear: Some(critical_shear::<T>),
             last_error: Some(last_error),
         };
-        Some(StaticTable(Box::leak(Box::new(table))))
+        Some(Leaked(Box::leak(Box::new(table))))
     }
 
     /// Body of the exported entry function: the table, built once; null if
     /// building it failed (texts are checked at compile time, so only on
     /// allocation failure or a panic).
     pub fn entry<T: PluginLaw>(cell: &'static OnceLock<StaticTable>) -> *const FrictionPluginV1 {
+        entry_of(cell, build_table::<T>)
+    }
+
+    /// [`entry`] for any kind of table: `build` runs once, under the guard.
+    pub fn entry_of<Tab>(
+        cell: &'static OnceLock<Leaked<Tab>>,
+        build: fn() -> Option<Leaked<Tab>>,
+    ) -> *const Tab {
         // Nothing may unwind out of here; installing a hook only panics on a
         // thread that is already panicking, and then the default hook stays.
         let _ = catch_unwind(install_quiet_hook);
         let built = guarded(|| {
             if let Some(t) = cell.get() {
-                return Some(t.0 as *const FrictionPluginV1);
+                return Some(t.0 as *const Tab);
             }
-            let table = build_table::<T>()?;
-            Some(cell.get_or_init(|| table).0 as *const FrictionPluginV1)
+            let table = build()?;
+            Some(cell.get_or_init(|| table).0 as *const Tab)
         });
         match built {
             Ok(Some(ptr)) => ptr,
@@ -569,31 +590,7 @@ pub mod __private {
         err_buf: *mut c_char,
         err_len: usize,
     ) -> i32 {
-        let fail = |status: i32, message: String| {
-            // SAFETY: the host passes an `err_buf` writable for `err_len` bytes, or null.
-            unsafe { copy_out(&message, err_buf, err_len) };
-            set_error(message);
-            status
-        };
-        if out_handle.is_null() || (values.is_null() && n > 0) {
-            return fail(STATUS_ERROR, "create: null pointer from the host".into());
-        }
-        if n != T::PARAMS.len() {
-            return fail(
-                STATUS_ERROR,
-                format!(
-                    "create: {n} parameter values given, the schema has {}",
-                    T::PARAMS.len()
-                ),
-            );
-        }
-        let built = guarded(|| {
-            let values: &[f64] = if n == 0 {
-                &[]
-            } else {
-                // SAFETY: the host passes `n` readable values (checked non-null above).
-                unsafe { std::slice::from_raw_parts(values, n) }
-            };
+        let build = |values: &[f64]| {
             let law = T::from_values(values)?;
             if law.needs() != T::NEEDS || law.work_dependent() != T::WORK_DEPENDENT {
                 return Err(format!(
@@ -605,6 +602,57 @@ pub mod __private {
                 ));
             }
             Ok(Box::into_raw(Box::new(law)).cast::<c_void>())
+        };
+        // SAFETY: the contract of `create` is the contract of `create_with`.
+        unsafe {
+            create_with(
+                values,
+                n,
+                T::PARAMS.len(),
+                out_handle,
+                (err_buf, err_len),
+                build,
+            )
+        }
+    }
+
+    /// The body of a `create` shim: the host's pointers and the count
+    /// checked, `build` run on the values under the guard, the handle written
+    /// or the failure's text copied out.
+    ///
+    /// # Safety
+    /// As [`super::CreateFn`] (`err` is its `err_buf`, `err_len`).
+    pub unsafe fn create_with(
+        values: *const f64,
+        n: usize,
+        expected: usize,
+        out_handle: *mut *mut c_void,
+        (err_buf, err_len): (*mut c_char, usize),
+        build: impl FnOnce(&[f64]) -> Result<*mut c_void, String>,
+    ) -> i32 {
+        let fail = |status: i32, message: String| {
+            // SAFETY: the host passes an `err_buf` writable for `err_len` bytes, or null.
+            unsafe { copy_out(&message, err_buf, err_len) };
+            set_error(message);
+            status
+        };
+        if out_handle.is_null() || (values.is_null() && n > 0) {
+            return fail(STATUS_ERROR, "create: null pointer from the host".into());
+        }
+        if n != expected {
+            return fail(
+                STATUS_ERROR,
+                format!("create: {n} parameter values given, the schema has {expected}"),
+            );
+        }
+        let built = guarded(|| {
+            let values: &[f64] = if n == 0 {
+                &[]
+            } else {
+                // SAFETY: the host passes `n` readable values (checked non-null above).
+                unsafe { std::slice::from_raw_parts(values, n) }
+            };
+            build(values)
         });
         match built {
             Ok(Ok(handle)) => {
@@ -621,14 +669,14 @@ pub mod __private {
     ///
     /// # Safety
     /// As [`super::DestroyFn`].
-    pub unsafe extern "C" fn destroy<T: PluginLaw>(handle: *mut c_void) {
+    pub unsafe extern "C" fn destroy<T: 'static>(handle: *mut c_void) {
         if handle.is_null() {
             return;
         }
-        // SAFETY: `handle` was made by `create::<T>` from `Box<T>` and the host
-        // destroys it exactly once.
-        let law = unsafe { Box::from_raw(handle.cast::<T>()) };
-        if let Err(panicked) = guarded(move || drop(law)) {
+        // SAFETY: `handle` was made by a `create` shim from `Box<T>` and the
+        // host destroys it exactly once.
+        let value = unsafe { Box::from_raw(handle.cast::<T>()) };
+        if let Err(panicked) = guarded(move || drop(value)) {
             set_error(format!("{panicked} (in drop)"));
         }
     }

@@ -49,6 +49,39 @@ pub(crate) fn open_library(path: &Path) -> Result<Library, String> {
         .map_err(|e| format!("cannot be loaded as a shared library: {e}"))
 }
 
+/// Open the library at `path`, find its entry function `{prefix}1` and call
+/// it: the library and the table it returns (non-null). `kind` (`friction`,
+/// `material`) is for the messages.
+///
+/// # Errors
+/// As [`open_library`]; the symbol missing (with the reason of
+/// [`missing_entry_reason`]); a null table.
+pub(crate) fn load_table<Tab>(
+    path: &Path,
+    kind: &str,
+    prefix: &str,
+) -> Result<(Library, *const Tab), String> {
+    let library = open_library(path)?;
+    let symbol = format!("{prefix}1");
+    // SAFETY: the entry symbol has type `extern "C" fn() -> *const Tab` in
+    // every library that defines it (the ABI v1 contract of that kind); the
+    // pointer is only called while `library` is alive (the caller keeps it).
+    let entry: Option<extern "C" fn() -> *const Tab> =
+        unsafe { library.get::<extern "C" fn() -> *const Tab>(symbol.as_bytes()) }
+            .ok()
+            .map(|s| *s);
+    let Some(entry) = entry else {
+        return Err(missing_entry_reason(&library, kind, prefix));
+    };
+    let table = entry();
+    if table.is_null() {
+        return Err(format!(
+            "`{symbol}` returned no table (the plugin failed to build it)"
+        ));
+    }
+    Ok((library, table))
+}
+
 /// Why a library without the `{prefix}1` entry symbol is refused (`kind`:
 /// `friction`, `material`); mentions another major version's symbol, or the
 /// other kind's, if the library exports one.

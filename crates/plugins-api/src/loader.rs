@@ -35,8 +35,8 @@ use libloading::Library;
 
 use crate::abi::{
     __private::PANIC_PREFIX, AbiCriticalShear, AbiShearInputs, CreateFn, CriticalShearFn,
-    DestroyFn, ENTRY_SYMBOL, ENTRY_SYMBOL_NAME, EntryFn, FrictionPluginV1, LastErrorFn,
-    STATUS_ERROR, STATUS_OK, STATUS_PANIC, StickStiffnessFn,
+    DestroyFn, FrictionPluginV1, LastErrorFn, STATUS_ERROR, STATUS_OK, STATUS_PANIC,
+    StickStiffnessFn,
 };
 use crate::dylib;
 use crate::law::LawDescription;
@@ -189,27 +189,9 @@ impl PluginLibrary {
             path: shown.clone(),
             reason,
         };
-        let library = dylib::open_library(path).map_err(error)?;
-
-        // SAFETY: `formsim_friction_plugin_v1` has type `EntryFn` in every
-        // library that defines it (ABI v1 contract); we copy the function
-        // pointer and keep `library` alive for as long as it is used.
-        let entry: Option<EntryFn> = unsafe { library.get::<EntryFn>(ENTRY_SYMBOL) }
-            .ok()
-            .map(|s| *s);
-        let Some(entry) = entry else {
-            return Err(error(dylib::missing_entry_reason(
-                &library,
-                "friction",
-                "formsim_friction_plugin_v",
-            )));
-        };
-        let table = entry();
-        if table.is_null() {
-            return Err(error(format!(
-                "`{ENTRY_SYMBOL_NAME}` returned no table (the plugin failed to build it)"
-            )));
-        }
+        let (library, table) =
+            dylib::load_table::<FrictionPluginV1>(path, "friction", "formsim_friction_plugin_v")
+                .map_err(error)?;
         // SAFETY: `table` is non-null and, per the ABI contract, points to a
         // table that lives as long as the library; `read_table` reads the
         // version field first and nothing else unless it matches.

@@ -151,24 +151,17 @@ macro_rules! export_material {
 #[doc(hidden)]
 pub mod __private {
     use std::ffi::{c_char, c_void};
-    use std::panic::catch_unwind;
     use std::sync::OnceLock;
 
     use super::{AbiMaterialBatch, MaterialPluginV1, STATUS_ERROR, STATUS_OK, STATUS_PANIC};
     use crate::abi::__private::{
-        copy_out, guarded, install_quiet_hook, last_error, leak_c, set_error, text_ok,
+        Leaked, abi_params, check_params, create_with, destroy, entry_of, guarded, last_error,
+        leak_c, set_error, text_ok,
     };
-    use crate::abi::AbiParamSpec;
     use crate::material::{Elastic, MAX_STATE, PointResult, UserMaterial};
 
-    /// A leaked, immutable table that may live in a `static`.
-    pub struct StaticTable(&'static MaterialPluginV1);
-
-    // SAFETY: the table and what it points to (leaked strings and parameter
-    // array, function pointers) is immutable 'static data.
-    unsafe impl Sync for StaticTable {}
-    // SAFETY: as for `Sync`.
-    unsafe impl Send for StaticTable {}
+    /// The material table, leaked.
+    pub type StaticTable = Leaked<MaterialPluginV1>;
 
     /// Compile-time checks of `T` (evaluated in a `const _`).
     pub const fn check<T: UserMaterial>() {
@@ -184,36 +177,11 @@ pub mod __private {
             T::N_STATE <= MAX_STATE,
             "UserMaterial::N_STATE exceeds MAX_STATE"
         );
-        let mut i = 0;
-        while i < T::PARAMS.len() {
-            let p = &T::PARAMS[i];
-            assert!(
-                text_ok(p.name, true),
-                "parameter names must be non-empty and made of lowercase ASCII letters, digits, `-` and `_`"
-            );
-            assert!(
-                text_ok(p.unit, false) && text_ok(p.doc, false),
-                "parameter units and docs must not contain a NUL byte"
-            );
-            i += 1;
-        }
+        check_params(T::PARAMS);
     }
 
     fn build_table<T: UserMaterial>() -> Option<StaticTable> {
-        let mut params = Vec::with_capacity(T::PARAMS.len());
-        for p in T::PARAMS {
-            params.push(AbiParamSpec {
-                name: leak_c(p.name)?,
-                unit: leak_c(p.unit)?,
-                doc: leak_c(p.doc)?,
-                default_value: p.default.unwrap_or(f64::NAN),
-                has_default: u8::from(p.default.is_some()),
-                min: p.min,
-                min_exclusive: u8::from(p.min_exclusive),
-                max: p.max,
-            });
-        }
-        let params: &'static [AbiParamSpec] = Box::leak(params.into_boxed_slice());
+        let params = abi_params(T::PARAMS)?;
         let table = MaterialPluginV1 {
             abi_version: crate::ABI_VERSION,
             name: leak_c(T::NAME)?,
@@ -229,31 +197,13 @@ pub mod __private {
             update: Some(update::<T>),
             last_error: Some(last_error),
         };
-        Some(StaticTable(Box::leak(Box::new(table))))
+        Some(Leaked(Box::leak(Box::new(table))))
     }
 
     /// Body of the exported entry function: the table, built once; null
     /// (with the reason for `last_error`) if building it failed.
     pub fn entry<T: UserMaterial>(cell: &'static OnceLock<StaticTable>) -> *const MaterialPluginV1 {
-        let _ = catch_unwind(install_quiet_hook);
-        let built = guarded(|| {
-            if let Some(t) = cell.get() {
-                return Some(t.0 as *const MaterialPluginV1);
-            }
-            let table = build_table::<T>()?;
-            Some(cell.get_or_init(|| table).0 as *const MaterialPluginV1)
-        });
-        match built {
-            Ok(Some(ptr)) => ptr,
-            Ok(None) => {
-                set_error("could not build the plugin table (a text contains a NUL byte)".into());
-                std::ptr::null()
-            }
-            Err(panicked) => {
-                set_error(format!("{panicked} (while building the plugin table)"));
-                std::ptr::null()
-            }
-        }
+        entry_of(cell, build_table::<T>)
     }
 
     /// `create` shim.
@@ -267,54 +217,19 @@ pub mod __private {
         err_buf: *mut c_char,
         err_len: usize,
     ) -> i32 {
-        let fail = |status: i32, message: String| {
-            // SAFETY: the host passes an `err_buf` writable for `err_len` bytes, or null.
-            unsafe { copy_out(&message, err_buf, err_len) };
-            set_error(message);
-            status
-        };
-        if out_handle.is_null() || (values.is_null() && n > 0) {
-            return fail(STATUS_ERROR, "create: null pointer from the host".into());
-        }
-        if n != T::PARAMS.len() {
-            let want = T::PARAMS.len();
-            return fail(
-                STATUS_ERROR,
-                format!("create: {n} parameter values given, the schema has {want}"),
-            );
-        }
-        let built = guarded(|| {
-            let values: &[f64] = if n == 0 {
-                &[]
-            } else {
-                // SAFETY: `n` readable values (host contract, non-null checked above).
-                unsafe { std::slice::from_raw_parts(values, n) }
-            };
+        let build = |values: &[f64]| {
             T::from_values(values).map(|m| Box::into_raw(Box::new(m)).cast::<c_void>())
-        });
-        match built {
-            Ok(Ok(handle)) => {
-                // SAFETY: `out_handle` is non-null and writable (host contract).
-                unsafe { out_handle.write(handle) };
-                STATUS_OK
-            }
-            Ok(Err(reason)) => fail(STATUS_ERROR, reason),
-            Err(panicked) => fail(STATUS_PANIC, panicked),
-        }
-    }
-
-    /// `destroy` shim.
-    ///
-    /// # Safety
-    /// As [`crate::abi::DestroyFn`].
-    pub unsafe extern "C" fn destroy<T: UserMaterial>(handle: *mut c_void) {
-        if handle.is_null() {
-            return;
-        }
-        // SAFETY: made by `create::<T>` from `Box<T>`, destroyed exactly once.
-        let m = unsafe { Box::from_raw(handle.cast::<T>()) };
-        if let Err(panicked) = guarded(move || drop(m)) {
-            set_error(format!("{panicked} (in drop)"));
+        };
+        // SAFETY: the contract of `create` is the contract of `create_with`.
+        unsafe {
+            create_with(
+                values,
+                n,
+                T::PARAMS.len(),
+                out_handle,
+                (err_buf, err_len),
+                build,
+            )
         }
     }
 

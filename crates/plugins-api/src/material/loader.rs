@@ -24,8 +24,8 @@ use libloading::Library;
 use thiserror::Error;
 
 use super::abi::{
-    AbiMaterialBatch, ENTRY_SYMBOL, ElasticFn, EntryFn, InitialStateFn, MaterialPluginV1,
-    STATUS_OK, STATUS_PANIC, UpdateFn,
+    AbiMaterialBatch, ElasticFn, InitialStateFn, MaterialPluginV1, STATUS_OK, STATUS_PANIC,
+    UpdateFn,
 };
 use super::{Elastic, MAX_STATE, PointResult};
 use crate::abi::__private::PANIC_PREFIX;
@@ -156,27 +156,9 @@ impl MaterialLibrary {
             path: shown.clone(),
             reason,
         };
-        let library = dylib::open_library(path).map_err(error)?;
-        // SAFETY: `formsim_material_plugin_v1` has type `EntryFn` in every
-        // library that defines it (ABI v1 contract); the pointer is used only
-        // while `library` is alive (it moves into `Shared`).
-        let entry: Option<EntryFn> = unsafe { library.get::<EntryFn>(ENTRY_SYMBOL) }
-            .ok()
-            .map(|s| *s);
-        let Some(entry) = entry else {
-            return Err(error(dylib::missing_entry_reason(
-                &library,
-                "material",
-                "formsim_material_plugin_v",
-            )));
-        };
-        let table = entry();
-        if table.is_null() {
-            return Err(error(
-                "`formsim_material_plugin_v1` returned no table (the plugin failed to build it)"
-                    .into(),
-            ));
-        }
+        let (library, table) =
+            dylib::load_table::<MaterialPluginV1>(path, "material", "formsim_material_plugin_v")
+                .map_err(error)?;
         // SAFETY: non-null, a table living as long as the library (ABI contract).
         unsafe { Self::from_table(table, shown.clone(), Some(library)) }.map_err(error)
     }
