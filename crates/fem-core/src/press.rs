@@ -288,97 +288,16 @@ impl Press {
         }
         let n = poses.len();
         for (k, s) in steps.iter().enumerate() {
-            let field = |f: &str| format!("steps[{k}] ({}).{f}", s.name);
-            let bad = |f: &str, value: f64, unit: &'static str, range: &'static str| {
-                FemError::InvalidParameter {
-                    field: field(f),
-                    value,
-                    unit,
-                    range,
-                }
-            };
-            let d = s.end.duration();
-            if !(d.is_finite() && d > 0.0) {
-                return Err(bad("duration", d, "s", "> 0 and finite"));
-            }
-            if let StepEnd::Travel { tool, distance, .. } = s.end {
-                if tool >= n {
-                    return Err(FemError::InvalidSetup(format!(
-                        "{}: tool index {tool} out of range ({n} tools)",
-                        field("end.tool")
-                    )));
-                }
-                if !(distance.is_finite() && distance > 0.0) {
-                    return Err(bad("end.travel", distance, "mm", "> 0 and finite"));
-                }
-            }
+            let keys = StepKeys { k, step: s };
+            keys.check_end(n)?;
             for (tool, m) in &s.motions {
                 if *tool >= n {
                     return Err(FemError::InvalidSetup(format!(
                         "{}: tool index {tool} out of range ({n} tools)",
-                        field("motions")
+                        keys.field("motions")
                     )));
                 }
-                let tool_field =
-                    |f: &str| format!("tools.{}.{f}", names.get(*tool).map_or("?", |s| s));
-                let check_dir = |dir: &Vec3| -> Result<(), FemError> {
-                    let norm = dir.norm();
-                    if !(norm.is_finite() && (norm - 1.0).abs() < 1e-9) {
-                        return Err(FemError::InvalidParameter {
-                            field: field(&tool_field("direction")),
-                            value: norm,
-                            unit: "(length of the direction vector)",
-                            range: "a unit vector",
-                        });
-                    }
-                    Ok(())
-                };
-                let check_amp = |a: &Option<Amplitude>| -> Result<(), FemError> {
-                    if let Some(a) = a {
-                        a.validate()?;
-                    }
-                    Ok(())
-                };
-                if let Some((direction, amplitude)) = m.direction_and_amplitude() {
-                    check_dir(direction)?;
-                    check_amp(amplitude)?;
-                }
-                match m {
-                    ToolMotion::Hold => {}
-                    ToolMotion::Travel { distance, .. } => {
-                        if !distance.is_finite() {
-                            return Err(bad("travel", *distance, "mm", "finite"));
-                        }
-                    }
-                    ToolMotion::Velocity { speed, .. } => {
-                        if !speed.is_finite() {
-                            return Err(bad("speed", *speed, "mm/s", "finite"));
-                        }
-                    }
-                    ToolMotion::Spin { rate, .. } => {
-                        if !rate.is_finite() {
-                            return Err(bad("rate", *rate, "rad/s", "finite"));
-                        }
-                    }
-                    ToolMotion::Force {
-                        force,
-                        mass,
-                        damping,
-                        relative_damping,
-                        ..
-                    } => {
-                        force.validate(&field(&tool_field("motion")))?;
-                        if !(0.0..=1.0).contains(relative_damping) {
-                            return Err(bad("relative_damping", *relative_damping, "-", "[0, 1]"));
-                        }
-                        if !(mass.is_finite() && *mass > 0.0) {
-                            return Err(bad("mass", *mass, "tonne", "> 0 and finite"));
-                        }
-                        if !(damping.is_finite() && *damping >= 0.0) {
-                            return Err(bad("damping", *damping, "N s/mm", ">= 0 and finite"));
-                        }
-                    }
-                }
+                keys.check_motion(names, *tool, m)?;
             }
         }
         Ok(Self {
@@ -647,6 +566,107 @@ impl Press {
             }
             self.poses[i].translation = new;
         }
+    }
+}
+
+/// The scene keys of press step `k`, for the errors of [`Press::new`].
+struct StepKeys<'a> {
+    k: usize,
+    step: &'a PressStep,
+}
+
+impl StepKeys<'_> {
+    /// The key of field `f` of the step, `steps[k] (name).f`.
+    fn field(&self, f: &str) -> String {
+        format!("steps[{}] ({}).{f}", self.k, self.step.name)
+    }
+
+    /// An out-of-range value of field `f` of the step.
+    fn bad(&self, f: &str, value: f64, unit: &'static str, range: &'static str) -> FemError {
+        FemError::InvalidParameter {
+            field: self.field(f),
+            value,
+            unit,
+            range,
+        }
+    }
+
+    /// Check the step's end: a positive finite duration; a travel end's tool
+    /// index (`n` tools) and positive finite distance.
+    fn check_end(&self, n: usize) -> Result<(), FemError> {
+        let d = self.step.end.duration();
+        if !(d.is_finite() && d > 0.0) {
+            return Err(self.bad("duration", d, "s", "> 0 and finite"));
+        }
+        if let StepEnd::Travel { tool, distance, .. } = self.step.end {
+            if tool >= n {
+                return Err(FemError::InvalidSetup(format!(
+                    "{}: tool index {tool} out of range ({n} tools)",
+                    self.field("end.tool")
+                )));
+            }
+            if !(distance.is_finite() && distance > 0.0) {
+                return Err(self.bad("end.travel", distance, "mm", "> 0 and finite"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Check the motion `m` of tool `tool` (in range) in the step: its unit
+    /// direction, amplitude and values.
+    fn check_motion(&self, names: &[String], tool: usize, m: &ToolMotion) -> Result<(), FemError> {
+        let tool_field = |f: &str| format!("tools.{}.{f}", names.get(tool).map_or("?", |s| s));
+        if let Some((direction, amplitude)) = m.direction_and_amplitude() {
+            let norm = direction.norm();
+            if !(norm.is_finite() && (norm - 1.0).abs() < 1e-9) {
+                return Err(FemError::InvalidParameter {
+                    field: self.field(&tool_field("direction")),
+                    value: norm,
+                    unit: "(length of the direction vector)",
+                    range: "a unit vector",
+                });
+            }
+            if let Some(a) = amplitude {
+                a.validate()?;
+            }
+        }
+        match m {
+            ToolMotion::Hold => {}
+            ToolMotion::Travel { distance, .. } => {
+                if !distance.is_finite() {
+                    return Err(self.bad("travel", *distance, "mm", "finite"));
+                }
+            }
+            ToolMotion::Velocity { speed, .. } => {
+                if !speed.is_finite() {
+                    return Err(self.bad("speed", *speed, "mm/s", "finite"));
+                }
+            }
+            ToolMotion::Spin { rate, .. } => {
+                if !rate.is_finite() {
+                    return Err(self.bad("rate", *rate, "rad/s", "finite"));
+                }
+            }
+            ToolMotion::Force {
+                force,
+                mass,
+                damping,
+                relative_damping,
+                ..
+            } => {
+                force.validate(&self.field(&tool_field("motion")))?;
+                if !(0.0..=1.0).contains(relative_damping) {
+                    return Err(self.bad("relative_damping", *relative_damping, "-", "[0, 1]"));
+                }
+                if !(mass.is_finite() && *mass > 0.0) {
+                    return Err(self.bad("mass", *mass, "tonne", "> 0 and finite"));
+                }
+                if !(damping.is_finite() && *damping >= 0.0) {
+                    return Err(self.bad("damping", *damping, "N s/mm", ">= 0 and finite"));
+                }
+            }
+        }
+        Ok(())
     }
 }
 
