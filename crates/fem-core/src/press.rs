@@ -465,99 +465,10 @@ impl Press {
     /// Place the tools at step time `tau`; with `dt > 0` also set their
     /// mid-step velocities and integrate force-controlled travel.
     fn place(&mut self, tau: f64, dt: f64, loads: &[ToolLoad], integrate: bool) {
-        let step = &self.steps[self.current];
-        let duration = step.end.duration();
+        let duration = self.steps[self.current].end.duration();
         for i in 0..self.poses.len() {
-            let motion = step
-                .motions
-                .iter()
-                .find(|(t, _)| *t == i)
-                .map(|(_, m)| m)
-                .unwrap_or(&ToolMotion::Hold);
-            if !matches!(motion, ToolMotion::Force { .. }) {
-                // Force control starts afresh (at rest, no reaction rate)
-                // whenever a later step takes it up again.
-                self.applied[i] = None;
-                self.last_reaction[i] = None;
-                self.free_speed[i] = 0.0;
-            }
             let old = self.poses[i].translation;
-            let start = self.step_start_pose[i].translation;
-            let mut angular = Vec3::zeros();
-            let new = match motion {
-                ToolMotion::Hold => old,
-                ToolMotion::Spin {
-                    axis,
-                    rate,
-                    amplitude,
-                } => {
-                    if dt > 0.0 {
-                        let a = amplitude.as_ref().map_or(1.0, |a| a.value(tau - 0.5 * dt));
-                        angular = axis * (rate * a);
-                        let turn = plugins_api::nalgebra::Rotation3::from_scaled_axis(angular * dt);
-                        self.poses[i].rotation = turn.matrix() * self.poses[i].rotation;
-                    }
-                    old
-                }
-                ToolMotion::Travel {
-                    direction,
-                    distance,
-                    amplitude,
-                } => {
-                    let a = match amplitude {
-                        Some(a) => a.value(tau),
-                        None => Amplitude::SmoothStep {
-                            t0: 0.0,
-                            t1: duration,
-                        }
-                        .value(tau),
-                    };
-                    start + direction * (distance * a)
-                }
-                ToolMotion::Velocity {
-                    direction,
-                    speed,
-                    amplitude,
-                } => {
-                    if dt > 0.0 {
-                        let a = amplitude.as_ref().map_or(1.0, |a| a.value(tau - 0.5 * dt));
-                        old + direction * (speed * a * dt)
-                    } else {
-                        old
-                    }
-                }
-                ToolMotion::Force {
-                    direction,
-                    force,
-                    amplitude,
-                    mass,
-                    damping,
-                    relative_damping,
-                } => {
-                    if integrate && dt > 0.0 {
-                        let a_t = amplitude.as_ref().map_or(1.0, |a| a.value(tau));
-                        let compression = -(old - self.initial[i].translation).dot(direction);
-                        let applied = force.value(compression) * a_t;
-                        self.applied[i] = Some(applied);
-                        let load = loads.get(i).copied().unwrap_or_default();
-                        let speed = self.free_speed[i];
-                        let reaction = load.force.dot(direction);
-                        let mut f = applied + reaction - damping * speed;
-                        let last = self.last_reaction[i].replace(reaction);
-                        if let Some(last) = last
-                            && *relative_damping > 0.0
-                            && load.stiffness > 0.0
-                        {
-                            let omega = (load.stiffness / mass).sqrt();
-                            f += 2.0 * relative_damping / omega * (reaction - last) / dt;
-                        }
-                        self.free_speed[i] += dt * f / mass;
-                        old + direction * (self.free_speed[i] * dt)
-                    } else {
-                        old
-                    }
-                }
-            };
+            let (new, angular) = self.move_tool(i, tau, dt, duration, loads, integrate);
             if dt > 0.0 {
                 self.velocities[i] = RigidVelocity {
                     linear: (new - old) / dt,
@@ -566,6 +477,195 @@ impl Press {
             }
             self.poses[i].translation = new;
         }
+    }
+
+    /// Tool `i`'s position at step time `tau` under its motion in the current
+    /// step (of `duration`) and its angular velocity: force-controlled travel
+    /// integrated (with `integrate`), force control reset for other motions.
+    fn move_tool(
+        &mut self,
+        i: usize,
+        tau: f64,
+        dt: f64,
+        duration: f64,
+        loads: &[ToolLoad],
+        integrate: bool,
+    ) -> (Vec3, Vec3) {
+        let motion = self.steps[self.current]
+            .motions
+            .iter()
+            .find(|(t, _)| *t == i)
+            .map(|(_, m)| m)
+            .unwrap_or(&ToolMotion::Hold);
+        if !matches!(motion, ToolMotion::Force { .. }) {
+            // Force control starts afresh (at rest, no reaction rate)
+            // whenever a later step takes it up again.
+            self.applied[i] = None;
+            self.last_reaction[i] = None;
+            self.free_speed[i] = 0.0;
+        }
+        match motion {
+            ToolMotion::Force {
+                direction,
+                force,
+                amplitude,
+                mass,
+                damping,
+                relative_damping,
+            } if integrate && dt > 0.0 => {
+                let control = ForceControl {
+                    direction,
+                    force,
+                    amplitude,
+                    mass: *mass,
+                    damping: *damping,
+                    relative_damping: *relative_damping,
+                };
+                let tool = FreeTravel {
+                    applied: &mut self.applied[i],
+                    last_reaction: &mut self.last_reaction[i],
+                    speed: &mut self.free_speed[i],
+                };
+                let old = self.poses[i].translation;
+                let load = loads.get(i).copied().unwrap_or_default();
+                let new = control.travel(tool, old, self.initial[i].translation, load, tau, dt);
+                (new, Vec3::zeros())
+            }
+            _ => {
+                let start = self.step_start_pose[i].translation;
+                kinematic_move(motion, &mut self.poses[i], start, duration, tau, dt)
+            }
+        }
+    }
+}
+
+/// The position at step time `tau` of a tool at `pose` (at `start` when the
+/// step, of `duration`, began) under a prescribed `motion`, and its angular
+/// velocity; turns a spinning tool's pose. A force-controlled tool holds here
+/// (its travel is integrated by [`ForceControl::travel`]).
+fn kinematic_move(
+    motion: &ToolMotion,
+    pose: &mut RigidPose,
+    start: Vec3,
+    duration: f64,
+    tau: f64,
+    dt: f64,
+) -> (Vec3, Vec3) {
+    let old = pose.translation;
+    let mut angular = Vec3::zeros();
+    let new = match motion {
+        ToolMotion::Hold | ToolMotion::Force { .. } => old,
+        ToolMotion::Spin {
+            axis,
+            rate,
+            amplitude,
+        } => {
+            if dt > 0.0 {
+                angular = spin(pose, axis, *rate, amplitude, tau, dt);
+            }
+            old
+        }
+        ToolMotion::Travel {
+            direction,
+            distance,
+            amplitude,
+        } => start + direction * (distance * travel_amplitude(amplitude, duration, tau)),
+        ToolMotion::Velocity {
+            direction,
+            speed,
+            amplitude,
+        } => {
+            if dt > 0.0 {
+                let a = amplitude.as_ref().map_or(1.0, |a| a.value(tau - 0.5 * dt));
+                old + direction * (speed * a * dt)
+            } else {
+                old
+            }
+        }
+    };
+    (new, angular)
+}
+
+/// Turn `pose` over the step `dt` ending at step time `tau` at the mid-step
+/// rate `rate · A(τ − dt/2)` about the unit `axis`; the angular velocity.
+fn spin(
+    pose: &mut RigidPose,
+    axis: &Vec3,
+    rate: f64,
+    amplitude: &Option<Amplitude>,
+    tau: f64,
+    dt: f64,
+) -> Vec3 {
+    let a = amplitude.as_ref().map_or(1.0, |a| a.value(tau - 0.5 * dt));
+    let angular = axis * (rate * a);
+    let turn = plugins_api::nalgebra::Rotation3::from_scaled_axis(angular * dt);
+    pose.rotation = turn.matrix() * pose.rotation;
+    angular
+}
+
+/// The travel's amplitude at step time `tau`: its own, else a smooth step
+/// over the step's `duration`.
+fn travel_amplitude(amplitude: &Option<Amplitude>, duration: f64, tau: f64) -> f64 {
+    match amplitude {
+        Some(a) => a.value(tau),
+        None => Amplitude::SmoothStep {
+            t0: 0.0,
+            t1: duration,
+        }
+        .value(tau),
+    }
+}
+
+/// The parameters of a [`ToolMotion::Force`], borrowed for [`ForceControl::travel`].
+struct ForceControl<'a> {
+    direction: &'a Vec3,
+    force: &'a ForceLaw,
+    amplitude: &'a Option<Amplitude>,
+    mass: f64,
+    damping: f64,
+    relative_damping: f64,
+}
+
+/// One force-controlled tool's state in [`Press`], as [`ForceControl::travel`] updates it.
+struct FreeTravel<'a> {
+    /// The force applied in the last advance (N).
+    applied: &'a mut Option<f64>,
+    /// The last reaction along the direction (N).
+    last_reaction: &'a mut Option<f64>,
+    /// The mid-step speed of the free travel (mm/s).
+    speed: &'a mut f64,
+}
+
+impl ForceControl<'_> {
+    /// Integrate the free travel of a tool at `old` (initially at `origin`)
+    /// over `dt` to step time `tau` under the blank's `load`; its new position.
+    fn travel(
+        &self,
+        tool: FreeTravel<'_>,
+        old: Vec3,
+        origin: Vec3,
+        load: ToolLoad,
+        tau: f64,
+        dt: f64,
+    ) -> Vec3 {
+        let direction = self.direction;
+        let a_t = self.amplitude.as_ref().map_or(1.0, |a| a.value(tau));
+        let compression = -(old - origin).dot(direction);
+        let applied = self.force.value(compression) * a_t;
+        *tool.applied = Some(applied);
+        let speed = *tool.speed;
+        let reaction = load.force.dot(direction);
+        let mut f = applied + reaction - self.damping * speed;
+        let last = tool.last_reaction.replace(reaction);
+        if let Some(last) = last
+            && self.relative_damping > 0.0
+            && load.stiffness > 0.0
+        {
+            let omega = (load.stiffness / self.mass).sqrt();
+            f += 2.0 * self.relative_damping / omega * (reaction - last) / dt;
+        }
+        *tool.speed += dt * f / self.mass;
+        old + direction * (*tool.speed * dt)
     }
 }
 
