@@ -787,7 +787,41 @@ impl Solver {
         self.share_fields()?;
         self.constraints.sort_by_key(|c| (c.node, c.dof));
         self.reactions = vec![0.0; self.constraints.len()];
-        let n = self.state.len();
+        self.lump_masses()?;
+        self.physical_mass = self.state.mass.iter().sum();
+        if let Some(target) = self.settings.mass_scaling_dt {
+            self.added_mass += self.scale_mass(target);
+        }
+        let added_setup = self.added_mass;
+        let massless_nodes = self.state.mass.iter().filter(|&&m| m == 0.0).count();
+        self.initial_constrained_velocities();
+        self.compute_forces(0.0, 0.0, 0)?;
+        let (dt, limit) = self.first_dt()?;
+        self.half_step_back(dt);
+        let report = SetupReport {
+            physical_mass: self.physical_mass,
+            added_mass: added_setup,
+            added_mass_percent: 100.0 * added_setup / self.physical_mass.max(f64::MIN_POSITIVE),
+            dt_initial: dt,
+            limit,
+            massless_nodes,
+        };
+        tracing::debug!(
+            physical_mass_tonne = report.physical_mass,
+            added_mass_percent = report.added_mass_percent,
+            dt_initial = report.dt_initial,
+            massless_nodes = report.massless_nodes,
+            "set-up"
+        );
+        // The forces at t = 0 are set-up, not a step.
+        self.timing.reset();
+        self.setup = Some(report);
+        Ok(report)
+    }
+
+    /// Lumped masses and inertias: the effects' (given the state with its
+    /// masses zeroed), then the point masses; each checked finite and `>= 0`.
+    fn lump_masses(&mut self) -> Result<(), FemError> {
         self.state.mass.iter_mut().for_each(|m| *m = 0.0);
         self.state.inertia.iter_mut().for_each(|m| *m = 0.0);
         {
@@ -816,14 +850,11 @@ impl Solver {
                 return Err(mass_error(i, "rotational inertia (tonne·mm²)", j));
             }
         }
-        self.physical_mass = self.state.mass.iter().sum();
-        if let Some(target) = self.settings.mass_scaling_dt {
-            self.added_mass += self.scale_mass(target);
-        }
-        let added_setup = self.added_mass;
-        let massless_nodes = self.state.mass.iter().filter(|&&m| m == 0.0).count();
+        Ok(())
+    }
 
-        // Initial constrained velocities.
+    /// The constrained DOFs' velocities at `t = 0` (amplitudes evaluated at 0).
+    fn initial_constrained_velocities(&mut self) {
         self.eval_amplitudes(0.0);
         for c in &self.constraints {
             let v = match c.kind {
@@ -839,8 +870,11 @@ impl Solver {
             };
             set_dof(&mut self.state.v, &mut self.state.w, c.node, c.dof, v);
         }
+    }
 
-        self.compute_forces(0.0, 0.0, 0)?;
+    /// The first step from the forces at `t = 0`, with its floor and limit;
+    /// a collapse error for a step not finite and `> 0`.
+    fn first_dt(&mut self) -> Result<(f64, Option<DtLimit>), FemError> {
         let (dt, limit) = self.next_dt()?;
         if !(dt.is_finite() && dt > 0.0) {
             self.dt_floor = 0.0;
@@ -850,7 +884,12 @@ impl Solver {
         self.dt_floor = self.settings.dt_floor_ratio * dt;
         self.dt_prev = dt;
         self.limit = limit;
+        Ok((dt, limit))
+    }
 
+    /// The velocities half the first step `dt` back, `v_{-1/2}`, from the forces at `t = 0`.
+    fn half_step_back(&mut self, dt: f64) {
+        let n = self.state.len();
         // Virtual v_{-1/2} = v_0 − Δt_{1/2}/2 · a_0 for the free DOFs, so that
         // every step, the first included, uses Δt̄ = (Δt_{n-1/2} + Δt_{n+1/2})/2.
         for i in 0..n {
@@ -873,25 +912,6 @@ impl Solver {
                 self.state.w[i][axis] += self.forces.m[i][axis] * (0.5 * dt / j);
             }
         }
-        let report = SetupReport {
-            physical_mass: self.physical_mass,
-            added_mass: added_setup,
-            added_mass_percent: 100.0 * added_setup / self.physical_mass.max(f64::MIN_POSITIVE),
-            dt_initial: dt,
-            limit,
-            massless_nodes,
-        };
-        tracing::debug!(
-            physical_mass_tonne = report.physical_mass,
-            added_mass_percent = report.added_mass_percent,
-            dt_initial = report.dt_initial,
-            massless_nodes = report.massless_nodes,
-            "set-up"
-        );
-        // The forces at t = 0 are set-up, not a step.
-        self.timing.reset();
-        self.setup = Some(report);
-        Ok(report)
     }
 
     /// Order the effects so that each shared field's writer runs before its
