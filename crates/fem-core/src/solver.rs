@@ -247,6 +247,66 @@ impl Sums {
     }
 }
 
+/// The constants of one step `t_n → t_{n+1}` (see the module docs).
+#[derive(Clone, Copy)]
+struct StepConstants {
+    /// `Δt = Δt_{n+1/2}`.
+    dt: f64,
+    /// `t_n`.
+    t_n: f64,
+    /// `Δt̄ = (Δt_{n-1/2} + Δt_{n+1/2})/2`.
+    hb: f64,
+    /// The damping `c`.
+    c: f64,
+    /// `1 − c Δt̄/2`.
+    d1: f64,
+    /// `1 / (1 + c Δt̄/2)`.
+    d2: f64,
+    /// `t_{n+1/2}`.
+    t_half: f64,
+    /// `t_{n+1}` (the landing time when the step lands on one).
+    t_next: f64,
+}
+
+/// The free DOFs' energy sums of one nodal update, before their factors
+/// (index 0: translations, 1: rotations): `Σ m vo·vn`, `Σ m |vo+vn|²` and the
+/// damping halves `Σ m (vo+vn)·vo`, `Σ m (vo+vn)·vn`.
+#[derive(Clone, Copy, Default)]
+struct FreeSums {
+    product: [f64; 2],
+    sum2: [f64; 2],
+    damp_cur: f64,
+    damp_pend: f64,
+}
+
+impl FreeSums {
+    /// The free update of one DOF triple of mass (inertia) `m > 0`, velocity
+    /// `vo` and force `f` into `v`, summed under `r`.
+    #[inline(always)]
+    fn update(&mut self, r: usize, m: f64, v: &mut Vec3, vo: Vec3, f: &Vec3, k: &StepConstants) {
+        let u = velocity_step(vo, f, k.hb / m, k.d1, k.d2);
+        *v = u.v;
+        self.product[r] += m * u.product;
+        self.sum2[r] += m * u.sum2;
+        if k.c > 0.0 {
+            self.damp_cur += m * u.sum_old;
+            self.damp_pend += m * u.sum_new;
+        }
+    }
+
+    /// Add the free sums to `sums`: ½ m vo·vn, ⅛ m |vo+vn|², and the damping
+    /// work halves ½ Δt̄ D·v with Δt̄ D = −½ c m Δt̄ (vo + vn).
+    #[inline(always)]
+    fn add_to(&self, sums: &mut Sums, c: f64, hb: f64) {
+        sums.ke_prod[0] += 0.5 * self.product[0];
+        sums.ke_prod[1] += 0.5 * self.product[1];
+        sums.ke_mid[0] += 0.125 * self.sum2[0];
+        sums.ke_mid[1] += 0.125 * self.sum2[1];
+        sums.damp_cur += -0.25 * c * hb * self.damp_cur;
+        sums.damp_pend += -0.25 * c * hb * self.damp_pend;
+    }
+}
+
 /// One node's values before its constraints are applied.
 struct Node {
     m: f64,
@@ -1221,21 +1281,67 @@ impl Solver {
     /// The step of [`Solver::step`] once initialized; `started` is when it began.
     fn advance(&mut self, started: Instant) -> Result<StepReport, FemError> {
         let first = self.step == 0;
+        let k = self.step_constants();
+        let dt = k.dt;
+
+        // 1.–2. and 4., fused in one pass over the nodes; 3. the ledger at t_n.
+        let sums = self.update_nodes(k);
+        let ledger = self.book_energy(first, k, sums);
+        self.time = k.t_next;
+        self.land_at = None;
+        self.step += 1;
+        self.dt_prev = dt;
+
+        // 5. Forces at t_{n+1}; 6. next time step.
+        self.timing.integration += started.elapsed().as_secs_f64();
+        self.compute_forces(self.time, dt, self.step)?;
+        let mark = Instant::now();
+        let (dt_next, limit) = self.next_dt()?;
+        self.timing.time_step += mark.elapsed().as_secs_f64();
+        self.limit = limit;
+        if !dt_next.is_finite() || dt_next < self.dt_floor {
+            return Err(self.collapse(dt_next, limit));
+        }
+        self.dt_next = dt_next;
+        Ok(StepReport {
+            step: self.step,
+            time: self.time,
+            dt,
+            dt_next,
+            limit,
+            added_mass: self.added_mass,
+            energy: ledger,
+        })
+    }
+
+    /// The constants of the step `t_n → t_{n+1}` about to be taken.
+    #[inline(always)]
+    fn step_constants(&self) -> StepConstants {
         let dt = self.dt_next;
         let t_n = self.time;
         let hb = 0.5 * (self.dt_prev + dt);
         let c = self.settings.damping;
         let (d1, d2) = (1.0 - 0.5 * c * hb, 1.0 / (1.0 + 0.5 * c * hb));
+        StepConstants {
+            dt,
+            t_n,
+            hb,
+            c,
+            d1,
+            d2,
+            t_half: t_n + 0.5 * dt,
+            t_next: self.land_at.unwrap_or(t_n + dt),
+        }
+    }
 
-        let t_half = t_n + 0.5 * dt;
-        let t_next = self.land_at.unwrap_or(t_n + dt);
-
-        // 1.–2. and 4., fused in one pass over the nodes: free update of every
-        // DOF, constraints (sorted by node) overwrite theirs, positions.
+    /// Steps 1.–2. and 4., fused in one pass over the nodes: free update of
+    /// every DOF, constraints (sorted by node) overwrite theirs, positions;
+    /// returns the step's energy sums.
+    #[inline(always)]
+    fn update_nodes(&mut self, k: StepConstants) -> Sums {
         // Hot accumulators as locals (kept in registers); the constrained
         // nodes' corrections go to `sums` on the cold path.
-        let (mut kp0, mut kp1, mut km0, mut km1) = (0.0, 0.0, 0.0, 0.0);
-        let (mut dcur, mut dpend) = (0.0, 0.0);
+        let mut free = FreeSums::default();
         let mut sums = Sums::default();
         let Self {
             state: st,
@@ -1262,33 +1368,19 @@ impl Solver {
         let (ms, js, cm) = (&ms[..n], &js[..n], &constrained[..n]);
         let (fs, mts) = (&forces.f[..n], &forces.m[..n]);
         let (vos, wos) = (&mut v_old[..n], &mut w_old[..n]);
-        let mut k = 0;
+        let mut kc = 0;
         for i in 0..n {
             let m = ms[i];
             let vo = vs[i];
             vos[i] = vo;
             if m > 0.0 {
-                let u = velocity_step(vo, &fs[i], hb / m, d1, d2);
-                vs[i] = u.v;
-                kp0 += m * u.product;
-                km0 += m * u.sum2;
-                if c > 0.0 {
-                    dcur += m * u.sum_old;
-                    dpend += m * u.sum_new;
-                }
+                free.update(0, m, &mut vs[i], vo, &fs[i], &k);
             }
             let j = js[i];
             let wo = ws[i];
             wos[i] = wo;
             if j > 0.0 {
-                let u = velocity_step(wo, &mts[i], hb / j, d1, d2);
-                ws[i] = u.v;
-                kp1 += j * u.product;
-                km1 += j * u.sum2;
-                if c > 0.0 {
-                    dcur += j * u.sum_old;
-                    dpend += j * u.sum_new;
-                }
+                free.update(1, j, &mut ws[i], wo, &mts[i], &k);
             }
             if cm[i] != 0 {
                 let node = Node {
@@ -1299,10 +1391,10 @@ impl Solver {
                     f: fs[i],
                     mt: mts[i],
                 };
-                let times = (t_half, t_next, dt, c, hb);
-                k = apply_constraints(
+                let times = (k.t_half, k.t_next, k.dt, k.c, k.hb);
+                kc = apply_constraints(
                     i,
-                    k,
+                    kc,
                     &node,
                     &mut vs[i],
                     &mut ws[i],
@@ -1316,36 +1408,21 @@ impl Solver {
             }
             let v = vs[i];
             let x = &mut xs[i];
-            x.x += v.x * dt;
-            x.y += v.y * dt;
-            x.z += v.z * dt;
+            x.x += v.x * k.dt;
+            x.y += v.y * k.dt;
+            x.z += v.z * k.dt;
         }
+        free.add_to(&mut sums, k.c, k.hb);
+        sums
+    }
 
-        // Free sums: ½ m vo·vn, ⅛ m |vo+vn|², and the damping work halves
-        // ½ Δt̄ D·v with Δt̄ D = −½ c m Δt̄ (vo + vn).
-        sums.ke_prod[0] += 0.5 * kp0;
-        sums.ke_prod[1] += 0.5 * kp1;
-        sums.ke_mid[0] += 0.125 * km0;
-        sums.ke_mid[1] += 0.125 * km1;
-        sums.damp_cur += -0.25 * c * hb * dcur;
-        sums.damp_pend += -0.25 * c * hb * dpend;
-
-        // 3. Load work and the ledger at t_n.
-        let mut loads_cur = 0.0;
-        let mut loads_pend = 0.0;
-        for l in &self.loads {
-            let p = l.value * self.amp_values[l.amplitude as usize];
-            let (i, axis) = (l.node as usize, (l.dof % 3) as usize);
-            let (vo, vn) = if l.dof >= 3 {
-                (self.w_old[i][axis], self.state.w[i][axis])
-            } else {
-                (self.v_old[i][axis], self.state.v[i][axis])
-            };
-            loads_cur += 0.5 * hb * p * vo;
-            loads_pend += 0.5 * hb * p * vn;
-        }
-        let (sc_cur, sc_pend) = if dt != self.dt_prev {
-            self.step_change_sums(dt - self.dt_prev)
+    /// Step 3.: the load work, the step-change term and the running work
+    /// sums over the step, and the energy ledger at `t_n` (kept and returned).
+    #[inline]
+    fn book_energy(&mut self, first: bool, k: StepConstants, sums: Sums) -> EnergyLedger {
+        let (loads_cur, loads_pend) = self.load_work_halves(k.hb);
+        let (sc_cur, sc_pend) = if k.dt != self.dt_prev {
+            self.step_change_sums(k.dt - self.dt_prev)
         } else {
             (0.0, 0.0)
         };
@@ -1365,7 +1442,7 @@ impl Solver {
         w.damping_pending = sums.damp_pend;
         let (ke_prod, ke_mid) = (sums.ke_prod, sums.ke_mid);
         let mut ledger = EnergyLedger {
-            time: t_n,
+            time: k.t_n,
             kinetic: ke_mid[0] + ke_mid[1],
             kinetic_rotational: ke_mid[1],
             integration: (ke_prod[0] + ke_prod[1]) - (ke_mid[0] + ke_mid[1]) + w.step_change,
@@ -1386,31 +1463,27 @@ impl Solver {
         }
         ledger.close(self.total0);
         self.ledger = ledger;
-        self.time = t_next;
-        self.land_at = None;
-        self.step += 1;
-        self.dt_prev = dt;
+        ledger
+    }
 
-        // 5. Forces at t_{n+1}; 6. next time step.
-        self.timing.integration += started.elapsed().as_secs_f64();
-        self.compute_forces(self.time, dt, self.step)?;
-        let mark = Instant::now();
-        let (dt_next, limit) = self.next_dt()?;
-        self.timing.time_step += mark.elapsed().as_secs_f64();
-        self.limit = limit;
-        if !dt_next.is_finite() || dt_next < self.dt_floor {
-            return Err(self.collapse(dt_next, limit));
+    /// The loads' work halves over the step, `½ Δt̄ p·v` at `v_{n-1/2}` and
+    /// at `v_{n+1/2}` (`hb` = `Δt̄`).
+    #[inline]
+    fn load_work_halves(&self, hb: f64) -> (f64, f64) {
+        let mut loads_cur = 0.0;
+        let mut loads_pend = 0.0;
+        for l in &self.loads {
+            let p = l.value * self.amp_values[l.amplitude as usize];
+            let (i, axis) = (l.node as usize, (l.dof % 3) as usize);
+            let (vo, vn) = if l.dof >= 3 {
+                (self.w_old[i][axis], self.state.w[i][axis])
+            } else {
+                (self.v_old[i][axis], self.state.v[i][axis])
+            };
+            loads_cur += 0.5 * hb * p * vo;
+            loads_pend += 0.5 * hb * p * vn;
         }
-        self.dt_next = dt_next;
-        Ok(StepReport {
-            step: self.step,
-            time: self.time,
-            dt,
-            dt_next,
-            limit,
-            added_mass: self.added_mass,
-            energy: ledger,
-        })
+        (loads_cur, loads_pend)
     }
 
     /// One step towards `t_end`, as [`Solver::run_until`] takes it: over the
