@@ -32,6 +32,19 @@ impl From<String> for Failure {
     }
 }
 
+/// A library error becomes a [`Failure::Message`] with its text.
+macro_rules! failure_from {
+    ($($t:ty),* $(,)?) => {
+        $(impl From<$t> for Failure {
+            fn from(e: $t) -> Self {
+                Self::Message(e.to_string())
+            }
+        })*
+    };
+}
+
+failure_from!(toml::ser::Error);
+
 /// What every command returns.
 pub type Outcome = Result<ExitCode, Failure>;
 

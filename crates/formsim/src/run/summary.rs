@@ -381,6 +381,7 @@ impl Summary {
 /// The resolved scene as JSON (through TOML, which leaves out unset options).
 fn settings(scene: &crate::scene::Scene) -> serde_json::Value {
     crate::scene::resolved::to_toml(scene)
+        .map_err(|e| e.to_string())
         .and_then(|v| serde_json::to_value(v).map_err(|e| e.to_string()))
         .unwrap_or_else(|e| serde_json::Value::String(format!("not serialisable: {e}")))
 }

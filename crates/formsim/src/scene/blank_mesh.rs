@@ -118,19 +118,92 @@ impl Names<'_> {
     }
 }
 
+/// Why [`check`] refuses a blank mesh; each message names the node or the
+/// element (by the file's numbers when it was read, else 0-based indices)
+/// and the element's nodes.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// The mesh has no shell elements.
+    #[error(
+        "no shell elements ({nodes} nodes; need 4-node shells: *ELEMENT, TYPE=S4R in a .inp, quads on a surface in a .msh)"
+    )]
+    NoShells {
+        /// Number of nodes in the mesh.
+        nodes: usize,
+    },
+    /// A node has a coordinate that is not finite.
+    #[error("node {node} has a non-finite coordinate ({x}, {y}, {z}) mm")]
+    NonFiniteNode {
+        /// The node.
+        node: i64,
+        /// x (mm).
+        x: f64,
+        /// y (mm).
+        y: f64,
+        /// z (mm).
+        z: f64,
+    },
+    /// An element refers to a node index past the mesh's nodes.
+    #[error("element {element} refers to node index {index}, past the {nodes} nodes")]
+    MissingNode {
+        /// The element.
+        element: i64,
+        /// The 0-based node index it refers to.
+        index: u32,
+        /// Number of nodes in the mesh.
+        nodes: usize,
+    },
+    /// An element lists one node twice.
+    #[error("element {element} has zero area: node {node} appears twice ({nodes})")]
+    RepeatedNode {
+        /// The element.
+        element: i64,
+        /// The repeated node.
+        node: i64,
+        /// The element's nodes, as `nodes 1, 2, 3, 4`.
+        nodes: String,
+    },
+    /// An element's area is zero (or below the quality threshold).
+    #[error("element {element} has zero area ({area:e} mm²; {nodes})")]
+    ZeroArea {
+        /// The element.
+        element: i64,
+        /// Its area (mm²).
+        area: f64,
+        /// The element's nodes, as `nodes 1, 2, 3, 4`.
+        nodes: String,
+    },
+    /// [`Mesh::validate`] refused an element's shape.
+    #[error("element {element}: {reason} ({measure} = {value}; {nodes})")]
+    BadElement {
+        /// The element.
+        element: i64,
+        /// What is wrong, the node named by the file's number.
+        reason: String,
+        /// Name of the measured quantity, with its unit.
+        measure: &'static str,
+        /// Its value.
+        value: f64,
+        /// The element's nodes, as `nodes 1, 2, 3, 4`.
+        nodes: String,
+    },
+    /// Any other [`Mesh::validate`] error.
+    #[error(transparent)]
+    Invalid(FemError),
+}
+
 /// Check `mesh` (named by `file`'s numbers when it was read): shells
 /// present, finite coordinates, elements on existing and distinct nodes,
 /// of non-zero area, then [`Mesh::validate`] (shape, sets, orientation).
 ///
 /// # Errors
-/// One line naming the node or the element and its nodes.
-pub fn check(mesh: &Mesh, file: Option<&MeshFile>) -> Result<(), String> {
+/// A [`MeshError`] naming the node or the element and its nodes.
+pub fn check(mesh: &Mesh, file: Option<&MeshFile>) -> Result<(), MeshError> {
     let names = Names(file);
     if mesh.quads.is_empty() {
-        return Err(format!(
-            "no shell elements ({} nodes; need 4-node shells: *ELEMENT, TYPE=S4R in a .inp, quads on a surface in a .msh)",
-            mesh.nodes.len()
-        ));
+        return Err(MeshError::NoShells {
+            nodes: mesh.nodes.len(),
+        });
     }
     if let Some(n) = mesh
         .nodes
@@ -138,36 +211,36 @@ pub fn check(mesh: &Mesh, file: Option<&MeshFile>) -> Result<(), String> {
         .position(|p| !p.iter().all(|v| v.is_finite()))
     {
         let p = mesh.nodes[n];
-        return Err(format!(
-            "node {} has a non-finite coordinate ({}, {}, {}) mm",
-            names.node(n as u32),
-            p.x,
-            p.y,
-            p.z
-        ));
+        return Err(MeshError::NonFiniteNode {
+            node: names.node(n as u32),
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        });
     }
     for (e, q) in mesh.quads.iter().enumerate() {
         check_element(mesh, e, q, &names)?;
     }
-    mesh.validate().map_err(|err| describe(&err, mesh, &names))
+    mesh.validate().map_err(|err| describe(err, mesh, &names))
 }
 
 /// Element `e` on nodes `q`: nodes exist, none repeated, area above
 /// [`MeshQuality::min_relative_area`] × (longest side)².
-fn check_element(mesh: &Mesh, e: usize, q: &[u32; 4], names: &Names) -> Result<(), String> {
+fn check_element(mesh: &Mesh, e: usize, q: &[u32; 4], names: &Names) -> Result<(), MeshError> {
     let id = names.element(e);
     if let Some(&n) = q.iter().find(|&&n| n as usize >= mesh.nodes.len()) {
-        return Err(format!(
-            "element {id} refers to node index {n}, past the {} nodes",
-            mesh.nodes.len()
-        ));
+        return Err(MeshError::MissingNode {
+            element: id,
+            index: n,
+            nodes: mesh.nodes.len(),
+        });
     }
     if let Some(k) = (1..4).find(|&k| q[..k].contains(&q[k])) {
-        return Err(format!(
-            "element {id} has zero area: node {} appears twice ({})",
-            names.node(q[k]),
-            names.nodes_of(q)
-        ));
+        return Err(MeshError::RepeatedNode {
+            element: id,
+            node: names.node(q[k]),
+            nodes: names.nodes_of(q),
+        });
     }
     let p = q.map(|n| mesh.nodes[n as usize]);
     let area = 0.5 * (p[2] - p[0]).cross(&(p[3] - p[1])).norm();
@@ -176,16 +249,17 @@ fn check_element(mesh: &Mesh, e: usize, q: &[u32; 4], names: &Names) -> Result<(
         .fold(0.0, f64::max);
     let min = MeshQuality::default().min_relative_area * longest * longest;
     if area.is_nan() || area <= min || longest == 0.0 {
-        return Err(format!(
-            "element {id} has zero area ({area:e} mm²; {})",
-            names.nodes_of(q)
-        ));
+        return Err(MeshError::ZeroArea {
+            element: id,
+            area,
+            nodes: names.nodes_of(q),
+        });
     }
     Ok(())
 }
 
 /// A [`Mesh::validate`] error with the file's numbers.
-fn describe(err: &FemError, mesh: &Mesh, names: &Names) -> String {
+fn describe(err: FemError, mesh: &Mesh, names: &Names) -> MeshError {
     match err {
         FemError::BadElement {
             element,
@@ -193,7 +267,7 @@ fn describe(err: &FemError, mesh: &Mesh, names: &Names) -> String {
             measure,
             value,
         } => {
-            let q = &mesh.quads[*element];
+            let q = &mesh.quads[element];
             let reason = q
                 .iter()
                 .find_map(|&n| {
@@ -201,13 +275,15 @@ fn describe(err: &FemError, mesh: &Mesh, names: &Names) -> String {
                     Some(format!("{head}at node {}", names.node(n)))
                 })
                 .unwrap_or_else(|| reason.clone());
-            format!(
-                "element {}: {reason} ({measure} = {value}; {})",
-                names.element(*element),
-                names.nodes_of(q)
-            )
+            MeshError::BadElement {
+                element: names.element(element),
+                reason,
+                measure,
+                value,
+                nodes: names.nodes_of(q),
+            }
         }
-        other => other.to_string(),
+        other => MeshError::Invalid(other),
     }
 }
 
@@ -239,7 +315,7 @@ mod tests {
         m.nodes[2] = Vec3::new(1.0, 0.0, 0.0);
         m.nodes[5] = Vec3::new(1.0, 1.0, 0.0);
         let f = numbered(m);
-        let e = check(&f.mesh, Some(&f)).unwrap_err();
+        let e = check(&f.mesh, Some(&f)).unwrap_err().to_string();
         assert!(
             e.starts_with("element 18 has zero area (") && e.ends_with("nodes 101, 102, 105, 104)"),
             "{e}"
@@ -250,7 +326,7 @@ mod tests {
     fn a_repeated_node_is_zero_area() {
         let mut m = square();
         m.quads[0][3] = m.quads[0][2];
-        let e = check(&m, None).unwrap_err();
+        let e = check(&m, None).unwrap_err().to_string();
         assert_eq!(
             e,
             "element 0 has zero area: node 4 appears twice (nodes 0, 1, 4, 4)"
@@ -259,12 +335,12 @@ mod tests {
 
     #[test]
     fn empty_and_non_finite_meshes_are_refused() {
-        let e = check(&Mesh::default(), None).unwrap_err();
+        let e = check(&Mesh::default(), None).unwrap_err().to_string();
         assert!(e.starts_with("no shell elements (0 nodes"), "{e}");
         let mut m = square();
         m.nodes[3].y = f64::NAN;
         let f = numbered(m);
-        let e = check(&f.mesh, Some(&f)).unwrap_err();
+        let e = check(&f.mesh, Some(&f)).unwrap_err().to_string();
         assert!(e.starts_with("node 103 has a non-finite coordinate"), "{e}");
     }
 
@@ -274,7 +350,7 @@ mod tests {
         // Push node 4 (top middle) far right: the first element turns non-convex.
         m.nodes[4].x = 2.9;
         let f = numbered(m);
-        let e = check(&f.mesh, Some(&f)).unwrap_err();
+        let e = check(&f.mesh, Some(&f)).unwrap_err().to_string();
         assert!(
             e.starts_with("element 18: inverted or non-convex at node 10"),
             "{e}"

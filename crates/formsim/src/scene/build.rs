@@ -104,7 +104,7 @@ fn add_shells(
     let rolling_angle = match m.r_values {
         Some(_) => Some(
             super::material::rolling_angle(mesh)
-                .map_err(|e| loaded.key_error("blank.material.r_values", e))?,
+                .map_err(|e| loaded.key_error("blank.material.r_values", e.to_string()))?,
         ),
         None => None,
     };

@@ -21,13 +21,41 @@ pub const ANGLE_TOL: f64 = 1e-6;
 /// unit vector) for the rolling direction to be defined.
 const MIN_PROJECTION: f64 = 1e-3;
 
+/// Why the blank has no single rolling angle ([`rolling_angle`]).
+#[derive(Debug, thiserror::Error)]
+pub enum RollingAngleError {
+    /// An element's plane is normal to global x.
+    #[error(
+        "element {element}: its plane is normal to global x, so the rolling direction (x projected onto the blank) is undefined"
+    )]
+    NormalToX {
+        /// The element (0-based).
+        element: usize,
+    },
+    /// An element's rolling angle differs from element 0's.
+    #[error(
+        "element {element}: the rolling direction is at {angle_deg:.6} deg from its e1 axis, element 0's at {first_deg:.6} deg; Hill'48 needs one angle for the whole blank (a flat blank with consistently numbered elements)"
+    )]
+    Disagree {
+        /// The element (0-based).
+        element: usize,
+        /// Its angle from `e1` (degrees).
+        angle_deg: f64,
+        /// Element 0's angle (degrees).
+        first_deg: f64,
+    },
+    /// The mesh has no elements.
+    #[error("the blank has no elements")]
+    NoElements,
+}
+
 /// Angle (rad) from the elements' co-rotational `e1` to global x projected
 /// onto their plane, the same for every element of `mesh`.
 ///
 /// # Errors
 /// An empty mesh, an element whose plane is normal to x, or elements that
 /// disagree; the message names the element and the angles in degrees.
-pub fn rolling_angle(mesh: &Mesh) -> Result<f64, String> {
+pub fn rolling_angle(mesh: &Mesh) -> Result<f64, RollingAngleError> {
     let mut first: Option<f64> = None;
     for (e, q) in mesh.quads.iter().enumerate() {
         let x = q.map(|n| {
@@ -38,9 +66,7 @@ pub fn rolling_angle(mesh: &Mesh) -> Result<f64, String> {
         // Global x in the element's frame: (e1·x, e2·x).
         let (a, b) = (e1[0], e2[0]);
         if a.hypot(b) < MIN_PROJECTION {
-            return Err(format!(
-                "element {e}: its plane is normal to global x, so the rolling direction (x projected onto the blank) is undefined"
-            ));
+            return Err(RollingAngleError::NormalToX { element: e });
         }
         let theta = b.atan2(a);
         match first {
@@ -49,16 +75,16 @@ pub fn rolling_angle(mesh: &Mesh) -> Result<f64, String> {
                 // Orthotropic axes: θ and θ + 180° are the same.
                 let d = (theta - t0).rem_euclid(std::f64::consts::PI);
                 if d.min(std::f64::consts::PI - d) > ANGLE_TOL {
-                    return Err(format!(
-                        "element {e}: the rolling direction is at {:.6} deg from its e1 axis, element 0's at {:.6} deg; Hill'48 needs one angle for the whole blank (a flat blank with consistently numbered elements)",
-                        theta.to_degrees(),
-                        t0.to_degrees()
-                    ));
+                    return Err(RollingAngleError::Disagree {
+                        element: e,
+                        angle_deg: theta.to_degrees(),
+                        first_deg: t0.to_degrees(),
+                    });
                 }
             }
         }
     }
-    first.ok_or_else(|| "the blank has no elements".to_string())
+    first.ok_or(RollingAngleError::NoElements)
 }
 
 #[cfg(test)]
@@ -82,7 +108,7 @@ mod tests {
         mesh.quads[1] = [q[2], q[3], q[0], q[1]];
         assert!(rolling_angle(&mesh).is_ok());
         mesh.quads[1] = [q[1], q[2], q[3], q[0]];
-        let e = rolling_angle(&mesh).unwrap_err();
+        let e = rolling_angle(&mesh).unwrap_err().to_string();
         assert!(e.starts_with("element 1:") && e.contains("90.0"), "{e}");
     }
 
@@ -93,7 +119,7 @@ mod tests {
         for p in &mut mesh.nodes {
             *p = Vec3::new(0.0, p.x, p.y);
         }
-        let e = rolling_angle(&mesh).unwrap_err();
+        let e = rolling_angle(&mesh).unwrap_err().to_string();
         assert!(e.contains("normal to global x"), "{e}");
     }
 

@@ -53,9 +53,9 @@ pub fn apply(
         });
     }
     let mut root = Value::Table(std::mem::take(table));
-    let result = set_in(&mut root, &segments, value).map_err(|message| SceneError::Override {
+    let result = set_in(&mut root, &segments, value).map_err(|e| SceneError::Override {
         assignment: assignment.to_string(),
-        message,
+        message: e.to_string(),
     });
     if let Value::Table(t) = root {
         *table = t;
@@ -63,7 +63,25 @@ pub fn apply(
     result
 }
 
-fn set_in(node: &mut Value, path: &[Segment], value: Value) -> Result<(), String> {
+/// Why an override's path cannot be followed (the message of
+/// [`SceneError::Override`]).
+#[derive(Debug, thiserror::Error)]
+enum PathError {
+    /// An index past the end of an array.
+    #[error("index [{index}] past the end ({len} entries)")]
+    PastEnd { index: usize, len: usize },
+    /// An empty value on an array entry (only keys can be removed).
+    #[error("an array entry ([{index}]) cannot be removed")]
+    RemoveEntry { index: usize },
+    /// A key inside a value that is not a table.
+    #[error("cannot set `{key}` inside a {kind}")]
+    NotTable { key: String, kind: &'static str },
+    /// An index into a value that is not an array.
+    #[error("cannot index [{index}] into a {kind}")]
+    NotArray { index: usize, kind: &'static str },
+}
+
+fn set_in(node: &mut Value, path: &[Segment], value: Value) -> Result<(), PathError> {
     let (first, rest) = path.split_first().expect("non-empty path");
     let child: &mut Value = match (first, node) {
         (Segment::Key(k), Value::Table(t)) => {
@@ -82,10 +100,10 @@ fn set_in(node: &mut Value, path: &[Segment], value: Value) -> Result<(), String
             let n = a.len();
             let slot = a
                 .get_mut(*i)
-                .ok_or_else(|| format!("index [{i}] past the end ({n} entries)"))?;
+                .ok_or(PathError::PastEnd { index: *i, len: n })?;
             if rest.is_empty() {
                 if value.as_str() == Some("") {
-                    return Err(format!("an array entry ([{i}]) cannot be removed"));
+                    return Err(PathError::RemoveEntry { index: *i });
                 }
                 *slot = value;
                 return Ok(());
@@ -93,10 +111,16 @@ fn set_in(node: &mut Value, path: &[Segment], value: Value) -> Result<(), String
             slot
         }
         (Segment::Key(k), other) => {
-            return Err(format!("cannot set `{k}` inside a {}", other.type_str()));
+            return Err(PathError::NotTable {
+                key: k.clone(),
+                kind: other.type_str(),
+            });
         }
         (Segment::Index(i), other) => {
-            return Err(format!("cannot index [{i}] into a {}", other.type_str()));
+            return Err(PathError::NotArray {
+                index: *i,
+                kind: other.type_str(),
+            });
         }
     };
     set_in(child, rest, value)

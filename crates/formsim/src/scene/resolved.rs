@@ -8,8 +8,8 @@ use super::Scene;
 ///
 /// # Errors
 /// A value TOML cannot hold (none of the scene's types should fail).
-pub fn to_toml(scene: &Scene) -> Result<toml::Value, String> {
-    toml::Value::try_from(scene).map_err(|e| e.to_string())
+pub fn to_toml(scene: &Scene) -> Result<toml::Value, toml::ser::Error> {
+    toml::Value::try_from(scene)
 }
 
 /// The resolved scene as `key = value` lines in dotted-key form, in key
@@ -18,7 +18,7 @@ pub fn to_toml(scene: &Scene) -> Result<toml::Value, String> {
 ///
 /// # Errors
 /// As [`to_toml`].
-pub fn dotted_lines(scene: &Scene) -> Result<Vec<String>, String> {
+pub fn dotted_lines(scene: &Scene) -> Result<Vec<String>, toml::ser::Error> {
     let mut lines = Vec::new();
     flatten(&to_toml(scene)?, String::new(), &mut lines);
     Ok(lines)
