@@ -43,7 +43,10 @@ macro_rules! failure_from {
     };
 }
 
-failure_from!(toml::ser::Error);
+failure_from!(
+    toml::ser::Error,
+    formsim::run::out_dir::OutDirError,
+);
 
 /// What every command returns.
 pub type Outcome = Result<ExitCode, Failure>;

@@ -10,7 +10,66 @@
 //! holds a run's results, cleaned as a run's directory. In a study's
 //! directory: [`STUDY_FILES`] and its variants' folders, the same way.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// Why the output directory cannot be made ready ([`prepare`]); each message
+/// is one line naming the path.
+#[derive(Debug, thiserror::Error)]
+pub enum OutDirError {
+    /// The directory or one of its entries cannot be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The directory.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// The path exists and is not a directory.
+    #[error("{path} exists and is not a directory")]
+    NotDirectory {
+        /// The path.
+        path: PathBuf,
+    },
+    /// The directory holds earlier results and `--force` was not given.
+    #[error("{path} exists and holds results; pass --force to replace them")]
+    HoldsResults {
+        /// The directory.
+        path: PathBuf,
+    },
+    /// The directory holds other files and `--force` was not given.
+    #[error(
+        "{path} exists and holds other files; pass --force to write results into it \
+         (those files are kept)"
+    )]
+    HoldsOtherFiles {
+        /// The directory.
+        path: PathBuf,
+    },
+    /// A file or folder cannot be removed.
+    #[error("cannot remove {path}: {source}")]
+    Remove {
+        /// The file or folder.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+}
+
+impl OutDirError {
+    fn io(path: &Path) -> impl FnOnce(std::io::Error) -> Self + '_ {
+        |source| Self::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    fn remove(path: &Path) -> impl FnOnce(std::io::Error) -> Self + '_ {
+        |source| Self::Remove {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
 
 /// Files a run writes at the top of its directory.
 pub const RUN_FILES: &[&str] = &[
@@ -52,18 +111,18 @@ pub enum Owner<'a> {
 /// One line: `dir` is not a directory; it holds results or other files and
 /// `replace` is false (the message says to pass `--force`); a file cannot be
 /// read or removed.
-pub fn prepare(dir: &Path, owner: Owner<'_>, replace: bool) -> Result<(), String> {
-    let shown = dir.display();
+pub fn prepare(dir: &Path, owner: Owner<'_>, replace: bool) -> Result<(), OutDirError> {
     let meta = match std::fs::metadata(dir) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        Err(e) => return Err(format!("{shown}: {e}")),
+        Err(e) => return Err(OutDirError::io(dir)(e)),
         Ok(m) => m,
     };
+    let path = dir.to_path_buf();
     if !meta.is_dir() {
-        return Err(format!("{shown} exists and is not a directory"));
+        return Err(OutDirError::NotDirectory { path });
     }
     let empty = std::fs::read_dir(dir)
-        .map_err(|e| format!("{shown}: {e}"))?
+        .map_err(OutDirError::io(dir))?
         .next()
         .is_none();
     if empty {
@@ -71,12 +130,9 @@ pub fn prepare(dir: &Path, owner: Owner<'_>, replace: bool) -> Result<(), String
     }
     if !replace {
         return Err(if holds_results(dir, owner)? {
-            format!("{shown} exists and holds results; pass --force to replace them")
+            OutDirError::HoldsResults { path }
         } else {
-            format!(
-                "{shown} exists and holds other files; pass --force to write results into it \
-                 (those files are kept)"
-            )
+            OutDirError::HoldsOtherFiles { path }
         });
     }
     match owner {
@@ -87,7 +143,7 @@ pub fn prepare(dir: &Path, owner: Owner<'_>, replace: bool) -> Result<(), String
 }
 
 /// Whether `dir` holds anything `owner` would write.
-fn holds_results(dir: &Path, owner: Owner<'_>) -> Result<bool, String> {
+fn holds_results(dir: &Path, owner: Owner<'_>) -> Result<bool, OutDirError> {
     Ok(match owner {
         Owner::Run => holds_run(dir),
         Owner::Compare(labels) => {
@@ -113,10 +169,10 @@ fn holds_run(dir: &Path) -> bool {
 /// The sub-folders of a comparison's `dir` that belong to it: a row's label,
 /// or a folder holding a run's `summary.json` (an earlier comparison's row;
 /// a folder with only plots or CSV files of the user's own is not one).
-fn run_folders(dir: &Path, labels: &[String]) -> Result<Vec<std::path::PathBuf>, String> {
+fn run_folders(dir: &Path, labels: &[String]) -> Result<Vec<PathBuf>, OutDirError> {
     let mut found = Vec::new();
-    for entry in std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))? {
-        let entry = entry.map_err(|e| format!("{}: {e}", dir.display()))?;
+    for entry in std::fs::read_dir(dir).map_err(OutDirError::io(dir))? {
+        let entry = entry.map_err(OutDirError::io(dir))?;
         let path = entry.path();
         let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
         let is_row = labels.iter().any(|l| entry.file_name() == l.as_str());
@@ -128,24 +184,21 @@ fn run_folders(dir: &Path, labels: &[String]) -> Result<Vec<std::path::PathBuf>,
 }
 
 /// Remove the file `path` if it is there.
-fn remove_file(path: &Path) -> Result<(), String> {
+fn remove_file(path: &Path) -> Result<(), OutDirError> {
     match std::fs::remove_file(path) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-            Err(format!("cannot remove {}: {e}", path.display()))
-        }
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(OutDirError::remove(path)(e)),
         _ => Ok(()),
     }
 }
 
 /// Remove the files of `folder` whose extension is `ext`, then the folder if
 /// that left it empty. A symbolic link or a file in its place is left alone.
-fn clean_folder(folder: &Path, ext: &str) -> Result<(), String> {
+fn clean_folder(folder: &Path, ext: &str) -> Result<(), OutDirError> {
     if !std::fs::symlink_metadata(folder).is_ok_and(|m| m.is_dir()) {
         return Ok(());
     }
-    let shown = folder.display();
-    for entry in std::fs::read_dir(folder).map_err(|e| format!("{shown}: {e}"))? {
-        let path = entry.map_err(|e| format!("{shown}: {e}"))?.path();
+    for entry in std::fs::read_dir(folder).map_err(OutDirError::io(folder))? {
+        let path = entry.map_err(OutDirError::io(folder))?.path();
         if path.is_file() && path.extension().is_some_and(|x| x == ext) {
             remove_file(&path)?;
         }
@@ -154,20 +207,19 @@ fn clean_folder(folder: &Path, ext: &str) -> Result<(), String> {
 }
 
 /// Remove `folder` if it is an empty directory.
-fn remove_if_empty(folder: &Path) -> Result<(), String> {
+fn remove_if_empty(folder: &Path) -> Result<(), OutDirError> {
     let empty = std::fs::read_dir(folder)
-        .map_err(|e| format!("{}: {e}", folder.display()))?
+        .map_err(OutDirError::io(folder))?
         .next()
         .is_none();
     if empty {
-        std::fs::remove_dir(folder)
-            .map_err(|e| format!("cannot remove {}: {e}", folder.display()))?;
+        std::fs::remove_dir(folder).map_err(OutDirError::remove(folder))?;
     }
     Ok(())
 }
 
 /// Remove a run's files from `dir`.
-fn clean_run(dir: &Path) -> Result<(), String> {
+fn clean_run(dir: &Path) -> Result<(), OutDirError> {
     for name in RUN_FILES {
         remove_file(&dir.join(name))?;
     }
@@ -178,14 +230,14 @@ fn clean_run(dir: &Path) -> Result<(), String> {
 }
 
 /// Remove a comparison's files from `dir`: its table, its plots and its rows.
-fn clean_compare(dir: &Path, labels: &[String]) -> Result<(), String> {
+fn clean_compare(dir: &Path, labels: &[String]) -> Result<(), OutDirError> {
     clean_folder(&dir.join("plots"), "png")?;
     clean_batch(dir, COMPARE_FILES, labels)
 }
 
 /// Remove the `files` of a batch of runs (a comparison, a study) from `dir`,
 /// and its runs' folders.
-fn clean_batch(dir: &Path, files: &[&str], labels: &[String]) -> Result<(), String> {
+fn clean_batch(dir: &Path, files: &[&str], labels: &[String]) -> Result<(), OutDirError> {
     for name in files {
         remove_file(&dir.join(name))?;
     }
@@ -218,7 +270,9 @@ mod tests {
     fn a_file_in_place_of_the_directory_is_refused() {
         let dir = tempfile::tempdir().unwrap();
         touch(dir.path(), "f");
-        let e = prepare(&dir.path().join("f"), Owner::Run, true).unwrap_err();
+        let e = prepare(&dir.path().join("f"), Owner::Run, true)
+            .unwrap_err()
+            .to_string();
         assert!(e.ends_with("exists and is not a directory"), "{e}");
     }
 
@@ -226,7 +280,9 @@ mod tests {
     fn other_files_alone_are_refused_with_their_own_message() {
         let dir = tempfile::tempdir().unwrap();
         touch(dir.path(), "notes.txt");
-        let e = prepare(dir.path(), Owner::Run, false).unwrap_err();
+        let e = prepare(dir.path(), Owner::Run, false)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("holds other files; pass --force"), "{e}");
         prepare(dir.path(), Owner::Run, true).unwrap();
         assert!(dir.path().join("notes.txt").is_file());
@@ -247,7 +303,7 @@ mod tests {
         ] {
             touch(d, f);
         }
-        let e = prepare(d, Owner::Run, false).unwrap_err();
+        let e = prepare(d, Owner::Run, false).unwrap_err().to_string();
         assert!(e.ends_with("exists and holds results; pass --force to replace them"));
         prepare(d, Owner::Run, true).unwrap();
         let mut left: Vec<String> = walk(d);
@@ -275,7 +331,9 @@ mod tests {
         }
         std::fs::create_dir(d.join("wh-jaumann")).unwrap();
         let labels = ["wh-jaumann".to_string()];
-        let e = prepare(d, Owner::Compare(&labels), false).unwrap_err();
+        let e = prepare(d, Owner::Compare(&labels), false)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("holds results"), "{e}");
         prepare(d, Owner::Compare(&labels), true).unwrap();
         // A folder with a run's files but no summary.json is the user's.
@@ -309,7 +367,9 @@ mod tests {
             touch(d, f);
         }
         let labels = ["reference".to_string(), "divisions-25".to_string()];
-        let e = prepare(d, Owner::Study(&labels), false).unwrap_err();
+        let e = prepare(d, Owner::Study(&labels), false)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("holds results"), "{e}");
         prepare(d, Owner::Study(&labels), true).unwrap();
         assert_eq!(walk(d), ["notes.txt"]);

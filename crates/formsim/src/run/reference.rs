@@ -16,21 +16,60 @@ const PROBE_FLOW_STRESS: [f64; 2] = [100.0, 400.0];
 /// How closely `τ_c / p` must agree over the probes to be one coefficient.
 const SAME_MU: f64 = 1e-9;
 
+/// Why the scene's contact law has no Coulomb coefficient ([`coulomb_mu`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ReferenceError {
+    /// The contact law is a dynamic plugin.
+    #[error("the contact law is a plugin")]
+    Plugin,
+    /// Some pairs use another law than the scene's.
+    #[error("the pairs use different laws")]
+    MixedLaws,
+    /// The law does not build with the scene's parameters.
+    #[error(transparent)]
+    Build(#[from] plugins_api::FrictionError),
+    /// `τ_c / p` is not the same, finite and positive at every probe.
+    #[error(
+        "law `{law}` is not Coulomb (τ_c/p = {first:.6} and {ratio:.6} at p = {p} MPa, \
+         ω = {omega} N/mm, σ_y = {flow_stress} MPa)"
+    )]
+    NotCoulomb {
+        /// The law's name.
+        law: String,
+        /// `τ_c / p` at the first probe.
+        first: f64,
+        /// `τ_c / p` at this probe.
+        ratio: f64,
+        /// Pressure of this probe (MPa).
+        p: f64,
+        /// Frictional work density of this probe (N/mm).
+        omega: f64,
+        /// Flow stress of this probe (MPa).
+        flow_stress: f64,
+    },
+    /// No probe was made.
+    #[error("law `{law}` was not probed")]
+    NotProbed {
+        /// The law's name.
+        law: String,
+    },
+}
+
 /// The Coulomb coefficient of the scene's active law, or why there is none.
 ///
 /// # Errors
 /// A plugin law or per-pair laws (no single named law), a law that is not
 /// proportional to the pressure, or one that fails to build; each says so.
-pub fn coulomb_mu(loaded: &LoadedScene) -> Result<f64, String> {
+pub fn coulomb_mu(loaded: &LoadedScene) -> Result<f64, ReferenceError> {
     let c = &loaded.scene.contact;
     if c.plugin.is_some() {
-        return Err("the contact law is a plugin".into());
+        return Err(ReferenceError::Plugin);
     }
     if c.pairs
         .iter()
         .any(|p| p.law.as_ref().is_some_and(|l| *l != c.law))
     {
-        return Err("the pairs use different laws".into());
+        return Err(ReferenceError::MixedLaws);
     }
     let mut params = Params::new();
     if let Some(table) = c.params.get(&c.law) {
@@ -38,12 +77,12 @@ pub fn coulomb_mu(loaded: &LoadedScene) -> Result<f64, String> {
             params.set(name, *v);
         }
     }
-    let law = registry::build_law(&c.law, &params).map_err(|e| e.to_string())?;
+    let law = registry::build_law(&c.law, &params)?;
     mu_of(law.as_ref())
 }
 
 /// `τ_c / p` of `law` if it is the same, finite and positive at every probe.
-fn mu_of(law: &dyn FrictionLaw) -> Result<f64, String> {
+fn mu_of(law: &dyn FrictionLaw) -> Result<f64, ReferenceError> {
     let mut mu: Option<f64> = None;
     for &p in &PROBE_PRESSURES {
         for &omega in &PROBE_WORK {
@@ -59,16 +98,21 @@ fn mu_of(law: &dyn FrictionLaw) -> Result<f64, String> {
                 let m0 = *mu.get_or_insert(m);
                 // Written so that a NaN fails the test.
                 if !(m.is_finite() && m > 0.0 && (m - m0).abs() <= SAME_MU * m0.abs()) {
-                    return Err(format!(
-                        "law `{}` is not Coulomb (τ_c/p = {m0:.6} and {m:.6} at p = {p} MPa, \
-                         ω = {omega} N/mm, σ_y = {flow_stress} MPa)",
-                        law.name()
-                    ));
+                    return Err(ReferenceError::NotCoulomb {
+                        law: law.name().to_string(),
+                        first: m0,
+                        ratio: m,
+                        p,
+                        omega,
+                        flow_stress,
+                    });
                 }
             }
         }
     }
-    mu.ok_or_else(|| format!("law `{}` was not probed", law.name()))
+    mu.ok_or_else(|| ReferenceError::NotProbed {
+        law: law.name().to_string(),
+    })
 }
 
 #[cfg(test)]
