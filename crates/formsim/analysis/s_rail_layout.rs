@@ -142,5 +142,5 @@ fn main() -> Result<(), String> {
         y_label: "y (mm)".into(),
         series,
     };
-    draw_panels(Path::new(out), &[panel], 1300, 800)
+    draw_panels(Path::new(out), &[panel], 1300, 800).map_err(|e| e.to_string())
 }

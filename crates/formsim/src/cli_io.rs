@@ -46,6 +46,8 @@ macro_rules! failure_from {
 failure_from!(
     toml::ser::Error,
     formsim::run::out_dir::OutDirError,
+    formsim::plot::PlotError,
+    formsim::point_driver::PointError,
 );
 
 /// What every command returns.

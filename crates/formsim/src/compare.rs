@@ -515,7 +515,8 @@ fn write_plots(out: &Path, entries: &[Entry]) -> Result<(), String> {
                 series,
             });
         }
-        draw_panels(&dir.join(format!("{name}.png")), &panels, 1000, 450)?;
+        draw_panels(&dir.join(format!("{name}.png")), &panels, 1000, 450)
+            .map_err(|e| e.to_string())?;
     }
     Ok(())
 }

@@ -629,7 +629,7 @@ fn friction_point(args: &FrictionPointArgs) -> Outcome {
         // A plugin that failed inside (a caught panic, an error) says why.
         match plugins_api::loader::take_last_error() {
             Some(why) => format!("{e} ({why})"),
-            None => e,
+            None => e.to_string(),
         }
     })?;
     point_driver::write_csv(&args.out, &records)?;
@@ -676,7 +676,7 @@ fn plot_point(
     records: &[point_driver::Record],
     law: &str,
     formulation: &str,
-) -> Result<(), String> {
+) -> Result<(), formsim::plot::PlotError> {
     let series = |label: &str, f: &dyn Fn(&point_driver::Record) -> f64| Series {
         label: label.to_string(),
         points: records.iter().map(|r| (r.t, f(r))).collect(),

@@ -4,7 +4,7 @@
 //! Liberation Sans, the common Debian fonts; `FORMSIM_FONT` overrides); without
 //! one, plotting fails with a message saying which package to install.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use plotters::prelude::*;
@@ -17,10 +17,38 @@ const FONT_CANDIDATES: [&str; 5] = [
     "/Library/Fonts/Arial.ttf",
 ];
 
+/// Why a plot cannot be drawn.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// No TrueType font for the labels.
+    #[error(
+        "no TrueType font found for plot labels: install the Debian package fonts-dejavu-core or set FORMSIM_FONT=/path/to/font.ttf"
+    )]
+    NoFont,
+    /// The plotting library failed, or the image's directory cannot be made.
+    #[error("{path}: cannot draw plot: {message}")]
+    Draw {
+        /// The image being written.
+        path: PathBuf,
+        /// The library's (or the system's) message.
+        message: String,
+    },
+}
+
+impl PlotError {
+    /// A [`PlotError::Draw`] for `path` from any error's message.
+    pub(crate) fn drawing(path: &Path) -> impl Fn(&dyn std::fmt::Display) -> Self + '_ {
+        move |e| Self::Draw {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        }
+    }
+}
+
 /// Register a sans-serif font once per process.
-pub(crate) fn ensure_font() -> Result<(), String> {
-    static FONT: OnceLock<Result<(), String>> = OnceLock::new();
-    FONT.get_or_init(|| {
+pub(crate) fn ensure_font() -> Result<(), PlotError> {
+    static FONT: OnceLock<bool> = OnceLock::new();
+    let found = *FONT.get_or_init(|| {
         let from_env = std::env::var("FORMSIM_FONT").ok();
         let candidates = from_env.iter().map(String::as_str).chain(FONT_CANDIDATES);
         for path in candidates {
@@ -28,13 +56,17 @@ pub(crate) fn ensure_font() -> Result<(), String> {
                 // The font must live for the whole process (plotters keeps a reference).
                 let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
                 if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
-                    return Ok(());
+                    return true;
                 }
             }
         }
-        Err("no TrueType font found for plot labels: install the Debian package fonts-dejavu-core or set FORMSIM_FONT=/path/to/font.ttf".to_string())
-    })
-    .clone()
+        false
+    });
+    if found {
+        Ok(())
+    } else {
+        Err(PlotError::NoFont)
+    }
 }
 
 /// One curve of a chart.
@@ -129,9 +161,9 @@ pub fn draw_panels(
     panels: &[Panel],
     width: u32,
     height_per_panel: u32,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     ensure_font()?;
-    let fail = |e: &dyn std::fmt::Display| format!("{}: cannot draw plot: {e}", path.display());
+    let fail = PlotError::drawing(path);
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| fail(&e))?;
     }

@@ -1,7 +1,7 @@
 //! Integrating one contact point along a prescribed history (`formsim friction-point`).
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use plugins_api::{FrictionError, PointIntegrator, PointState, StepOutput};
 
@@ -55,6 +55,39 @@ pub struct RunSummary {
     pub max_excess: f64,
 }
 
+/// Why a history cannot be integrated or its records written.
+#[derive(Debug, thiserror::Error)]
+pub enum PointError {
+    /// A step of the history failed.
+    #[error("{file}:{line}: {source}")]
+    Step {
+        /// The history file, as given.
+        file: String,
+        /// 1-based line of the step.
+        line: usize,
+        /// The integrator's error.
+        source: FrictionError,
+    },
+    /// A step gave a non-finite traction, slip or work.
+    #[error("{file}:{line}: {law} produced a non-finite result")]
+    NonFinite {
+        /// The history file, as given.
+        file: String,
+        /// 1-based line of the step.
+        line: usize,
+        /// The law's name.
+        law: String,
+    },
+    /// The CSV file cannot be written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file (or its directory).
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+}
+
 /// Integrate the history with `integrator`, from a virgin point.
 ///
 /// # Errors
@@ -63,7 +96,7 @@ pub fn run(
     integrator: &dyn PointIntegrator,
     history: &History,
     file: &str,
-) -> Result<(Vec<Record>, RunSummary), String> {
+) -> Result<(Vec<Record>, RunSummary), PointError> {
     let mut state = PointState::default();
     let mut records = Vec::with_capacity(history.steps.len());
     let mut summary = RunSummary::default();
@@ -71,17 +104,22 @@ pub fn run(
     for ((input, &t), &line) in history.steps.iter().zip(&history.times).zip(&history.lines) {
         let out = integrator
             .step(&mut state, input)
-            .map_err(|e: FrictionError| format!("{file}:{line}: {e}"))?;
+            .map_err(|source| PointError::Step {
+                file: file.to_string(),
+                line,
+                source,
+            })?;
         let finite = out
             .t
             .iter()
             .chain([out.dgamma, out.dissipation, state.omega].iter())
             .all(|v| v.is_finite());
         if !finite {
-            return Err(format!(
-                "{file}:{line}: {} produced a non-finite result",
-                integrator.law_name()
-            ));
+            return Err(PointError::NonFinite {
+                file: file.to_string(),
+                line,
+                law: integrator.law_name().to_string(),
+            });
         }
         dissipation += out.dissipation;
         summary.steps += 1;
@@ -115,8 +153,11 @@ pub fn run(
 ///
 /// # Errors
 /// I/O errors, naming the file.
-pub fn write_csv(path: &Path, records: &[Record]) -> Result<(), String> {
-    let io = |e: std::io::Error| format!("{}: {e}", path.display());
+pub fn write_csv(path: &Path, records: &[Record]) -> Result<(), PointError> {
+    let io = |source: std::io::Error| PointError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(io)?;
     }

@@ -1,7 +1,7 @@
 //! Plots of an identification: measured values with their error bars against
 //! the simulated ones at the start and at the end.
 
-use crate::plot::{Series, axes, ensure_font};
+use crate::plot::{PlotError, Series, axes, ensure_font};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -64,9 +64,9 @@ fn range(panel: &MarkPanel) -> ((f64, f64), (f64, f64)) {
 ///
 /// # Errors
 /// No font, or the file cannot be written.
-pub fn draw(path: &Path, panels: &[MarkPanel]) -> Result<(), String> {
+pub fn draw(path: &Path, panels: &[MarkPanel]) -> Result<(), PlotError> {
     ensure_font()?;
-    let fail = |e: &dyn std::fmt::Display| format!("{}: cannot draw plot: {e}", path.display());
+    let fail = PlotError::drawing(path);
     let rows = u32::try_from(panels.len().max(1)).unwrap_or(1);
     let root = BitMapBackend::new(path, (900, 340 * rows)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| fail(&e))?;

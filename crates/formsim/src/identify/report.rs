@@ -369,7 +369,8 @@ impl Report {
                 },
             ],
         };
-        draw_panels(&out.join("objective.png"), &[panel], 900, 380).map_err(IdentifyError::Report)
+        draw_panels(&out.join("objective.png"), &[panel], 900, 380)
+            .map_err(|e| IdentifyError::Report(e.to_string()))
     }
 
     fn plot_fit(&self, out: &Path, data: &Measurements) -> Result<(), IdentifyError> {
@@ -393,7 +394,7 @@ impl Report {
             }
             k += set.points.len();
         }
-        draw(&out.join("fit.png"), &panels).map_err(IdentifyError::Report)
+        draw(&out.join("fit.png"), &panels).map_err(|e| IdentifyError::Report(e.to_string()))
     }
 
     fn fit_panel(&self, set: &str, group: &str, rows: &[usize], data: &Measurements) -> MarkPanel {

@@ -324,10 +324,12 @@ fn punch_title(model: &Model) -> String {
     }
 }
 
-fn plot_err(path: &Path) -> impl Fn(String) -> OutputError + '_ {
-    move |message| OutputError::Plot {
+/// An [`OutputError::Plot`] for `path` around a [`crate::plot::PlotError`]
+/// (whose message already names the file: it is kept as it was, both times).
+fn plot_err(path: &Path) -> impl Fn(crate::plot::PlotError) -> OutputError + '_ {
+    move |e| OutputError::Plot {
         path: path.to_path_buf(),
-        message,
+        message: e.to_string(),
     }
 }
 

@@ -5,7 +5,7 @@
 //! are the law and the formulation).
 
 use super::Results;
-use crate::plot::ensure_font;
+use crate::plot::{PlotError, ensure_font};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -13,10 +13,10 @@ use std::path::Path;
 ///
 /// # Errors
 /// No font, or the image cannot be written; the message names the file.
-pub fn draw(out: &Path, r: &Results) -> Result<(), String> {
+pub fn draw(out: &Path, r: &Results) -> Result<(), PlotError> {
     ensure_font()?;
     let path = out.join("times.png");
-    let fail = |e: &dyn std::fmt::Display| format!("{}: cannot draw plot: {e}", path.display());
+    let fail = PlotError::drawing(&path);
     let t_ref = r.outcomes[0].cpu_s.median;
     // Relative time = 1 / speed-up, run by run against the reference.
     let rows: Vec<(String, f64, f64, f64)> = r

@@ -4,7 +4,7 @@
 //! as a horizontal line and the reference's time as a vertical one.
 
 use super::{Outcome, Results};
-use crate::plot::ensure_font;
+use crate::plot::{PlotError, ensure_font};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -45,10 +45,10 @@ fn group(r: &Results, o: &Outcome) -> Option<usize> {
 ///
 /// # Errors
 /// No font, or the image cannot be written; the message names the file.
-pub fn draw(out: &Path, r: &Results) -> Result<(), String> {
+pub fn draw(out: &Path, r: &Results) -> Result<(), PlotError> {
     ensure_font()?;
     let path = out.join("pareto.png");
-    let fail = |e: &dyn std::fmt::Display| format!("{}: cannot draw plot: {e}", path.display());
+    let fail = PlotError::drawing(&path);
     let y = |o: &Outcome| o.worst.max(ERROR_FLOOR);
     let xs = r.outcomes.iter().map(|o| o.cost_s);
     let (x0, x1) = xs.fold((f64::INFINITY, 0.0_f64), |(a, b), x| (a.min(x), b.max(x)));
