@@ -48,6 +48,7 @@ failure_from!(
     formsim::run::out_dir::OutDirError,
     formsim::plot::PlotError,
     formsim::point_driver::PointError,
+    formsim::tools_cli::ToolsError,
 );
 
 /// What every command returns.

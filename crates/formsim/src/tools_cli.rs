@@ -1,22 +1,127 @@
 //! `formsim tools`: export a tools spec to VTU/OBJ, project a CSV of points on one tool.
 
-use plugins_api::{ToolSurface, Vec3};
+use plugins_api::{ToolError, ToolSurface, Vec3};
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use tools_nurbs::NurbsError;
 use tools_nurbs::export::{tessellate, write_obj, write_vtu};
 use tools_nurbs::spec::{Tool, load};
 
+/// What can go wrong in `formsim tools`; each message names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum ToolsError {
+    /// The tools spec does not load.
+    #[error(transparent)]
+    Spec(#[from] NurbsError),
+    /// The output directory cannot be created.
+    #[error("{path}: cannot create: {source}")]
+    CreateDir {
+        /// The directory.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// A VTU or OBJ file cannot be written (the exporter's message).
+    #[error("{0}")]
+    Export(String),
+    /// The points file cannot be read.
+    #[error("{path}: cannot read: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// The points file has no header.
+    #[error("{path}: empty file (expected a header x,y,z)")]
+    EmptyFile {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The header lacks a coordinate column.
+    #[error("{path}: missing column `{column}` (header: {header})")]
+    MissingColumn {
+        /// The file.
+        path: PathBuf,
+        /// `x`, `y` or `z`.
+        column: &'static str,
+        /// The header line.
+        header: String,
+    },
+    /// A line lacks a coordinate.
+    #[error("{path} line {line}: missing value for `{column}`")]
+    MissingValue {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// `x`, `y` or `z`.
+        column: &'static str,
+    },
+    /// A coordinate is not a number.
+    #[error("{path} line {line}: {column} = `{raw}` is not a number")]
+    NotANumber {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// `x`, `y` or `z`.
+        column: &'static str,
+        /// The text found.
+        raw: String,
+    },
+    /// A coordinate is infinite or NaN.
+    #[error("{path} line {line}: {column} = {value} mm is not finite")]
+    NotFinite {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// `x`, `y` or `z`.
+        column: &'static str,
+        /// The value (mm).
+        value: f64,
+    },
+    /// No tool of that name in the spec.
+    #[error("unknown tool `{name}` in {spec}; tools: {known}")]
+    UnknownTool {
+        /// The name asked for.
+        name: String,
+        /// The tools spec.
+        spec: PathBuf,
+        /// The spec's tool names, comma-separated.
+        known: String,
+    },
+    /// A point cannot be projected on the tool.
+    #[error(transparent)]
+    Projection(#[from] ToolError),
+    /// The output CSV cannot be written.
+    #[error("{path}: cannot write: {source}")]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+}
+
 /// Build every tool of `spec` and write `DIR/NAME.vtu` and `DIR/NAME.obj`; returns the files written.
-pub fn export(spec: &Path, out: &Path) -> Result<Vec<String>, String> {
-    let tools = load(spec).map_err(|e| e.to_string())?;
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
+///
+/// # Errors
+/// The spec does not load, or a file cannot be written.
+pub fn export(spec: &Path, out: &Path) -> Result<Vec<String>, ToolsError> {
+    let tools = load(spec)?;
+    std::fs::create_dir_all(out).map_err(|source| ToolsError::CreateDir {
+        path: out.to_path_buf(),
+        source,
+    })?;
     let mut written = Vec::new();
     for tool in &tools {
         let t = tessellate(tool);
         let vtu = out.join(format!("{}.vtu", tool.name()));
         let obj = out.join(format!("{}.obj", tool.name()));
-        write_vtu(&vtu, &t)?;
-        write_obj(&obj, &t, tool.name())?;
+        write_vtu(&vtu, &t).map_err(ToolsError::Export)?;
+        write_obj(&obj, &t, tool.name()).map_err(ToolsError::Export)?;
         written.push(vtu.display().to_string());
         written.push(obj.display().to_string());
     }
@@ -24,40 +129,58 @@ pub fn export(spec: &Path, out: &Path) -> Result<Vec<String>, String> {
 }
 
 /// Read `x,y,z` columns (any order; other columns ignored) from a CSV file.
-pub fn read_points(path: &Path) -> Result<Vec<Vec3>, String> {
-    let file = path.display();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: cannot read: {e}"))?;
+///
+/// # Errors
+/// The file cannot be read, has no header or a coordinate column missing,
+/// or a coordinate is missing, not a number or not finite.
+pub fn read_points(path: &Path) -> Result<Vec<Vec3>, ToolsError> {
+    let file = || path.to_path_buf();
+    let text = std::fs::read_to_string(path).map_err(|source| ToolsError::Read {
+        path: file(),
+        source,
+    })?;
     let mut lines = text
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty());
     let (_, header) = lines
         .next()
-        .ok_or(format!("{file}: empty file (expected a header x,y,z)"))?;
+        .ok_or_else(|| ToolsError::EmptyFile { path: file() })?;
     let cols: Vec<&str> = header.split(',').map(str::trim).collect();
     let mut idx = [0usize; 3];
-    for (k, name) in ["x", "y", "z"].iter().enumerate() {
-        idx[k] = cols.iter().position(|c| c == name).ok_or(format!(
-            "{file}: missing column `{name}` (header: {header})"
-        ))?;
+    for (k, name) in ["x", "y", "z"].into_iter().enumerate() {
+        idx[k] = cols
+            .iter()
+            .position(|c| *c == name)
+            .ok_or_else(|| ToolsError::MissingColumn {
+                path: file(),
+                column: name,
+                header: header.to_string(),
+            })?;
     }
     let mut points = Vec::new();
     for (ln, line) in lines {
         let vals: Vec<&str> = line.split(',').map(str::trim).collect();
         let mut p = [0.0; 3];
-        for (k, name) in ["x", "y", "z"].iter().enumerate() {
-            let raw = vals.get(idx[k]).ok_or(format!(
-                "{file} line {}: missing value for `{name}`",
-                ln + 1
-            ))?;
-            let v: f64 = raw
-                .parse()
-                .map_err(|_| format!("{file} line {}: {name} = `{raw}` is not a number", ln + 1))?;
+        for (k, name) in ["x", "y", "z"].into_iter().enumerate() {
+            let raw = vals.get(idx[k]).ok_or_else(|| ToolsError::MissingValue {
+                path: file(),
+                line: ln + 1,
+                column: name,
+            })?;
+            let v: f64 = raw.parse().map_err(|_| ToolsError::NotANumber {
+                path: file(),
+                line: ln + 1,
+                column: name,
+                raw: raw.to_string(),
+            })?;
             if !v.is_finite() {
-                return Err(format!(
-                    "{file} line {}: {name} = {v} mm is not finite",
-                    ln + 1
-                ));
+                return Err(ToolsError::NotFinite {
+                    path: file(),
+                    line: ln + 1,
+                    column: name,
+                    value: v,
+                });
             }
             p[k] = v;
         }
@@ -68,25 +191,29 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>, String> {
 
 /// Project the points of `points_csv` on tool `name` of `spec` and write `out_csv`
 /// (`px,py,pz,nx,ny,nz,distance,k1,k2,patch,u,v`); returns the number of points.
+///
+/// # Errors
+/// The spec does not load or has no tool `name`, the points cannot be read
+/// ([`read_points`]) or projected, or `out_csv` cannot be written.
 pub fn project(
     spec: &Path,
     name: &str,
     points_csv: &Path,
     out_csv: &Path,
-) -> Result<usize, String> {
-    let tools = load(spec).map_err(|e| e.to_string())?;
+) -> Result<usize, ToolsError> {
+    let tools = load(spec)?;
     let tool: &Tool = tools.iter().find(|t| t.name() == name).ok_or_else(|| {
         let known: Vec<&str> = tools.iter().map(|t| t.name()).collect();
-        format!(
-            "unknown tool `{name}` in {}; tools: {}",
-            spec.display(),
-            known.join(", ")
-        )
+        ToolsError::UnknownTool {
+            name: name.to_string(),
+            spec: spec.to_path_buf(),
+            known: known.join(", "),
+        }
     })?;
     let points = read_points(points_csv)?;
     let mut out = Vec::with_capacity(points.len());
     for x in &points {
-        out.push(tool.project(x, None).map_err(|e| e.to_string())?);
+        out.push(tool.project(x, None)?);
     }
     let mut s = String::from("px,py,pz,nx,ny,nz,distance,k1,k2,patch,u,v\n");
     for p in &out {
@@ -107,6 +234,9 @@ pub fn project(
             p.v
         );
     }
-    std::fs::write(out_csv, s).map_err(|e| format!("{}: cannot write: {e}", out_csv.display()))?;
+    std::fs::write(out_csv, s).map_err(|source| ToolsError::Write {
+        path: out_csv.to_path_buf(),
+        source,
+    })?;
     Ok(out.len())
 }
