@@ -49,6 +49,7 @@ failure_from!(
     formsim::plot::PlotError,
     formsim::point_driver::PointError,
     formsim::tools_cli::ToolsError,
+    formsim::compare::CompareError,
 );
 
 /// What every command returns.

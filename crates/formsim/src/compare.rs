@@ -18,12 +18,87 @@
 //! stops the comparison at once, named `case X, law Y, formulation Z: …`,
 //! instead of surfacing after the valid rows have run.
 
-use crate::plot::{Panel, Series, draw_panels};
-use crate::run::{Progress, RunOptions, RunResult, run};
-use crate::scene;
+use crate::plot::{Panel, PlotError, Series, draw_panels};
+use crate::run::{Progress, RunError, RunOptions, RunResult, run};
+use crate::scene::{self, SceneError};
 use rayon::prelude::*;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// What can go wrong in a comparison.
+#[derive(Debug, thiserror::Error)]
+pub enum CompareError {
+    /// A `--case` name with characters other than letters, digits, `-`, `_`, `.`.
+    #[error(
+        "--case `{text}`: the name before `:` must be letters, digits, `-`, `_` or `.` (not only dots) \
+         (e.g. `bt-25:blank.mesh.divisions=25`)"
+    )]
+    CaseName {
+        /// The argument.
+        text: String,
+    },
+    /// A `--case` override without `=`.
+    #[error("--case `{text}`: override `{part}` is not KEY=VALUE")]
+    CaseOverride {
+        /// The argument.
+        text: String,
+        /// The override.
+        part: String,
+    },
+    /// Two cases have the same name.
+    #[error("--case: the name `{name}` is used twice")]
+    DuplicateCase {
+        /// The name.
+        name: String,
+    },
+    /// Two rows would have the same label (and folder).
+    #[error("the row `{label}` appears twice (a law or formulation is listed twice)")]
+    DuplicateRow {
+        /// The label.
+        label: String,
+    },
+    /// A row's scene does not load, validate or build.
+    #[error("{}{source}", row_prefix(row))]
+    Row {
+        /// The row, as `case X, law Y, formulation Z` (empty for a matrix of
+        /// one unnamed row).
+        row: String,
+        /// The scene's error.
+        source: SceneError,
+    },
+    /// Every run failed.
+    #[error("every run failed (see the messages above)")]
+    AllFailed,
+    /// The output directory or a table cannot be written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The directory or file.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// A plot cannot be drawn.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+}
+
+/// `row: `, or nothing for a matrix of one unnamed row.
+fn row_prefix(row: &str) -> String {
+    if row.is_empty() {
+        String::new()
+    } else {
+        format!("{row}: ")
+    }
+}
+
+impl CompareError {
+    fn io(path: &Path) -> impl FnOnce(std::io::Error) -> Self + '_ {
+        |source| Self::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
 
 /// A named variant of the scene: its own `KEY=VALUE` overrides.
 #[derive(Debug, Clone, PartialEq)]
@@ -40,21 +115,19 @@ impl Case {
     /// # Errors
     /// An empty name, a name with other characters than letters, digits,
     /// `-`, `_`, `.`, or an override without `=`.
-    pub fn parse(text: &str) -> Result<Self, String> {
+    pub fn parse(text: &str) -> Result<Self, CompareError> {
         let (name, rest) = text.split_once(':').unwrap_or((text, ""));
         let name = name.trim();
         if !crate::scene::validate::is_plain_name(name) {
-            return Err(format!(
-                "--case `{text}`: the name before `:` must be letters, digits, `-`, `_` or `.` (not only dots) \
-                 (e.g. `bt-25:blank.mesh.divisions=25`)"
-            ));
+            return Err(CompareError::CaseName { text: text.into() });
         }
         let mut sets = Vec::new();
         for part in rest.split(';').map(str::trim).filter(|p| !p.is_empty()) {
             if !part.contains('=') {
-                return Err(format!(
-                    "--case `{text}`: override `{part}` is not KEY=VALUE"
-                ));
+                return Err(CompareError::CaseOverride {
+                    text: text.into(),
+                    part: part.into(),
+                });
             }
             sets.push(part.to_string());
         }
@@ -89,8 +162,8 @@ pub struct Entry {
     pub law: String,
     /// Formulation name.
     pub formulation: String,
-    /// The result, or the error message.
-    pub result: Result<RunResult, String>,
+    /// The result, or why the run failed.
+    pub result: Result<RunResult, RunError>,
 }
 
 /// One row of a comparison, checked and ready to run.
@@ -138,12 +211,11 @@ fn row_name(case: Option<&Case>, law: Option<&str>, formulation: Option<&str>) -
     parts.join(", ")
 }
 
-/// `name: message`, or the message alone for a matrix of one unnamed row.
-fn row_error(name: &str, message: impl std::fmt::Display) -> String {
-    if name.is_empty() {
-        message.to_string()
-    } else {
-        format!("{name}: {message}")
+/// A [`CompareError::Row`] for the row `name`.
+fn row_error(name: &str) -> impl FnOnce(SceneError) -> CompareError + '_ {
+    |source| CompareError::Row {
+        row: name.to_string(),
+        source,
     }
 }
 
@@ -155,7 +227,7 @@ fn check_row(
     case: Option<&Case>,
     law: Option<&String>,
     formulation: Option<&String>,
-) -> Result<scene::LoadedScene, String> {
+) -> Result<scene::LoadedScene, CompareError> {
     let mut sets = sets.to_vec();
     if let Some(c) = case {
         sets.extend(c.sets.iter().cloned());
@@ -171,13 +243,13 @@ fn check_row(
         law.map(String::as_str),
         formulation.map(String::as_str),
     );
-    let loaded = scene::load(scene_path, &sets).map_err(|e| row_error(&asked, e))?;
+    let loaded = scene::load(scene_path, &sets).map_err(row_error(&asked))?;
     let c = &loaded.scene.contact;
     let name = row_name(case, Some(&c.law), Some(&c.formulation));
     // The whole model (mesh, material, tools, each contact pair's law with its
     // parameters): an unknown law or a bad parameter is found here, not after
     // the rows before it have run. The model is dropped; the run builds its own.
-    scene::build(&loaded).map_err(|e| row_error(&name, e))?;
+    scene::build(&loaded).map_err(row_error(&name))?;
     Ok(loaded)
 }
 
@@ -188,10 +260,12 @@ fn check_row(
 /// Two cases share a name; two rows share a label; a row's scene does not
 /// load, validate or build (unknown law or formulation, bad parameter, bad
 /// override): the first such row, named `case X, law Y, formulation Z: …`.
-pub fn plan(scene_path: &Path, matrix: &Matrix) -> Result<Plan, String> {
+pub fn plan(scene_path: &Path, matrix: &Matrix) -> Result<Plan, CompareError> {
     for (i, c) in matrix.cases.iter().enumerate() {
         if matrix.cases[..i].iter().any(|d| d.name == c.name) {
-            return Err(format!("--case: the name `{}` is used twice", c.name));
+            return Err(CompareError::DuplicateCase {
+                name: c.name.clone(),
+            });
         }
     }
     let cases: Vec<Option<&Case>> = if matrix.cases.is_empty() {
@@ -224,9 +298,7 @@ pub fn plan(scene_path: &Path, matrix: &Matrix) -> Result<Plan, String> {
                     None => combo,
                 };
                 if rows.iter().any(|r| r.label == label) {
-                    return Err(format!(
-                        "the row `{label}` appears twice (a law or formulation is listed twice)"
-                    ));
+                    return Err(CompareError::DuplicateRow { label });
                 }
                 rows.push(Row {
                     label,
@@ -251,8 +323,8 @@ pub fn execute(
     out: &Path,
     progress: bool,
     on_done: &(dyn Fn(&Entry) + Sync),
-) -> Result<Vec<Entry>, String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+) -> Result<Vec<Entry>, CompareError> {
+    std::fs::create_dir_all(out).map_err(CompareError::io(out))?;
     let bars = progress_bars(progress, plan.labels());
     let entries: Vec<Entry> = plan
         .rows
@@ -265,8 +337,7 @@ pub fn execute(
                     out: out.join(&row.label),
                     progress: bar.map_or(Progress::Hidden, Progress::Bar),
                 },
-            )
-            .map_err(|e| e.to_string());
+            );
             let entry = Entry {
                 label: row.label,
                 case: row.case,
@@ -279,7 +350,7 @@ pub fn execute(
         })
         .collect();
     if entries.iter().all(|e| e.result.is_err()) {
-        return Err("every run failed (see the messages above)".into());
+        return Err(CompareError::AllFailed);
     }
     write_table(out, &entries)?;
     write_plots(out, &entries)?;
@@ -297,7 +368,7 @@ pub fn compare(
     out: &Path,
     progress: bool,
     on_done: &(dyn Fn(&Entry) + Sync),
-) -> Result<Vec<Entry>, String> {
+) -> Result<Vec<Entry>, CompareError> {
     execute(plan(scene_path, matrix)?, out, progress, on_done)
 }
 
@@ -375,7 +446,7 @@ fn columns(reference: &RunResult) -> Vec<Column> {
     cols
 }
 
-fn write_table(out: &Path, entries: &[Entry]) -> Result<(), String> {
+fn write_table(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
     let Some((ref_entry, reference)) = entries
         .iter()
         .find_map(|e| e.result.as_ref().ok().map(|r| (e, r)))
@@ -467,20 +538,20 @@ fn write_table(out: &Path, entries: &[Entry]) -> Result<(), String> {
                 );
             }
             Err(msg) => {
-                let _ = writeln!(md, " failed: {} |", msg.replace('|', "/"));
+                let _ = writeln!(md, " failed: {} |", msg.to_string().replace('|', "/"));
                 let _ = writeln!(csv, ",failed");
             }
         }
     }
     let write = |name: &str, text: &str| {
         let p = out.join(name);
-        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))
+        std::fs::write(&p, text).map_err(CompareError::io(&p))
     };
     write("compare.md", &md)?;
     write("compare.csv", &csv)
 }
 
-fn write_plots(out: &Path, entries: &[Entry]) -> Result<(), String> {
+fn write_plots(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
     let ok: Vec<(&Entry, &RunResult)> = entries
         .iter()
         .filter_map(|e| e.result.as_ref().ok().map(|r| (e, r)))
@@ -489,7 +560,7 @@ fn write_plots(out: &Path, entries: &[Entry]) -> Result<(), String> {
         return Ok(());
     };
     let dir = out.join("plots");
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(CompareError::io(&dir))?;
     for name in first.last.curves.keys() {
         let mut panels = Vec::new();
         for (which, pick) in [
@@ -515,8 +586,7 @@ fn write_plots(out: &Path, entries: &[Entry]) -> Result<(), String> {
                 series,
             });
         }
-        draw_panels(&dir.join(format!("{name}.png")), &panels, 1000, 450)
-            .map_err(|e| e.to_string())?;
+        draw_panels(&dir.join(format!("{name}.png")), &panels, 1000, 450)?;
     }
     Ok(())
 }

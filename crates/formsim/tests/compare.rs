@@ -24,7 +24,7 @@ fn case_parses_name_and_overrides() {
     let c = Case::parse("as-is").unwrap();
     assert!(c.sets.is_empty());
     for bad in ["", ":a=1", "two words:a=1", "x:novalue", "a/b:a=1"] {
-        let e = Case::parse(bad).unwrap_err();
+        let e = Case::parse(bad).unwrap_err().to_string();
         assert!(e.starts_with("--case"), "{bad}: {e}");
     }
 }
@@ -83,7 +83,9 @@ fn compare_rejects_a_bad_case_before_running() {
         ],
         ..Default::default()
     };
-    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap_err();
+    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {})
+        .unwrap_err()
+        .to_string();
     assert!(
         e.starts_with("case bad:") && e.contains("blank.thickness"),
         "{e}"
@@ -93,7 +95,9 @@ fn compare_rejects_a_bad_case_before_running() {
         cases: vec![Case::parse("a").unwrap(), Case::parse("a").unwrap()],
         ..Default::default()
     };
-    let e = compare(&scene(), &twice, dir.path(), false, &|_| {}).unwrap_err();
+    let e = compare(&scene(), &twice, dir.path(), false, &|_| {})
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("used twice"), "{e}");
 }
 
@@ -109,7 +113,9 @@ fn compare_rejects_an_unknown_law_before_running_any_row() {
         sets: strings(&["blank.mesh.divisions=2"]),
         ..Default::default()
     };
-    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap_err();
+    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {})
+        .unwrap_err()
+        .to_string();
     assert!(
         e.starts_with("law nosuch, formulation convective: ") && e.contains("unknown law `nosuch`"),
         "{e}"
@@ -131,7 +137,9 @@ fn compare_rejects_a_case_that_does_not_build_before_running() {
         ],
         ..Default::default()
     };
-    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap_err();
+    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {})
+        .unwrap_err()
+        .to_string();
     assert!(
         e.starts_with("case bad-mu, law ac, formulation convective: ") && e.contains("mu"),
         "{e}"
@@ -147,6 +155,8 @@ fn compare_rejects_a_row_listed_twice() {
         laws: strings(&["ac", "ac"]),
         ..Default::default()
     };
-    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap_err();
+    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {})
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("`ac-convective` appears twice"), "{e}");
 }
