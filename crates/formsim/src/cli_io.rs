@@ -50,6 +50,8 @@ failure_from!(
     formsim::point_driver::PointError,
     formsim::tools_cli::ToolsError,
     formsim::compare::CompareError,
+    formsim::study::StudyError,
+    formsim::study::quantity::MeasureError,
 );
 
 /// What every command returns.

@@ -31,12 +31,133 @@ pub mod quantity;
 pub mod report;
 pub mod schedule;
 
-use crate::run::RunResult;
-use crate::scene;
-use quantity::{Measured, Quantity, QuantityError};
+use crate::run::{RunError, RunResult};
+use crate::scene::{self, SceneError};
+use quantity::{MeasureError, Measured, Quantity, QuantityError};
 use schedule::{Runs, run_rounds};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// What can go wrong in a study: its options, a variant's scene, a run, the
+/// reports.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    /// `--vary` without `=`.
+    #[error("--vary `{text}`: expected KEY=V1,V2,…")]
+    VaryFormat {
+        /// The argument.
+        text: String,
+    },
+    /// `--vary` with nothing before `=`.
+    #[error("--vary `{text}`: no key before `=`")]
+    VaryNoKey {
+        /// The argument.
+        text: String,
+    },
+    /// `--vary` with an empty value.
+    #[error("--vary `{text}`: an empty value")]
+    VaryEmptyValue {
+        /// The argument.
+        text: String,
+    },
+    /// `--vary` with a value listed twice.
+    #[error("--vary `{text}`: the value `{value}` is listed twice")]
+    VaryRepeatedValue {
+        /// The argument.
+        text: String,
+        /// The value.
+        value: String,
+    },
+    /// A `--reference` part without `=`.
+    #[error("--reference: `{part}` is not KEY=VALUE")]
+    ReferenceFormat {
+        /// The part.
+        part: String,
+    },
+    /// A `--reference` key that is not varied.
+    #[error("--reference: `{key}` is not one of the --vary keys")]
+    ReferenceNotVaried {
+        /// The key.
+        key: String,
+    },
+    /// No `--vary`.
+    #[error("a study needs at least one --vary KEY=V1,V2,…")]
+    NoKnob,
+    /// No quantity.
+    #[error("a study needs at least one quantity (--quantities)")]
+    NoQuantity,
+    /// A key varied twice.
+    #[error("--vary: the key `{key}` is varied twice")]
+    KnobTwice {
+        /// The key.
+        key: String,
+    },
+    /// `--repeat 0`.
+    #[error("--repeat: 0: must be at least 1")]
+    RepeatZero,
+    /// A tolerance that is not a positive fraction.
+    #[error("--tolerance: {tolerance}: must be a positive fraction (0.02 = 2 %)")]
+    Tolerance {
+        /// The tolerance given.
+        tolerance: f64,
+    },
+    /// A quantity cannot be parsed.
+    #[error(transparent)]
+    Quantity(#[from] MeasureError),
+    /// Two variants would have the same label.
+    #[error("two variants would share the folder `{label}`")]
+    SharedFolder {
+        /// The label.
+        label: String,
+    },
+    /// A variant's scene does not load or build.
+    #[error("{label}: {source}")]
+    Variant {
+        /// The variant's label.
+        label: String,
+        /// The scene's error.
+        source: SceneError,
+    },
+    /// The output directory or a report cannot be written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The directory or file.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// The reference run failed.
+    #[error("the reference run failed: {message}")]
+    ReferenceFailed {
+        /// Why (`no result` when nothing says).
+        message: String,
+    },
+    /// A variant's quantity cannot be compared with the reference's.
+    #[error("{quantity}: {source}")]
+    Compare {
+        /// The quantity's name.
+        quantity: String,
+        /// Why.
+        source: MeasureError,
+    },
+    /// A repeated run gave other values than the first.
+    #[error(
+        "{label}: a repeated run gave other values than the first (the runs must be the same bits)"
+    )]
+    NotTheSameBits {
+        /// The variant's label.
+        label: String,
+    },
+    /// The process's CPU time cannot be read.
+    #[error("process CPU time: {0}")]
+    CpuTime(std::io::Error),
+    /// A run failed.
+    #[error(transparent)]
+    Run(#[from] RunError),
+    /// `study.json` cannot be made.
+    #[error(transparent)]
+    Json(#[from] serde_json::Error),
+}
 
 /// One knob: a scene key and the values it takes.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,21 +174,24 @@ impl Knob {
     ///
     /// # Errors
     /// No `=`, an empty key, no value or an empty or repeated one.
-    pub fn parse(text: &str) -> Result<Self, String> {
+    pub fn parse(text: &str) -> Result<Self, StudyError> {
         let (key, list) = text
             .split_once('=')
-            .ok_or_else(|| format!("--vary `{text}`: expected KEY=V1,V2,…"))?;
+            .ok_or_else(|| StudyError::VaryFormat { text: text.into() })?;
         let key = key.trim();
         if key.is_empty() {
-            return Err(format!("--vary `{text}`: no key before `=`"));
+            return Err(StudyError::VaryNoKey { text: text.into() });
         }
         let values: Vec<String> = list.split(',').map(|v| v.trim().to_string()).collect();
         if values.iter().any(String::is_empty) {
-            return Err(format!("--vary `{text}`: an empty value"));
+            return Err(StudyError::VaryEmptyValue { text: text.into() });
         }
         for (i, v) in values.iter().enumerate() {
             if values[..i].contains(v) {
-                return Err(format!("--vary `{text}`: the value `{v}` is listed twice"));
+                return Err(StudyError::VaryRepeatedValue {
+                    text: text.into(),
+                    value: v.clone(),
+                });
             }
         }
         Ok(Self {
@@ -82,14 +206,14 @@ impl Knob {
 ///
 /// # Errors
 /// A part without `=`.
-pub fn parse_reference(text: &str) -> Result<Vec<(String, String)>, String> {
+pub fn parse_reference(text: &str) -> Result<Vec<(String, String)>, StudyError> {
     text.split(';')
         .map(str::trim)
         .filter(|p| !p.is_empty())
         .map(|part| {
             let (k, v) = part
                 .split_once('=')
-                .ok_or_else(|| format!("--reference: `{part}` is not KEY=VALUE"))?;
+                .ok_or_else(|| StudyError::ReferenceFormat { part: part.into() })?;
             Ok((k.trim().to_string(), v.trim().to_string()))
         })
         .collect()
@@ -254,7 +378,7 @@ pub struct Results {
 /// No knob or no quantity, a knob listed twice, a reference key that is not
 /// a knob, `repeat` 0, a tolerance that is not positive, a variant whose
 /// scene does not load or build (named by its label).
-pub fn plan(scene_path: &Path, spec: Spec) -> Result<Plan, String> {
+pub fn plan(scene_path: &Path, spec: Spec) -> Result<Plan, StudyError> {
     check_spec(&spec)?;
     let reference: Vec<String> = spec
         .knobs
@@ -287,7 +411,7 @@ pub fn plan(scene_path: &Path, spec: Spec) -> Result<Plan, String> {
     for pick in picks {
         let v = variant(scene_path, &spec, &reference, pick)?;
         if variants.iter().any(|w: &Variant| w.label == v.label) {
-            return Err(format!("two variants would share the folder `{}`", v.label));
+            return Err(StudyError::SharedFolder { label: v.label });
         }
         variants.push(v);
     }
@@ -298,33 +422,30 @@ pub fn plan(scene_path: &Path, spec: Spec) -> Result<Plan, String> {
     })
 }
 
-fn check_spec(spec: &Spec) -> Result<(), String> {
+fn check_spec(spec: &Spec) -> Result<(), StudyError> {
     if spec.knobs.is_empty() {
-        return Err("a study needs at least one --vary KEY=V1,V2,…".into());
+        return Err(StudyError::NoKnob);
     }
     if spec.quantities.is_empty() {
-        return Err("a study needs at least one quantity (--quantities)".into());
+        return Err(StudyError::NoQuantity);
     }
     for (i, k) in spec.knobs.iter().enumerate() {
         if spec.knobs[..i].iter().any(|j| j.key == k.key) {
-            return Err(format!("--vary: the key `{}` is varied twice", k.key));
+            return Err(StudyError::KnobTwice { key: k.key.clone() });
         }
     }
     for (key, _) in &spec.reference {
         if !spec.knobs.iter().any(|k| k.key == *key) {
-            return Err(format!(
-                "--reference: `{key}` is not one of the --vary keys"
-            ));
+            return Err(StudyError::ReferenceNotVaried { key: key.clone() });
         }
     }
     if spec.repeat == 0 {
-        return Err("--repeat: 0: must be at least 1".into());
+        return Err(StudyError::RepeatZero);
     }
     if !(spec.tolerance.is_finite() && spec.tolerance > 0.0) {
-        return Err(format!(
-            "--tolerance: {}: must be a positive fraction (0.02 = 2 %)",
-            spec.tolerance
-        ));
+        return Err(StudyError::Tolerance {
+            tolerance: spec.tolerance,
+        });
     }
     Ok(())
 }
@@ -353,7 +474,7 @@ fn variant(
     spec: &Spec,
     reference: &[String],
     pick: Vec<String>,
-) -> Result<Variant, String> {
+) -> Result<Variant, StudyError> {
     let changed: Vec<usize> = (0..pick.len())
         .filter(|&k| pick[k] != reference[k])
         .collect();
@@ -372,8 +493,12 @@ fn variant(
             format!("{k}={v}")
         }
     }));
-    let loaded = scene::load(scene_path, &sets).map_err(|e| format!("{label}: {e}"))?;
-    scene::build(&loaded).map_err(|e| format!("{label}: {e}"))?;
+    let in_variant = |source| StudyError::Variant {
+        label: label.clone(),
+        source,
+    };
+    let loaded = scene::load(scene_path, &sets).map_err(in_variant)?;
+    scene::build(&loaded).map_err(in_variant)?;
     Ok(Variant {
         label,
         settings,
@@ -419,8 +544,11 @@ pub fn execute(
     out: &Path,
     progress: bool,
     on_run: &dyn Fn(&str, Result<&RunResult, &str>),
-) -> Result<Results, String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+) -> Result<Results, StudyError> {
+    std::fs::create_dir_all(out).map_err(|source| StudyError::Io {
+        path: out.to_path_buf(),
+        source,
+    })?;
     let Plan {
         spec,
         mut variants,
@@ -465,13 +593,15 @@ pub fn execute(
 /// Errors and costs of every completed variant against the reference (the
 /// first): each run's speed-up is the reference's CPU time at that moment
 /// ([`schedule::reference_at`]) over the run's.
-fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results, String> {
+fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results, StudyError> {
     let ref_runs = &runs[0];
     let Some(ref_result) = &ref_runs.first else {
-        return Err(format!(
-            "the reference run failed: {}",
-            ref_runs.failure.as_deref().unwrap_or("no result")
-        ));
+        return Err(StudyError::ReferenceFailed {
+            message: ref_runs
+                .failure
+                .clone()
+                .unwrap_or_else(|| "no result".into()),
+        });
     };
     let mut timeline: Vec<(f64, f64)> = ref_runs
         .at
@@ -500,7 +630,12 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
             errors.push(if k == 0 {
                 None
             } else {
-                Some(quantity::error(value, ref_value).map_err(|e| format!("{}: {e}", q.name()))?)
+                Some(
+                    quantity::error(value, ref_value).map_err(|source| StudyError::Compare {
+                        quantity: q.name(),
+                        source,
+                    })?,
+                )
             });
         }
         let worst = errors.iter().flatten().map(|e| e.error).fold(0.0, f64::max);
@@ -606,14 +741,11 @@ mod tests {
         let k = Knob::parse("blank.mesh.divisions=50, 25,100").unwrap();
         assert_eq!(k.key, "blank.mesh.divisions");
         assert_eq!(k.values, ["50", "25", "100"]);
-        assert!(
-            Knob::parse("blank.mesh.divisions")
-                .unwrap_err()
-                .contains("KEY=V1")
-        );
-        assert!(Knob::parse("=1,2").unwrap_err().contains("no key"));
-        assert!(Knob::parse("a=1,,2").unwrap_err().contains("empty value"));
-        assert!(Knob::parse("a=1,2,1").unwrap_err().contains("twice"));
+        let e = |text: &str| Knob::parse(text).unwrap_err().to_string();
+        assert!(e("blank.mesh.divisions").contains("KEY=V1"));
+        assert!(e("=1,2").contains("no key"));
+        assert!(e("a=1,,2").contains("empty value"));
+        assert!(e("a=1,2,1").contains("twice"));
     }
 
     #[test]

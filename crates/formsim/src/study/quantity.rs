@@ -19,6 +19,82 @@ use crate::identify::observe::{interpolate, lookup};
 use crate::run::RunResult;
 use crate::run::summary::stroke_key;
 
+/// Why a quantity cannot be parsed, measured or compared.
+#[derive(Debug, thiserror::Error)]
+pub enum MeasureError {
+    /// `--quantities` holds an empty name.
+    #[error("--quantities: an empty name")]
+    EmptyName,
+    /// The column after `:` is not one of the section columns.
+    #[error(
+        "--quantities `{text}`: the column after `:` must be major, minor, thickness_strain or thinning"
+    )]
+    Column {
+        /// The quantity as given.
+        text: String,
+    },
+    /// The stroke after `@` is not a number.
+    #[error("--quantities `{text}`: the stroke after `@` must be a number (mm)")]
+    StrokeNotNumber {
+        /// The quantity as given.
+        text: String,
+    },
+    /// The stroke after `@` is infinite or NaN.
+    #[error("--quantities `{text}`: the stroke must be finite (mm)")]
+    StrokeNotFinite {
+        /// The quantity as given.
+        text: String,
+    },
+    /// Nothing before `:`.
+    #[error("--quantities `{text}`: no section before `:`")]
+    NoSection {
+        /// The quantity as given.
+        text: String,
+    },
+    /// The run's summary could not be turned into JSON.
+    #[error(transparent)]
+    Summary(#[from] serde_json::Error),
+    /// `summary.json` has no number at the key.
+    #[error("{name}: summary.json has no number at this key")]
+    NoNumber {
+        /// The quantity's name.
+        name: String,
+    },
+    /// The run did not report the section curve.
+    #[error(
+        "{name}: the run reported no such section curve (output.sections, output.report_strokes)"
+    )]
+    NoCurve {
+        /// The quantity's name.
+        name: String,
+    },
+    /// The run gave a value that is not finite.
+    #[error("{name}: the run gave a value that is not finite")]
+    NotFinite {
+        /// The quantity's name.
+        name: String,
+    },
+    /// The reference's number is 0.
+    #[error("the reference value is 0: no relative error")]
+    ZeroReference,
+    /// A number against a curve.
+    #[error("a number compared with a curve")]
+    Mixed,
+    /// The reference curve is 0 everywhere.
+    #[error("the reference curve is zero everywhere: no relative error")]
+    ZeroCurve,
+    /// The variant's curve covers less than half of the reference's points.
+    #[error(
+        "the curve covers {covered} of the reference's {points} points: the sections do not match"
+    )]
+    Coverage {
+        /// Reference points the curve covers.
+        covered: usize,
+        /// The reference's points.
+        points: usize,
+    },
+}
+
 /// A quantity compared across the variants.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Quantity {
@@ -62,35 +138,31 @@ impl Quantity {
     ///
     /// # Errors
     /// An empty name, an unknown column, a stroke that is not a finite number.
-    pub fn parse(text: &str) -> Result<Self, String> {
+    pub fn parse(text: &str) -> Result<Self, MeasureError> {
         let text = text.trim();
         if text.is_empty() {
-            return Err("--quantities: an empty name".into());
+            return Err(MeasureError::EmptyName);
         }
         let Some((place, column)) = text.split_once(':') else {
             return Ok(Quantity::Scalar { key: text.into() });
         };
-        let column = CurveColumn::parse(column.trim()).ok_or_else(|| {
-            format!(
-                "--quantities `{text}`: the column after `:` must be major, minor, thickness_strain or thinning"
-            )
-        })?;
+        let column = CurveColumn::parse(column.trim())
+            .ok_or_else(|| MeasureError::Column { text: text.into() })?;
         let (section, stroke) = match place.split_once('@') {
             None => (place.trim(), None),
             Some((s, k)) => {
-                let stroke: f64 = k.trim().parse().map_err(|_| {
-                    format!("--quantities `{text}`: the stroke after `@` must be a number (mm)")
-                })?;
+                let stroke: f64 = k
+                    .trim()
+                    .parse()
+                    .map_err(|_| MeasureError::StrokeNotNumber { text: text.into() })?;
                 if !stroke.is_finite() {
-                    return Err(format!(
-                        "--quantities `{text}`: the stroke must be finite (mm)"
-                    ));
+                    return Err(MeasureError::StrokeNotFinite { text: text.into() });
                 }
                 (s.trim(), Some(stroke))
             }
         };
         if section.is_empty() {
-            return Err(format!("--quantities `{text}`: no section before `:`"));
+            return Err(MeasureError::NoSection { text: text.into() });
         }
         Ok(Quantity::Curve {
             section: section.into(),
@@ -126,14 +198,14 @@ impl Quantity {
         &self,
         result: &RunResult,
         summary: &serde_json::Value,
-    ) -> Result<Measured, String> {
+    ) -> Result<Measured, MeasureError> {
         let name = self.name();
         let measured = match self {
             Quantity::Scalar { key } => {
                 let parts: Vec<&str> = key.split('.').collect();
                 let v = lookup(summary, &parts)
                     .and_then(serde_json::Value::as_f64)
-                    .ok_or_else(|| format!("{name}: summary.json has no number at this key"))?;
+                    .ok_or_else(|| MeasureError::NoNumber { name: name.clone() })?;
                 Measured::Scalar(v)
             }
             Quantity::Curve {
@@ -151,9 +223,7 @@ impl Quantity {
                 };
                 let rows = snapshot
                     .and_then(|snap| snap.curves.get(section))
-                    .ok_or_else(|| {
-                        format!("{name}: the run reported no such section curve (output.sections, output.report_strokes)")
-                    })?;
+                    .ok_or_else(|| MeasureError::NoCurve { name: name.clone() })?;
                 Measured::Curve(rows.iter().map(|r| (r.distance, column.of(r))).collect())
             }
         };
@@ -164,7 +234,7 @@ impl Quantity {
         if finite {
             Ok(measured)
         } else {
-            Err(format!("{name}: the run gave a value that is not finite"))
+            Err(MeasureError::NotFinite { name })
         }
     }
 }
@@ -173,8 +243,11 @@ impl Quantity {
 ///
 /// # Errors
 /// As [`Quantity::measure`], for the first quantity that fails.
-pub fn measure_all(quantities: &[Quantity], result: &RunResult) -> Result<Vec<Measured>, String> {
-    let summary = serde_json::to_value(&result.summary).map_err(|e| e.to_string())?;
+pub fn measure_all(
+    quantities: &[Quantity],
+    result: &RunResult,
+) -> Result<Vec<Measured>, MeasureError> {
+    let summary = serde_json::to_value(&result.summary)?;
     quantities
         .iter()
         .map(|q| q.measure(result, &summary))
@@ -186,35 +259,37 @@ pub fn measure_all(quantities: &[Quantity], result: &RunResult) -> Result<Vec<Me
 /// # Errors
 /// A number against a curve; a reference that is zero everywhere; curves
 /// that share fewer than half of the reference's points.
-pub fn error(value: &Measured, reference: &Measured) -> Result<QuantityError, String> {
+pub fn error(value: &Measured, reference: &Measured) -> Result<QuantityError, MeasureError> {
     match (value, reference) {
         (Measured::Scalar(v), Measured::Scalar(r)) => {
             if *r == 0.0 {
-                return Err("the reference value is 0: no relative error".into());
+                return Err(MeasureError::ZeroReference);
             }
             let e = ((v - r) / r).abs();
             Ok(QuantityError { error: e, max: e })
         }
         (Measured::Curve(v), Measured::Curve(r)) => curve_error(v, r),
-        _ => Err("a number compared with a curve".into()),
+        _ => Err(MeasureError::Mixed),
     }
 }
 
-fn curve_error(curve: &[(f64, f64)], reference: &[(f64, f64)]) -> Result<QuantityError, String> {
+fn curve_error(
+    curve: &[(f64, f64)],
+    reference: &[(f64, f64)],
+) -> Result<QuantityError, MeasureError> {
     let scale = reference.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
     if scale == 0.0 {
-        return Err("the reference curve is zero everywhere: no relative error".into());
+        return Err(MeasureError::ZeroCurve);
     }
     let diffs: Vec<f64> = reference
         .iter()
         .filter_map(|&(x, r)| interpolate(curve, x).map(|v| v - r))
         .collect();
     if 2 * diffs.len() < reference.len() {
-        return Err(format!(
-            "the curve covers {} of the reference's {} points: the sections do not match",
-            diffs.len(),
-            reference.len()
-        ));
+        return Err(MeasureError::Coverage {
+            covered: diffs.len(),
+            points: reference.len(),
+        });
     }
     let mean_square = diffs.iter().map(|d| d * d).sum::<f64>() / diffs.len() as f64;
     let max = diffs.iter().map(|d| d.abs()).fold(0.0, f64::max);
@@ -233,13 +308,24 @@ mod tests {
         for text in ["draw_in.DX", "OD:major", "OX@40:thinning", "OD@12.5:minor"] {
             assert_eq!(Quantity::parse(text).unwrap().name(), text);
         }
-        assert!(Quantity::parse("OD:strain").unwrap_err().contains("column"));
+        assert!(
+            Quantity::parse("OD:strain")
+                .unwrap_err()
+                .to_string()
+                .contains("column")
+        );
         assert!(
             Quantity::parse("OD@x:major")
                 .unwrap_err()
+                .to_string()
                 .contains("stroke")
         );
-        assert!(Quantity::parse(":major").unwrap_err().contains("section"));
+        assert!(
+            Quantity::parse(":major")
+                .unwrap_err()
+                .to_string()
+                .contains("section")
+        );
         assert!(Quantity::parse(" ").is_err());
     }
 
@@ -270,6 +356,7 @@ mod tests {
         assert!(
             error(&Measured::Curve(short), &Measured::Curve(reference))
                 .unwrap_err()
+                .to_string()
                 .contains("do not match")
         );
     }

@@ -1,7 +1,7 @@
 //! A study's reports: `study.json` (every figure) and `study.md` (one table
 //! per knob, the recommendation).
 
-use super::{Outcome, Results, recommendation};
+use super::{Outcome, Results, StudyError, recommendation};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -33,17 +33,17 @@ struct JsonKnob<'a> {
 ///
 /// # Errors
 /// A file cannot be written.
-pub fn write(out: &Path, results: &Results) -> Result<(), String> {
+pub fn write(out: &Path, results: &Results) -> Result<(), StudyError> {
     let write = |name: &str, text: &str| {
-        let p = out.join(name);
-        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))
+        let path = out.join(name);
+        std::fs::write(&path, text).map_err(|source| StudyError::Io { path, source })
     };
     let json = to_json(results)?;
     write("study.json", &json)?;
     write("study.md", &markdown(results))
 }
 
-fn to_json(r: &Results) -> Result<String, String> {
+fn to_json(r: &Results) -> Result<String, StudyError> {
     let reference = &r.outcomes[0];
     let doc = Json {
         scene: &r.scene,
@@ -68,7 +68,7 @@ fn to_json(r: &Results) -> Result<String, String> {
         failed: &r.failed,
         recommendation: recommendation(r).map(|o| o.label.as_str()),
     };
-    serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())
+    Ok(serde_json::to_string_pretty(&doc)?)
 }
 
 /// A relative error as a percentage with two or three significant digits.

@@ -7,8 +7,8 @@
 //! interpolated at the middle of that run ([`reference_at`]): a slow spell
 //! slows both. Rounds alternate direction (forward, backward, …).
 
-use super::Variant;
 use super::quantity::{Measured, Quantity, measure_all};
+use super::{StudyError, Variant};
 use crate::run::{Progress, RunOptions, RunResult, run};
 use std::path::Path;
 use std::time::Instant;
@@ -36,7 +36,7 @@ pub(crate) struct Runs {
 impl Runs {
     /// Add `other`'s runs (the same variant, run later); they must give the
     /// same bits.
-    pub fn merge(&mut self, other: Runs, label: &str) -> Result<(), String> {
+    pub fn merge(&mut self, other: Runs, label: &str) -> Result<(), StudyError> {
         if self.first.is_some() && other.first.is_some() && self.values != other.values {
             return Err(not_the_same_bits(label));
         }
@@ -52,10 +52,10 @@ impl Runs {
     }
 }
 
-fn not_the_same_bits(label: &str) -> String {
-    format!(
-        "{label}: a repeated run gave other values than the first (the runs must be the same bits)"
-    )
+fn not_the_same_bits(label: &str) -> StudyError {
+    StudyError::NotTheSameBits {
+        label: label.to_string(),
+    }
 }
 
 /// The order of one round over `n` variants (0 the reference): the
@@ -104,7 +104,7 @@ pub(crate) fn run_rounds(
     clock: Instant,
     bar: Option<&indicatif::ProgressBar>,
     on_run: &dyn Fn(&str, Result<&RunResult, &str>),
-) -> Result<Vec<Runs>, String> {
+) -> Result<Vec<Runs>, StudyError> {
     let mut runs: Vec<Runs> = variants.iter().map(|_| Runs::default()).collect();
     for round in 0..repeat {
         for i in round_order(variants.len(), round) {
@@ -117,7 +117,8 @@ pub(crate) fn run_rounds(
             }
             let start = clock.elapsed().as_secs_f64();
             match run_once(v, out, bar) {
-                Err(m) => {
+                Err(e) => {
+                    let m = e.to_string();
                     on_run(&v.label, Err(&m));
                     r.failure = Some(m);
                 }
@@ -144,11 +145,11 @@ fn run_once(
     v: &Variant,
     out: &Path,
     bar: Option<&indicatif::ProgressBar>,
-) -> Result<Timed, String> {
+) -> Result<Timed, StudyError> {
     if let Some(b) = bar {
         b.reset();
     }
-    let cpu = cpu_time::ProcessTime::try_now().map_err(|e| format!("process CPU time: {e}"))?;
+    let cpu = cpu_time::ProcessTime::try_now().map_err(StudyError::CpuTime)?;
     let wall = Instant::now();
     let result = run(
         &v.loaded,
@@ -156,11 +157,10 @@ fn run_once(
             out: out.join(&v.label),
             progress: bar.map_or(Progress::Hidden, |b| Progress::Bar(b.clone())),
         },
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     let cpu_s = cpu
         .try_elapsed()
-        .map_err(|e| format!("process CPU time: {e}"))?
+        .map_err(StudyError::CpuTime)?
         .as_secs_f64();
     Ok(Timed {
         result,
@@ -176,11 +176,11 @@ fn record(
     t: Timed,
     at: f64,
     quantities: &[Quantity],
-) -> Result<(), String> {
+) -> Result<(), StudyError> {
     let values = match measure_all(quantities, &t.result) {
         Ok(values) => values,
-        Err(m) => {
-            r.failure = Some(m);
+        Err(e) => {
+            r.failure = Some(e.to_string());
             return Ok(());
         }
     };
