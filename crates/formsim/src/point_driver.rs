@@ -66,7 +66,7 @@ pub enum PointError {
         /// 1-based line of the step.
         line: usize,
         /// The integrator's error.
-        source: FrictionError,
+        source: Box<FrictionError>,
     },
     /// A step gave a non-finite traction, slip or work.
     #[error("{file}:{line}: {law} produced a non-finite result")]
@@ -107,7 +107,7 @@ pub fn run(
             .map_err(|source| PointError::Step {
                 file: file.to_string(),
                 line,
-                source,
+                source: Box::new(source),
             })?;
         let finite = out
             .t
