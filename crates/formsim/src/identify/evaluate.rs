@@ -11,16 +11,52 @@ use super::IdentifyError;
 use super::journal::{Context, Entry, Journal};
 use super::measurements::Measurements;
 use super::objective::Objective;
-use super::observe::Observables;
+use super::observe::{Observables, ObserveError};
 use super::params::{FitParam, assignment};
 use crate::run::summary::stroke_key;
-use crate::run::{Progress, RunOptions, run};
-use crate::scene;
+use crate::run::{Progress, RunError, RunOptions, run};
+use crate::scene::{self, SceneError};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
+
+/// Why a data set has no predictions at an evaluated point: `set NAME: …`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("set {set}: {reason}")]
+pub struct PredictionError {
+    /// The data set's name.
+    pub set: String,
+    /// What failed.
+    pub reason: PredictionFailure,
+}
+
+/// What failed for a [`PredictionError`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PredictionFailure {
+    /// The run failed (its message, as the journal keeps it).
+    #[error("{0}")]
+    Run(String),
+    /// A measured point has no simulated value.
+    #[error(transparent)]
+    Observe(#[from] ObserveError),
+    /// The journal entry has no run of the data set.
+    #[error("not in the journal entry")]
+    NotJournalled,
+}
+
+/// Why one data set's run at a point gave no observables; the journal keeps
+/// its message.
+#[derive(Debug, thiserror::Error)]
+enum RunFailure {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Run(#[from] RunError),
+    #[error(transparent)]
+    Summary(#[from] serde_json::Error),
+}
 
 /// One evaluated point.
 #[derive(Debug, Clone)]
@@ -31,7 +67,7 @@ pub struct Evaluation {
     pub values: Vec<f64>,
     /// The simulated value of every measured point, per data set (`Err`: the
     /// run or a lookup failed).
-    pub predictions: Vec<Result<Vec<f64>, String>>,
+    pub predictions: Vec<Result<Vec<f64>, PredictionError>>,
     /// The objective (`+∞` when a prediction failed).
     pub cost: f64,
     /// Wall seconds of its runs.
@@ -42,10 +78,8 @@ pub struct Evaluation {
 
 impl Evaluation {
     /// The first failure, if any.
-    pub fn failure(&self) -> Option<&str> {
-        self.predictions
-            .iter()
-            .find_map(|p| p.as_ref().err().map(String::as_str))
+    pub fn failure(&self) -> Option<&PredictionError> {
+        self.predictions.iter().find_map(|p| p.as_ref().err())
     }
 }
 
@@ -250,7 +284,7 @@ impl<'a> Evaluator<'a> {
         let jobs: Vec<(usize, usize)> = (0..missing.len())
             .flat_map(|m| (0..self.data.sets.len()).map(move |s| (m, s)))
             .collect();
-        let results: Vec<(Result<Observables, String>, f64)> = jobs
+        let results: Vec<(Result<Observables, RunFailure>, f64)> = jobs
             .par_iter()
             .map(|&(m, s)| self.run_one(missing[m].0, s, &missing[m].1))
             .collect();
@@ -259,7 +293,11 @@ impl<'a> Evaluator<'a> {
             let mut wall_s = 0.0;
             for (&(mm, s), (obs, wall)) in jobs.iter().zip(&results) {
                 if mm == m {
-                    sets.insert(self.data.sets[s].name.clone(), obs.clone());
+                    let journalled = match obs {
+                        Ok(o) => Ok(o.clone()),
+                        Err(e) => Err(e.to_string()),
+                    };
+                    sets.insert(self.data.sets[s].name.clone(), journalled);
                     wall_s += wall;
                 }
             }
@@ -293,40 +331,49 @@ impl<'a> Evaluator<'a> {
         index: usize,
         set: usize,
         values: &[f64],
-    ) -> (Result<Observables, String>, f64) {
+    ) -> (Result<Observables, RunFailure>, f64) {
         let start = Instant::now();
         let out = self
             .runs_dir
             .join(format!("eval-{index:04}"))
             .join(&self.data.sets[set].name);
-        let result = scene::load(&self.scene_path, &self.overrides_at(set, values))
-            .map_err(|e| e.to_string())
-            .and_then(|loaded| {
-                run(
-                    &loaded,
-                    &RunOptions {
-                        out,
-                        progress: Progress::Hidden,
-                    },
-                )
-                .map_err(|e| e.to_string())
-            })
-            .and_then(|r| Observables::from_run(&r));
+        let result = self.observe(set, values, out);
         (result, start.elapsed().as_secs_f64())
+    }
+
+    /// Load the scene with data set `set`'s overrides at `values`, run it
+    /// into `out` and take its observables.
+    fn observe(&self, set: usize, values: &[f64], out: PathBuf) -> Result<Observables, RunFailure> {
+        let loaded = scene::load(&self.scene_path, &self.overrides_at(set, values))?;
+        let r = run(
+            &loaded,
+            &RunOptions {
+                out,
+                progress: Progress::Hidden,
+            },
+        )?;
+        Ok(Observables::from_run(&r)?)
     }
 
     /// Predictions and objective of a journal entry.
     fn score(&self, entry: &Entry, from_journal: bool) -> Evaluation {
-        let predictions: Vec<Result<Vec<f64>, String>> = self
+        let predictions: Vec<Result<Vec<f64>, PredictionError>> = self
             .data
             .sets
             .iter()
-            .map(|set| match entry.sets.get(&set.name) {
-                Some(Ok(obs)) => obs
-                    .predict(set)
-                    .map_err(|e| format!("set {}: {e}", set.name)),
-                Some(Err(e)) => Err(format!("set {}: {e}", set.name)),
-                None => Err(format!("set {}: not in the journal entry", set.name)),
+            .map(|set| {
+                let reason = match entry.sets.get(&set.name) {
+                    Some(Ok(obs)) => match obs.predict(set) {
+                        Ok(p) => return Ok(p),
+                        Err(e) => PredictionFailure::Observe(e),
+                    },
+                    Some(Err(e)) => PredictionFailure::Run(e.clone()),
+                    None => PredictionFailure::NotJournalled,
+                };
+                Err(PredictionError {
+                    set: set.name.clone(),
+                    reason,
+                })
             })
             .collect();
         let cost = self.objective.cost(self.data, &predictions);

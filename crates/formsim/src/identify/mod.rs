@@ -287,7 +287,9 @@ pub fn identify(options: &Options, data: &Measurements) -> Result<report::Report
     let end = best(&log).cloned().ok_or_else(|| {
         IdentifyError::Evaluation(format!(
             "every run failed; the first: {}",
-            first.failure().unwrap_or("unknown")
+            first
+                .failure()
+                .map_or_else(|| "unknown".to_string(), ToString::to_string)
         ))
     })?;
     let uncertainty = at_optimum(&ev, &end.values, options.fd_step, data.all_have_se());
@@ -309,7 +311,7 @@ fn at_optimum(
     x: &[f64],
     fd_step: f64,
     weighted: bool,
-) -> Result<uncertainty::Uncertainty, String> {
+) -> Result<uncertainty::Uncertainty, IdentifyError> {
     let (mut points, steps) = jacobian::stencil(ev, x, fd_step);
     let n = points.len();
     for k in 0..ROUGHNESS_PROBES {
@@ -325,8 +327,8 @@ fn at_optimum(
             .collect();
         points.push(probe);
     }
-    let evaluations = ev.evaluate_batch(&points).map_err(|e| e.to_string())?;
-    let jac = jacobian::from_stencil(ev, &evaluations[..n], &steps).map_err(|e| e.to_string())?;
+    let evaluations = ev.evaluate_batch(&points)?;
+    let jac = jacobian::from_stencil(ev, &evaluations[..n], &steps)?;
     let mut sums = vec![jac.residuals.iter().map(|r| r * r).sum::<f64>()];
     for e in &evaluations[n..] {
         let predictions: Option<Vec<Vec<f64>>> =

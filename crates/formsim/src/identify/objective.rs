@@ -15,6 +15,7 @@
 //! `mae`).
 
 use super::IdentifyError;
+use super::evaluate::PredictionError;
 use super::measurements::{Measurements, Point};
 
 /// Which objective the optimiser minimises.
@@ -50,7 +51,11 @@ impl Objective {
     }
 
     /// The objective of the predictions of every data set (`+∞` if one failed).
-    pub fn cost(self, data: &Measurements, predictions: &[Result<Vec<f64>, String>]) -> f64 {
+    pub fn cost(
+        self,
+        data: &Measurements,
+        predictions: &[Result<Vec<f64>, PredictionError>],
+    ) -> f64 {
         let mut sets_used = 0usize;
         let mut total = 0.0;
         for (set, p) in data.sets.iter().zip(predictions) {
@@ -166,7 +171,16 @@ mod tests {
         // Mean over sets of the mean squared scaled error: ((0.01 + 0.09)/2 + 0.25)/2.
         assert!((ls - 0.15).abs() < 1e-15);
         assert_eq!(
-            Objective::Mae.cost(&d, &[Ok(vec![1.0, 1.0]), Err("x".into())]),
+            Objective::Mae.cost(
+                &d,
+                &[
+                    Ok(vec![1.0, 1.0]),
+                    Err(PredictionError {
+                        set: "x".into(),
+                        reason: crate::identify::evaluate::PredictionFailure::NotJournalled,
+                    })
+                ]
+            ),
             f64::INFINITY
         );
     }

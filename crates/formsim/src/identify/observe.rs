@@ -8,6 +8,53 @@ use crate::run::summary::stroke_key;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+/// Why a measured point has no simulated value ([`Observables::predict`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ObserveError {
+    /// `summary.json` has no number at the key.
+    #[error("summary.json has no number at `{key}`")]
+    NoNumber {
+        /// The dotted key.
+        key: String,
+    },
+    /// The run did not report the section curve.
+    #[error(
+        "the run reported no section curve `{curve}` (sections or report strokes of the scene)"
+    )]
+    NoCurve {
+        /// The curve, `SECTION@STROKE`.
+        curve: String,
+    },
+    /// The distance lies outside the simulated curve.
+    #[error(
+        "{curve}: distance {distance} mm is outside the simulated curve ({first:.3}..{last:.3} mm)"
+    )]
+    OutsideCurve {
+        /// The curve, `SECTION@STROKE`.
+        curve: String,
+        /// The measured point's distance (mm).
+        distance: f64,
+        /// The curve's first distance (mm; NaN for an empty curve).
+        first: f64,
+        /// The curve's last distance (mm; NaN for an empty curve).
+        last: f64,
+    },
+    /// The run did not reach the stroke of a force point.
+    #[error("punch force: stroke {stroke} mm was not reached")]
+    StrokeNotReached {
+        /// The stroke (mm).
+        stroke: f64,
+    },
+    /// The simulated value is not finite.
+    #[error("{point}: the simulated value is {value}")]
+    NotFinite {
+        /// The measured point's label.
+        point: String,
+        /// The simulated value.
+        value: f64,
+    },
+}
+
 /// The observable outputs of one run.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Observables {
@@ -25,8 +72,8 @@ impl Observables {
     ///
     /// # Errors
     /// The summary does not serialise (cannot happen for finite figures).
-    pub fn from_run(result: &RunResult) -> Result<Self, String> {
-        let summary = serde_json::to_value(&result.summary).map_err(|e| e.to_string())?;
+    pub fn from_run(result: &RunResult) -> Result<Self, serde_json::Error> {
+        let summary = serde_json::to_value(&result.summary)?;
         let mut curves = BTreeMap::new();
         for (stroke, snapshot) in &result.states {
             for (name, rows) in &snapshot.curves {
@@ -56,7 +103,7 @@ impl Observables {
     /// A key that `summary.json` does not have (or that is not a number), a
     /// curve at a stroke or section the run did not report, a distance or
     /// stroke outside the simulated range, a value that is not finite.
-    pub fn predict(&self, set: &DataSet) -> Result<Vec<f64>, String> {
+    pub fn predict(&self, set: &DataSet) -> Result<Vec<f64>, ObserveError> {
         set.points
             .iter()
             .map(|p| {
@@ -73,18 +120,21 @@ impl Observables {
                 if v.is_finite() {
                     Ok(v)
                 } else {
-                    Err(format!("{}: the simulated value is {v}", p.label()))
+                    Err(ObserveError::NotFinite {
+                        point: p.label(),
+                        value: v,
+                    })
                 }
             })
             .collect()
     }
 
     /// A number of `summary.json` by its dotted key.
-    fn scalar(&self, key: &str) -> Result<f64, String> {
+    fn scalar(&self, key: &str) -> Result<f64, ObserveError> {
         let parts: Vec<&str> = key.split('.').collect();
         lookup(&self.summary, &parts)
             .and_then(serde_json::Value::as_f64)
-            .ok_or_else(|| format!("summary.json has no number at `{key}`"))
+            .ok_or_else(|| ObserveError::NoNumber { key: key.into() })
     }
 
     fn curve(
@@ -93,12 +143,14 @@ impl Observables {
         stroke: f64,
         column: CurveColumn,
         distance: f64,
-    ) -> Result<f64, String> {
+    ) -> Result<f64, ObserveError> {
         let name = format!("{section}@{}", stroke_key(stroke));
         let rows = self
             .curves
             .get(&name)
-            .ok_or_else(|| format!("the run reported no section curve `{name}` (sections or report strokes of the scene)"))?;
+            .ok_or_else(|| ObserveError::NoCurve {
+                curve: name.clone(),
+            })?;
         let c = match column {
             CurveColumn::Major => 1,
             CurveColumn::Minor => 2,
@@ -106,19 +158,17 @@ impl Observables {
             CurveColumn::Thinning => 4,
         };
         let points: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[c])).collect();
-        interpolate(&points, distance).ok_or_else(|| {
-            format!(
-                "{name}: distance {distance} mm is outside the simulated curve ({:.3}..{:.3} mm)",
-                points.first().map_or(f64::NAN, |p| p.0),
-                points.last().map_or(f64::NAN, |p| p.0)
-            )
+        interpolate(&points, distance).ok_or_else(|| ObserveError::OutsideCurve {
+            curve: name,
+            distance,
+            first: points.first().map_or(f64::NAN, |p| p.0),
+            last: points.last().map_or(f64::NAN, |p| p.0),
         })
     }
 
-    fn force_at(&self, stroke: f64) -> Result<f64, String> {
+    fn force_at(&self, stroke: f64) -> Result<f64, ObserveError> {
         let points: Vec<(f64, f64)> = self.force.iter().map(|r| (r[0], r[1])).collect();
-        interpolate(&points, stroke)
-            .ok_or_else(|| format!("punch force: stroke {stroke} mm was not reached"))
+        interpolate(&points, stroke).ok_or(ObserveError::StrokeNotReached { stroke })
     }
 }
 

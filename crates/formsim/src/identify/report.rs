@@ -125,7 +125,7 @@ impl Report {
         first: &Evaluation,
         end: &Evaluation,
         stop: String,
-        uncertainty: Result<Uncertainty, String>,
+        uncertainty: Result<Uncertainty, IdentifyError>,
     ) -> Self {
         let log = ev.log();
         let data = ev.data();
@@ -158,7 +158,7 @@ impl Report {
             .unwrap_or_default();
         let (uncertainty, uncertainty_error) = match uncertainty {
             Ok(u) => (Some(u), None),
-            Err(e) => (None, Some(e)),
+            Err(e) => (None, Some(e.to_string())),
         };
         Self {
             scene: options.scene.display().to_string(),

@@ -82,7 +82,7 @@ pub fn table(ev: &Evaluator<'_>, x: &[f64], relative: f64) -> Result<Table, Iden
         return Err(IdentifyError::Evaluation(format!(
             "sensitivity: the run at {:?} failed: {}",
             e.values,
-            e.failure().unwrap_or_default()
+            e.failure().map(ToString::to_string).unwrap_or_default()
         )));
     }
     let flat = |k: usize| -> Vec<f64> {
