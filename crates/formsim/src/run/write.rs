@@ -324,12 +324,15 @@ fn punch_title(model: &Model) -> String {
     }
 }
 
-/// An [`OutputError::Plot`] for `path` around a [`crate::plot::PlotError`]
-/// (whose message already names the file: it is kept as it was, both times).
+/// An [`OutputError::Plot`] for `path` around a [`crate::plot::PlotError`]:
+/// the file named once (a drawing failure's own text already names it).
 fn plot_err(path: &Path) -> impl Fn(crate::plot::PlotError) -> OutputError + '_ {
     move |e| OutputError::Plot {
         path: path.to_path_buf(),
-        message: e.to_string(),
+        message: match e {
+            crate::plot::PlotError::Draw { message, .. } => message,
+            other => other.to_string(),
+        },
     }
 }
 
@@ -448,4 +451,23 @@ fn plots_png(out: &Path, result: &RunResult, model: &Model) -> Result<(), Output
         &thinning,
     )?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A plot that cannot be drawn is reported with its file named once.
+    #[test]
+    fn a_failed_plot_names_its_file_once() {
+        let path = Path::new("out/plots/energy.png");
+        let e = plot_err(path)(crate::plot::PlotError::Draw {
+            path: path.to_path_buf(),
+            message: "disk full".into(),
+        });
+        assert_eq!(
+            e.to_string(),
+            "out/plots/energy.png: cannot draw plot: disk full"
+        );
+    }
 }
