@@ -1,7 +1,7 @@
 //! Loading friction laws from shared libraries through the C-ABI table of [`crate::abi`].
 //!
 //! [`PluginLibrary::open`] loads a `cdylib`, finds its entry function
-//! ([`ENTRY_SYMBOL_NAME`]), checks the table's ABI version and contents, and
+//! ([`ENTRY_SYMBOL_NAME`](crate::abi::ENTRY_SYMBOL_NAME)), checks the table's ABI version and contents, and
 //! copies its name, summary and parameter schema into host memory.
 //! [`PluginLibrary::build`] resolves user parameters against that schema and
 //! asks the plugin to create a law; the result, a [`DynamicLaw`], implements
