@@ -122,38 +122,13 @@ pub(crate) fn newton_in(
     let mut on_edge = false;
     for _ in 0..MAX_ITER {
         let d = &*ds[k];
-        let gu = r.dot(&d.su);
-        let gv = r.dot(&d.sv);
-        let (uu, uv, vv) = (d.su.norm_squared(), d.su.dot(&d.sv), d.sv.norm_squared());
-        let (mut huu, mut huv, mut hvv) =
-            (uu + r.dot(&d.suu), uv + r.dot(&d.suv), vv + r.dot(&d.svv));
-        if !(huu > 0.0 && hvv > 0.0 && huu * hvv - huv * huv > 1e-12 * uu * vv) {
-            (huu, huv, hvv) = (uu, uv, vv);
-        }
-        let idet = 1.0 / (huu * hvv - huv * huv);
-        let mut su = -(hvv * gu - huv * gv) * idet;
-        let mut sv = -(huu * gv - huv * gu) * idet;
-        let fix_u = pushes_out(u, su, dom.u, eu);
-        let fix_v = pushes_out(v, sv, dom.v, ev);
-        on_edge = false;
-        if fix_u && fix_v {
+        let g = Gradient::at(d, &r);
+        let Some((su, sv, edge)) = boxed_step(d, &r, &g, (u, v), dom, (eu, ev)) else {
             on_edge = true;
             break;
-        } else if fix_u {
-            su = 0.0;
-            sv = -gv / hvv;
-            on_edge = true;
-            if pushes_out(v, sv, dom.v, ev) {
-                break;
-            }
-        } else if fix_v {
-            sv = 0.0;
-            su = -gu / huu;
-            on_edge = true;
-            if pushes_out(u, su, dom.u, eu) {
-                break;
-            }
-        }
+        };
+        let (gu, gv, uu, uv, vv) = (g.gu, g.gv, g.uu, g.uv, g.vv);
+        on_edge = edge;
         let un = (u + su).clamp(dom.u[0], dom.u[1]);
         let vn = (v + sv).clamp(dom.v[0], dom.v[1]);
         // The box cut the step: the minimum lies beyond an edge of this patch
@@ -226,27 +201,8 @@ pub(crate) fn newton_in(
             break;
         }
     }
-    // Strictly inside the box no bound can push out: skip the gradient test.
-    let at_bound = u <= dom.u[0] || u >= dom.u[1] || v <= dom.v[0] || v >= dom.v[1];
-    if !on_edge && !at_bound {
-        // A stall inside: the tangential residual |r · S_a| / |S_a| (mm) of
-        // a converged answer is at rounding level (Newton stopped at a step
-        // of STEP_TOL); on a kink it is a fraction of the distance.
-        let d = &*ds[k];
-        let tol = STALL_TOL * (1.0 + f.sqrt());
-        let gu = r.dot(&d.su) / d.su.norm();
-        let gv = r.dot(&d.sv) / d.sv.norm();
-        on_edge = gu.abs() > tol || gv.abs() > tol;
-    }
-    if !on_edge && at_bound {
-        // A point on the boundary whose gradient points out of the box.
-        let d = &*ds[k];
-        let eps = 1e-12 * (1.0 + f.sqrt());
-        let gu = r.dot(&d.su) / d.su.norm();
-        let gv = r.dot(&d.sv) / d.sv.norm();
-        let gu = if gu.abs() <= eps { 0.0 } else { gu };
-        let gv = if gv.abs() <= eps { 0.0 } else { gv };
-        on_edge = pushes_out(u, -gu, dom.u, eu) || pushes_out(v, -gv, dom.v, ev);
+    if !on_edge {
+        on_edge = ends_on_edge(&*ds[k], &r, f, (u, v), dom, (eu, ev));
     }
     NewtonEnd {
         u,
@@ -255,4 +211,93 @@ pub(crate) fn newton_in(
         on_edge,
         slot: k,
     }
+}
+
+/// The squared-distance function's gradient `(r·S_u, r·S_v)` at a point and
+/// the first fundamental form `(S_u·S_u, S_u·S_v, S_v·S_v)`.
+struct Gradient {
+    gu: f64,
+    gv: f64,
+    uu: f64,
+    uv: f64,
+    vv: f64,
+}
+
+impl Gradient {
+    #[inline(always)]
+    fn at(d: &Derivs, r: &Vec3) -> Self {
+        Self {
+            gu: r.dot(&d.su),
+            gv: r.dot(&d.sv),
+            uu: d.su.norm_squared(),
+            uv: d.su.dot(&d.sv),
+            vv: d.sv.norm_squared(),
+        }
+    }
+}
+
+/// Newton's step `(δu, δv)` from `(u, v)` for the residual `r = S − x`
+/// (the Hessian, or the first fundamental form where the Hessian is not
+/// positive definite), with a parameter that the step would push out of the
+/// box held at its bound and the step taken along the other one only
+/// (`true`: on an edge). `None`: both would push out, or the one left would.
+#[inline(always)]
+fn boxed_step(
+    d: &Derivs,
+    r: &Vec3,
+    g: &Gradient,
+    (u, v): (f64, f64),
+    dom: &ParamBox,
+    (eu, ev): (f64, f64),
+) -> Option<(f64, f64, bool)> {
+    let Gradient { gu, gv, uu, uv, vv } = *g;
+    let (mut huu, mut huv, mut hvv) = (uu + r.dot(&d.suu), uv + r.dot(&d.suv), vv + r.dot(&d.svv));
+    if !(huu > 0.0 && hvv > 0.0 && huu * hvv - huv * huv > 1e-12 * uu * vv) {
+        (huu, huv, hvv) = (uu, uv, vv);
+    }
+    let idet = 1.0 / (huu * hvv - huv * huv);
+    let su = -(hvv * gu - huv * gv) * idet;
+    let sv = -(huu * gv - huv * gu) * idet;
+    let fix_u = pushes_out(u, su, dom.u, eu);
+    let fix_v = pushes_out(v, sv, dom.v, ev);
+    if fix_u && fix_v {
+        None
+    } else if fix_u {
+        let sv = -gv / hvv;
+        (!pushes_out(v, sv, dom.v, ev)).then_some((0.0, sv, true))
+    } else if fix_v {
+        let su = -gu / huu;
+        (!pushes_out(u, su, dom.u, eu)).then_some((su, 0.0, true))
+    } else {
+        Some((su, sv, false))
+    }
+}
+
+/// Whether a Newton run that ended at `(u, v)` (derivatives `d`, residual
+/// `r`, `f = |r|²`) without reaching an edge is really on one: strictly
+/// inside, a stall whose tangential residual `|r·S_a|/|S_a|` (mm) is above
+/// rounding (a kink); on a bound, a gradient pointing out of the box.
+#[inline(always)]
+fn ends_on_edge(
+    d: &Derivs,
+    r: &Vec3,
+    f: f64,
+    (u, v): (f64, f64),
+    dom: &ParamBox,
+    (eu, ev): (f64, f64),
+) -> bool {
+    let gu = r.dot(&d.su) / d.su.norm();
+    let gv = r.dot(&d.sv) / d.sv.norm();
+    let at_bound = u <= dom.u[0] || u >= dom.u[1] || v <= dom.v[0] || v >= dom.v[1];
+    if !at_bound {
+        // Newton stopped at a step of STEP_TOL: a converged answer's
+        // tangential residual is at rounding level; on a kink it is a
+        // fraction of the distance.
+        let tol = STALL_TOL * (1.0 + f.sqrt());
+        return gu.abs() > tol || gv.abs() > tol;
+    }
+    let eps = 1e-12 * (1.0 + f.sqrt());
+    let gu = if gu.abs() <= eps { 0.0 } else { gu };
+    let gv = if gv.abs() <= eps { 0.0 } else { gv };
+    pushes_out(u, -gu, dom.u, eu) || pushes_out(v, -gv, dom.v, ev)
 }
