@@ -3,25 +3,11 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-mod built;
-
-fn formsim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_formsim"))
-        .args(args)
-        .output()
-        .expect("formsim runs")
-}
+mod cli_support;
+use cli_support::{formsim, text};
 
 fn history() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/point-histories/die-shoulder.csv")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
 }
 
 fn read_rows(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
@@ -324,7 +310,7 @@ fn laws_check_runs_the_conformance_suite() {
 /// The test-panicky plugin, built for this profile (once per test binary).
 fn panicky_plugin() -> &'static Path {
     static BUILT: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
-    BUILT.get_or_init(|| built::plugin("test-panicky"))
+    BUILT.get_or_init(|| cli_support::plugin("test-panicky"))
 }
 
 /// What every report of the panicking plugin must say, and must not: the

@@ -5,37 +5,22 @@
 //! `blank.material.plugin`.
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
 use std::sync::OnceLock;
 
-mod built;
+mod cli_support;
+use cli_support::{formsim, text};
 mod common;
 
 use common::{root, run_scene};
 
 fn j2_voce() -> &'static PathBuf {
     static P: OnceLock<PathBuf> = OnceLock::new();
-    P.get_or_init(|| built::plugin("j2-voce"))
+    P.get_or_init(|| cli_support::plugin("j2-voce"))
 }
 
 fn broken() -> &'static PathBuf {
     static P: OnceLock<PathBuf> = OnceLock::new();
-    P.get_or_init(|| built::plugin("test-broken-material"))
-}
-
-fn formsim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_formsim"))
-        .args(args)
-        .output()
-        .expect("formsim runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
+    P.get_or_init(|| cli_support::plugin("test-broken-material"))
 }
 
 /// The coarse cup of `run_scene.rs` (10 × 10 quarter mesh, 5 mm draw).

@@ -1,7 +1,26 @@
-//! Plugin crates of the workspace built as shared libraries for the tests.
+//! What the command-line tests share: the `formsim` binary run with
+//! arguments, its two output streams as one text, and plugin crates of the
+//! workspace built as shared libraries.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Output};
+
+/// Run the `formsim` binary with `args`.
+pub fn formsim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_formsim"))
+        .args(args)
+        .output()
+        .expect("formsim runs")
+}
+
+/// Standard output then standard error, as text.
+pub fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
 
 /// Build the workspace crate `name` (a plugin `cdylib`) in this test
 /// binary's profile and return its shared library.
