@@ -561,13 +561,10 @@ fn run_suite(
 }
 
 fn plugin_check(path: &Path, given: &Params) -> Outcome {
-    let library = match plugins_api::loader::PluginLibrary::open(path) {
-        Ok(library) => library,
-        Err(e) if e.to_string().contains("it is a material plugin") => {
-            return material_plugin_check(path, given);
-        }
-        Err(e) => return Err(e.to_string().into()),
-    };
+    if plugins_api::plugin_kind(path) == Some(plugins_api::PluginKind::Material) {
+        return material_plugin_check(path, given);
+    }
+    let library = plugins_api::loader::PluginLibrary::open(path).map_err(|e| e.to_string())?;
     say!(
         "plugin {} ({}): {}",
         library.name(),

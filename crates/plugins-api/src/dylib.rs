@@ -111,6 +111,29 @@ pub(crate) fn missing_entry_reason(library: &Library, kind: &str, prefix: &str) 
     reason
 }
 
+/// The kinds of dynamic plugin formsim loads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PluginKind {
+    /// A friction law (`formsim_friction_plugin_v1`, [`crate::loader`]).
+    Friction,
+    /// A user material (`formsim_material_plugin_v1`, [`crate::material::loader`]).
+    Material,
+}
+
+/// Which kind of plugin the library at `path` is, by the version-1 entry
+/// symbol it exports; `None` if it cannot be loaded or exports neither (the
+/// kind's own loader then says why).
+pub fn plugin_kind(path: &Path) -> Option<PluginKind> {
+    let library = open_library(path).ok()?;
+    if exports(&library, crate::material::abi::ENTRY_SYMBOL_NAME) {
+        Some(PluginKind::Material)
+    } else if exports(&library, crate::abi::ENTRY_SYMBOL_NAME) {
+        Some(PluginKind::Friction)
+    } else {
+        None
+    }
+}
+
 /// Whether `library` exports `symbol`.
 pub(crate) fn exports(library: &Library, symbol: &str) -> bool {
     // SAFETY: only the presence of the symbol is tested; it is never called

@@ -34,6 +34,7 @@ pub mod registry;
 pub mod return_mapping;
 pub mod tool;
 
+pub use dylib::{PluginKind, plugin_kind};
 pub use error::FrictionError;
 pub use formulation::{DirectionInputs, KinematicFormulation, StepKinematics};
 pub use law::{CriticalShear, FrictionLaw, ShearInputs};

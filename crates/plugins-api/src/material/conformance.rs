@@ -36,6 +36,7 @@
 //! failure of the check that was running, with its message and location;
 //! the suite itself never panics on a misbehaving material.
 
+use std::cell::OnceCell;
 use std::fmt;
 
 use super::PointResult;
@@ -159,6 +160,9 @@ struct Probe<'a> {
     nu: f64,
     sigma0: f64,
     virgin: Point,
+    /// The three loading paths of [`Probe::paths`], run once for the checks
+    /// that read them.
+    runs: OnceCell<Result<Vec<Vec<Step>>, String>>,
 }
 
 impl<'a> Probe<'a> {
@@ -172,6 +176,7 @@ impl<'a> Probe<'a> {
             nu: e.poisson,
             sigma0,
             virgin: Point { s: [0.0; 3], state },
+            runs: OnceCell::new(),
         })
     }
 
@@ -241,6 +246,20 @@ impl<'a> Probe<'a> {
             ("equibiaxial", [e, e, 0.0], 30),
             ("shear", [0.0, 0.0, 2.0 * e], 30),
         ]
+    }
+
+    /// The runs of the three loading paths ([`Probe::paths`], in order),
+    /// computed the first time a check asks.
+    fn runs(&self) -> Result<&[Vec<Step>], String> {
+        self.runs
+            .get_or_init(|| {
+                self.paths()
+                    .iter()
+                    .map(|&(name, inc, steps)| self.run_path(inc, steps, name == "uniaxial"))
+                    .collect()
+            })
+            .as_deref()
+            .map_err(Clone::clone)
     }
 
     /// Run a path from a virgin point; every step's (before, after, increment, result).
@@ -327,7 +346,8 @@ fn elastic(p: &Probe<'_>) -> Outcome {
 }
 
 fn yield_surface(p: &Probe<'_>) -> Outcome {
-    let path = p.run_path(p.paths()[0].1, 30, true)?;
+    let runs = p.runs()?;
+    let path = &runs[0];
     let mut plastic = 0;
     for (k, s) in path.iter().enumerate() {
         if s.r.dissipation > 0.0 {
@@ -344,8 +364,7 @@ fn yield_surface(p: &Probe<'_>) -> Outcome {
         return Err("uniaxial tension to 6 σ_0/E never yielded (no dissipation)".into());
     }
     let small = 0.01 * p.eps_y();
-    for (name, inc, steps) in p.paths() {
-        let at = p.run_path(inc, steps, name == "uniaxial")?;
+    for ((name, inc, _), at) in p.paths().into_iter().zip(runs) {
         let end = &at[at.len() - 1].after;
         let norm = inc.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         let d = inc.map(|x| x / norm * small);
@@ -375,12 +394,8 @@ fn yield_surface(p: &Probe<'_>) -> Outcome {
 fn incompressibility(p: &Probe<'_>) -> Outcome {
     let c = (1.0 - 2.0 * p.nu) / p.young;
     let mut n = 0;
-    for (name, inc, steps) in p.paths() {
-        for (k, s) in p
-            .run_path(inc, steps, name == "uniaxial")?
-            .iter()
-            .enumerate()
-        {
+    for ((name, _, _), run) in p.paths().into_iter().zip(p.runs()?) {
+        for (k, s) in run.iter().enumerate() {
             let d = s.deps;
             let vol = d[0] + d[1] + s.r.deps_zz;
             let elastic = c * (s.after.s[0] - s.before.s[0] + s.after.s[1] - s.before.s[1]);
@@ -411,7 +426,7 @@ fn turn(v: [f64; 3], angle: f64, shear_factor: f64) -> [f64; 3] {
 }
 
 fn rotation(p: &Probe<'_>) -> Outcome {
-    let loaded = p.run_path(p.paths()[0].1, 30, true)?;
+    let loaded = &p.runs()?[0];
     let end = &loaded[loaded.len() - 1].after;
     let (q, r) = p.step(end, [0.0; 3])?;
     let moved = (0..3).any(|c| rel(q.s[c], end.s[c], p.sigma0) > 1e-9)
@@ -469,8 +484,8 @@ fn dissipation(p: &Probe<'_>) -> Outcome {
         }
         Ok(())
     };
-    for (name, inc, n) in p.paths() {
-        for (k, s) in p.run_path(inc, n, name == "uniaxial")?.iter().enumerate() {
+    for ((name, _, _), run) in p.paths().into_iter().zip(p.runs()?) {
+        for (k, s) in run.iter().enumerate() {
             check(name, k, s)?;
         }
     }
