@@ -69,9 +69,7 @@ use crate::formulation::{
     integrate_section_x4, local_velocities, midpoint, new_thickness, turn_tensor, turn_vector,
 };
 use crate::geometry::{Frame, H, ShearB, V3, assumed_shear};
-#[cfg(target_arch = "x86_64")]
-use crate::lanes::F4x;
-use crate::lanes::{F4, Lanes4, Real};
+use crate::lanes::{F4, KernelLanes, LaneKernel, Lanes4, Real, run_fastest};
 use crate::material::Material;
 use crate::section::Section;
 
@@ -467,10 +465,41 @@ fn zero_where_not<L: Real>(valid: L::Mask, res: &mut ElementResult<L>) {
     res.d_plastic = L::select(valid, res.d_plastic, zero);
 }
 
+/// One block of four elements through [`BelytschkoTsay::lanes`], as a
+/// [`LaneKernel`] (run in the fastest lanes by [`run_fastest`]).
+struct Block<'a, 'b, M: Material, const N: usize> {
+    bt: &'a BelytschkoTsay,
+    mat: &'a M,
+    sec: &'a Section,
+    nodes: &'a BlockNodes<'b>,
+    dt: f64,
+    st: ElementBlock<'a, M::History>,
+    out: &'a mut ElementResult<F4>,
+}
+
+impl<M: Material, const N: usize> LaneKernel for Block<'_, '_, M, N> {
+    type Output = ();
+    /// The block's nodes gathered into lanes of `L` and the kernel run.
+    #[inline(always)]
+    fn run<L: KernelLanes>(self) {
+        let Block {
+            bt,
+            mat,
+            sec,
+            nodes,
+            dt,
+            st,
+            out,
+        } = self;
+        let [x, v, w] = L::gather(nodes);
+        let (x, v, w) = (to_lanes::<L>(&x), to_lanes::<L>(&v), to_lanes::<L>(&w));
+        bt.lanes::<M, L, N>(mat, sec, &x, &v, &w, dt, st, out)
+    }
+}
+
 impl BelytschkoTsay {
-    /// Four elements in SIMD lanes: with AVX2 where the processor has it
-    /// (checked once, cached by the standard library), else the same lane
-    /// code in baseline SSE2.
+    /// Four elements in SIMD lanes, in AVX registers where the processor
+    /// has them (see [`run_fastest`]).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn lanes_dispatch<M: Material, const N: usize>(
@@ -485,37 +514,15 @@ impl BelytschkoTsay {
         if st.stress.len() != 4 * N || st.shear.len() != 4 || st.hourglass.len() != 20 {
             return compute_by_element(self, mat, sec, nodes, dt, st, out);
         }
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: the processor has AVX2 and FMA (checked just above).
-            return unsafe { self.lanes_avx2::<M, N>(mat, sec, nodes, dt, st, out) };
-        }
-        let [x, v, w] = nodes.gather();
-        self.lanes::<M, F4, N>(mat, sec, &x, &v, &w, dt, st, out)
-    }
-
-    /// The block's nodes gathered and [`Self::lanes`] run, compiled for AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn lanes_avx2<M: Material, const N: usize>(
-        &self,
-        mat: &M,
-        sec: &Section,
-        nodes: &BlockNodes<'_>,
-        dt: f64,
-        st: ElementBlock<'_, M::History>,
-        out: &mut ElementResult<F4>,
-    ) {
-        // SAFETY: this function's caller has checked for AVX2.
-        let [x, v, w] = unsafe { nodes.gather_avx2() };
-        // The kernel on AVX registers (`F4x`: this function has AVX2 and FMA).
-        let (x, v, w) = (
-            to_lanes::<F4x>(&x),
-            to_lanes::<F4x>(&v),
-            to_lanes::<F4x>(&w),
-        );
-        self.lanes::<M, F4x, N>(mat, sec, &x, &v, &w, dt, st, out)
+        run_fastest(Block::<M, N> {
+            bt: self,
+            mat,
+            sec,
+            nodes,
+            dt,
+            st,
+            out,
+        })
     }
 
     /// Four elements with `N` points each through the kernel in lanes:
@@ -947,9 +954,7 @@ mod tests {
     /// and FMA. Tolerance: none.
     #[test]
     fn baseline_and_avx2_block_kernels_agree_bit_for_bit() {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
+        if crate::lanes::Avx2Fma::detect().is_some() {
             let mat = J2PlaneStress::new(
                 206_000.0,
                 0.3,
@@ -1038,17 +1043,16 @@ mod tests {
                     block(&mut a),
                     &mut ra,
                 );
-                // SAFETY: AVX2 is present (checked above).
-                unsafe {
-                    bt.lanes_avx2::<J2PlaneStress, 5>(
-                        &mat,
-                        &sec,
-                        &nodes,
-                        1e-5,
-                        block(&mut b),
-                        &mut rb,
-                    )
-                };
+                // AVX2 is present (checked above): the AVX lanes.
+                run_fastest(Block::<J2PlaneStress, 5> {
+                    bt: &bt,
+                    mat: &mat,
+                    sec: &sec,
+                    nodes: &nodes,
+                    dt: 1e-5,
+                    st: block(&mut b),
+                    out: &mut rb,
+                });
                 for l in 0..4 {
                     assert_eq!(ra.lane(l), rb.lane(l));
                 }

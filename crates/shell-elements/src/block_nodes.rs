@@ -86,14 +86,23 @@ impl<'a> BlockNodes<'a> {
         [one(self.x), one(self.v), one(self.w)]
     }
 
-    /// [`gather`](Self::gather) with AVX instructions, in registers.
+    /// [`gather`](Self::gather) with AVX instructions, in registers, on a
+    /// processor that has them (`_avx` is the proof).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(crate) fn gather_avx2(&self, _avx: crate::lanes::Avx2Fma) -> Lanes3 {
+        // SAFETY: `_avx` proves the processor has AVX2.
+        unsafe { self.gather_avx2_unchecked() }
+    }
+
+    /// [`gather_avx2`](Self::gather_avx2)'s body.
     ///
     /// # Safety
     /// The processor must have AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[inline]
-    pub(crate) unsafe fn gather_avx2(&self) -> Lanes3 {
+    unsafe fn gather_avx2_unchecked(&self) -> Lanes3 {
         use std::arch::x86_64::{
             _mm_load_sd, _mm_loadh_pd, _mm_loadu_pd, _mm256_castpd128_pd256, _mm256_insertf128_pd,
             _mm256_storeu_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd,
@@ -184,9 +193,8 @@ mod tests {
             }
         }
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: AVX2 is present (checked just above).
-            assert_eq!(unsafe { b.gather_avx2() }, g);
+        if let Some(avx) = crate::lanes::Avx2Fma::detect() {
+            assert_eq!(b.gather_avx2(avx), g);
         }
     }
 }

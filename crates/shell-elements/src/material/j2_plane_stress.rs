@@ -31,7 +31,7 @@
 
 use super::{Hardening, Material, PointUpdate, update_points_by_lane, von_mises};
 use crate::error::{ShellError, check};
-use crate::lanes::{F4, Lanes4, Real};
+use crate::lanes::{F4, KernelLanes, LaneKernel, Lanes4, Real, run_fastest};
 
 /// Isotropic plane-stress J2 plasticity with a [`Hardening`] curve.
 #[derive(Debug, Clone, PartialEq)]
@@ -600,26 +600,13 @@ impl J2PlaneStress {
         h: &mut [J2History; N],
         de: &[[f64; 3]; N],
     ) -> [PointUpdate; N] {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: the processor has AVX2 and FMA (checked just above).
-            return unsafe { self.swift_points_avx2((k, eps0, n), s, h, de) };
-        }
-        self.swift_points_in::<F4, N>((k, eps0, n), s, h, de)
-    }
-
-    /// [`swift_points`](Self::swift_points) compiled for AVX2 and FMA.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn swift_points_avx2<const N: usize>(
-        &self,
-        swift: (f64, f64, f64),
-        s: &mut [[f64; 3]; N],
-        h: &mut [J2History; N],
-        de: &[[f64; 3]; N],
-    ) -> [PointUpdate; N] {
-        self.swift_points_in::<crate::lanes::F4x, N>(swift, s, h, de)
+        run_fastest(SwiftPoints {
+            mat: self,
+            swift: (k, eps0, n),
+            s,
+            h,
+            de,
+        })
     }
 
     /// Points `g..g+4` of the section in the lanes of `L` as four one-point
@@ -757,6 +744,31 @@ impl J2History {
                 h3[p].pair_mut(),
             ],
         );
+    }
+}
+
+/// One element's `N` points with Swift hardening through
+/// [`J2PlaneStress::swift_points_in`], as a [`LaneKernel`].
+struct SwiftPoints<'a, const N: usize> {
+    mat: &'a J2PlaneStress,
+    swift: (f64, f64, f64),
+    s: &'a mut [[f64; 3]; N],
+    h: &'a mut [J2History; N],
+    de: &'a [[f64; 3]; N],
+}
+
+impl<const N: usize> LaneKernel for SwiftPoints<'_, N> {
+    type Output = [PointUpdate; N];
+    #[inline(always)]
+    fn run<L: KernelLanes>(self) -> [PointUpdate; N] {
+        let SwiftPoints {
+            mat,
+            swift,
+            s,
+            h,
+            de,
+        } = self;
+        mat.swift_points_in::<L, N>(swift, s, h, de)
     }
 }
 

@@ -12,7 +12,17 @@
 //! the `avx2` and `fma` target features the lane loops become 256-bit
 //! instructions and `madd` one `vfmadd`; elsewhere (a processor without FMA)
 //! `mul_add` is the C library's exact `fma`, slower but the same bits.
+//!
+//! A four-element kernel is written once as a `LaneKernel`, generic over
+//! [`Lanes4`], and `run_fastest` runs it: on a processor with AVX2 and FMA
+//! in a private AVX register type (`avx.rs`, every operation one AVX
+//! instruction with `F4`'s bits), compiled with those target features;
+//! elsewhere in `F4`. The AVX type cannot be named outside `avx.rs`, and the
+//! only way to run a kernel on it takes an `Avx2Fma`, the proof of the
+//! run-time check: the types, not a comment, keep its instructions off a
+//! processor that lacks them.
 
+use crate::block_nodes::{BlockNodes, Lanes3};
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
 
 /// `[e(0), e(1), e(2), e(3)]` for a lane expression `e(l)`, written out so
@@ -388,18 +398,17 @@ impl Lanes4 for F4 {
 pub fn unzip4(p: [&[f64; 2]; 4]) -> (F4, F4) {
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::{_mm_loadu_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd};
-        let (mut a, mut b) = (F4::default(), F4::default());
-        // SAFETY: SSE2 is part of x86_64; every pointer is to two f64 and
-        // every store to two f64 of `a` or `b`.
-        unsafe {
-            let v = p.map(|q| _mm_loadu_pd(q.as_ptr()));
-            _mm_storeu_pd(a.0.as_mut_ptr(), _mm_unpacklo_pd(v[0], v[1]));
-            _mm_storeu_pd(a.0.as_mut_ptr().add(2), _mm_unpacklo_pd(v[2], v[3]));
-            _mm_storeu_pd(b.0.as_mut_ptr(), _mm_unpackhi_pd(v[0], v[1]));
-            _mm_storeu_pd(b.0.as_mut_ptr().add(2), _mm_unpackhi_pd(v[2], v[3]));
-        }
-        (a, b)
+        use std::arch::x86_64::{__m128d, _mm_unpackhi_pd, _mm_unpacklo_pd};
+        let v: [__m128d; 4] = p.map(|q| bytemuck::cast(*q));
+        // SAFETY: SSE2 is part of every x86_64 processor (this is compiled
+        // for x86_64 only).
+        let (a, b): ([__m128d; 2], [__m128d; 2]) = unsafe {
+            (
+                [_mm_unpacklo_pd(v[0], v[1]), _mm_unpacklo_pd(v[2], v[3])],
+                [_mm_unpackhi_pd(v[0], v[1]), _mm_unpackhi_pd(v[2], v[3])],
+            )
+        };
+        (F4(bytemuck::cast(a)), F4(bytemuck::cast(b)))
     }
     #[cfg(not(target_arch = "x86_64"))]
     (F4(lanes!(|l| p[l][0])), F4(lanes!(|l| p[l][1])))
@@ -411,23 +420,21 @@ pub fn unzip4(p: [&[f64; 2]; 4]) -> (F4, F4) {
 pub fn zip4(a: F4, b: F4, p: [&mut [f64; 2]; 4]) {
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::{_mm_loadu_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd};
-        // SAFETY: SSE2 is part of x86_64; the loads read two f64 of `a` or
-        // `b`, every store writes the two f64 of one pair.
-        unsafe {
-            let (a01, a23) = (
-                _mm_loadu_pd(a.0.as_ptr()),
-                _mm_loadu_pd(a.0.as_ptr().add(2)),
-            );
-            let (b01, b23) = (
-                _mm_loadu_pd(b.0.as_ptr()),
-                _mm_loadu_pd(b.0.as_ptr().add(2)),
-            );
-            let [p0, p1, p2, p3] = p;
-            _mm_storeu_pd(p0.as_mut_ptr(), _mm_unpacklo_pd(a01, b01));
-            _mm_storeu_pd(p1.as_mut_ptr(), _mm_unpackhi_pd(a01, b01));
-            _mm_storeu_pd(p2.as_mut_ptr(), _mm_unpacklo_pd(a23, b23));
-            _mm_storeu_pd(p3.as_mut_ptr(), _mm_unpackhi_pd(a23, b23));
+        use std::arch::x86_64::{__m128d, _mm_unpackhi_pd, _mm_unpacklo_pd};
+        let [a01, a23]: [__m128d; 2] = bytemuck::cast(a.0);
+        let [b01, b23]: [__m128d; 2] = bytemuck::cast(b.0);
+        // SAFETY: SSE2 is part of every x86_64 processor (this is compiled
+        // for x86_64 only).
+        let q = unsafe {
+            [
+                _mm_unpacklo_pd(a01, b01),
+                _mm_unpackhi_pd(a01, b01),
+                _mm_unpacklo_pd(a23, b23),
+                _mm_unpackhi_pd(a23, b23),
+            ]
+        };
+        for (p, q) in p.into_iter().zip(q) {
+            *p = bytemuck::cast(q);
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
@@ -436,185 +443,65 @@ pub fn zip4(a: F4, b: F4, p: [&mut [f64; 2]; 4]) {
     }
 }
 
-/// Four `f64` lanes in one AVX register, for the kernels compiled with the
-/// `avx2` and `fma` target features: every operation one AVX instruction
-/// with the IEEE result of [`F4`]'s lane-by-lane code (so the same bits).
-///
-/// Crate-private, and used only inside functions that run after the
-/// run-time check for AVX2 and FMA (its operations are AVX instructions).
-#[cfg(target_arch = "x86_64")]
+/// Proof that this processor has AVX2 and FMA: made only by
+/// [`Avx2Fma::detect`] (its field is private to this module), so a value of
+/// it is the run-time check having passed.
 #[derive(Clone, Copy, Debug)]
-#[repr(transparent)]
-pub(crate) struct F4x(std::arch::x86_64::__m256d);
+pub(crate) struct Avx2Fma(());
 
-/// A lane mask of [`F4x`]: all bits set (true) or clear (false) per lane.
-#[cfg(target_arch = "x86_64")]
-#[derive(Clone, Copy, Debug)]
-#[repr(transparent)]
-pub(crate) struct M4x(std::arch::x86_64::__m256d);
-
-#[cfg(target_arch = "x86_64")]
-mod avx {
-    use super::{F4x, Lanes4, M4x, Real};
-    use std::arch::x86_64::*;
-    use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
-
-    // SAFETY (every `unsafe` block of this module): `F4x` and `M4x` exist
-    // only in code that runs after the check for AVX2 and FMA (see `F4x`).
-
-    macro_rules! avx_op {
-        ($tr:ident, $f:ident, $tra:ident, $fa:ident, $intr:ident) => {
-            impl $tr for F4x {
-                type Output = F4x;
-                #[inline(always)]
-                fn $f(self, o: F4x) -> F4x {
-                    F4x(unsafe { $intr(self.0, o.0) })
-                }
-            }
-            impl $tr<f64> for F4x {
-                type Output = F4x;
-                #[inline(always)]
-                fn $f(self, o: f64) -> F4x {
-                    F4x(unsafe { $intr(self.0, _mm256_set1_pd(o)) })
-                }
-            }
-            impl $tr<F4x> for f64 {
-                type Output = F4x;
-                #[inline(always)]
-                fn $f(self, o: F4x) -> F4x {
-                    F4x(unsafe { $intr(_mm256_set1_pd(self), o.0) })
-                }
-            }
-            impl $tra for F4x {
-                #[inline(always)]
-                fn $fa(&mut self, o: F4x) {
-                    *self = $tr::$f(*self, o);
-                }
-            }
-        };
-    }
-    avx_op!(Add, add, AddAssign, add_assign, _mm256_add_pd);
-    avx_op!(Sub, sub, SubAssign, sub_assign, _mm256_sub_pd);
-    avx_op!(Mul, mul, MulAssign, mul_assign, _mm256_mul_pd);
-    avx_op!(Div, div, DivAssign, div_assign, _mm256_div_pd);
-
-    impl Neg for F4x {
-        type Output = F4x;
-        #[inline(always)]
-        fn neg(self) -> F4x {
-            F4x(unsafe { _mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)) })
+impl Avx2Fma {
+    /// The proof, if this processor has AVX2 and FMA (checked once, cached
+    /// by the standard library).
+    #[inline(always)]
+    pub(crate) fn detect() -> Option<Self> {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            return Some(Avx2Fma(()));
         }
-    }
-
-    impl Default for F4x {
-        #[inline(always)]
-        fn default() -> Self {
-            F4x(unsafe { _mm256_setzero_pd() })
-        }
-    }
-
-    impl Real for F4x {
-        type Mask = M4x;
-        #[inline(always)]
-        fn splat(x: f64) -> Self {
-            F4x(unsafe { _mm256_set1_pd(x) })
-        }
-        #[inline(always)]
-        fn madd(self, a: Self, b: Self) -> Self {
-            F4x(unsafe { _mm256_fmadd_pd(self.0, a.0, b.0) })
-        }
-        #[inline(always)]
-        fn sqrt(self) -> Self {
-            F4x(unsafe { _mm256_sqrt_pd(self.0) })
-        }
-        #[inline(always)]
-        fn max(self, o: Self) -> Self {
-            // f64::max as compiled for x86: `max_pd(o, self)` (which gives
-            // its second operand, `self`, when `o` is NaN or the two are
-            // equal, as ±0), and `o` where `self` is NaN.
-            unsafe {
-                let m = _mm256_max_pd(o.0, self.0);
-                let self_nan = _mm256_cmp_pd::<_CMP_UNORD_Q>(self.0, self.0);
-                F4x(_mm256_blendv_pd(m, o.0, self_nan))
-            }
-        }
-        #[inline(always)]
-        fn gt(self, o: Self) -> M4x {
-            M4x(unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, o.0) })
-        }
-        #[inline(always)]
-        fn is_finite(self) -> M4x {
-            // x − x is 0 exactly for finite x and NaN otherwise.
-            unsafe {
-                let d = _mm256_sub_pd(self.0, self.0);
-                M4x(_mm256_cmp_pd::<_CMP_EQ_OQ>(d, _mm256_setzero_pd()))
-            }
-        }
-        #[inline(always)]
-        fn select(m: M4x, a: Self, b: Self) -> Self {
-            F4x(unsafe { _mm256_blendv_pd(b.0, a.0, m.0) })
-        }
-        #[inline(always)]
-        fn any(m: M4x) -> bool {
-            unsafe { _mm256_movemask_pd(m.0) != 0 }
-        }
-        #[inline(always)]
-        fn le(self, o: Self) -> M4x {
-            M4x(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, o.0) })
-        }
-        #[inline(always)]
-        fn lt(self, o: Self) -> M4x {
-            M4x(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, o.0) })
-        }
-        #[inline(always)]
-        fn abs(self) -> Self {
-            F4x(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
-        }
-        #[inline(always)]
-        fn mask_and(a: M4x, b: M4x) -> M4x {
-            M4x(unsafe { _mm256_and_pd(a.0, b.0) })
-        }
-        #[inline(always)]
-        fn mask_and_not(a: M4x, b: M4x) -> M4x {
-            M4x(unsafe { _mm256_andnot_pd(b.0, a.0) })
-        }
-        #[inline(always)]
-        fn mask_not(a: M4x) -> M4x {
-            M4x(unsafe { _mm256_xor_pd(a.0, _mm256_castsi256_pd(_mm256_set1_epi64x(-1))) })
-        }
-        #[inline(always)]
-        fn map_where(self, o: Self, m: M4x, f: impl Fn(f64, f64) -> f64) -> Self {
-            let lanes = [
-                <F4x as Lanes4>::mask_lane(m, 0),
-                <F4x as Lanes4>::mask_lane(m, 1),
-                <F4x as Lanes4>::mask_lane(m, 2),
-                <F4x as Lanes4>::mask_lane(m, 3),
-            ];
-            F4x::from_array(super::map_where4(self.to_array(), o.to_array(), lanes, f))
-        }
-    }
-
-    impl Lanes4 for F4x {
-        #[inline(always)]
-        fn from_array(a: [f64; 4]) -> Self {
-            F4x(unsafe { _mm256_loadu_pd(a.as_ptr()) })
-        }
-        #[inline(always)]
-        fn to_array(self) -> [f64; 4] {
-            let mut a = [0.0; 4];
-            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
-            a
-        }
-        #[inline(always)]
-        fn mask_all(a: M4x) -> bool {
-            unsafe { _mm256_movemask_pd(a.0) == 0b1111 }
-        }
-        #[inline(always)]
-        fn mask_lane(a: M4x, l: usize) -> bool {
-            unsafe { (_mm256_movemask_pd(a.0) >> l) & 1 != 0 }
-        }
+        None
     }
 }
+
+/// A four-lane type a block kernel runs on: [`F4`] or the AVX register
+/// type, each with its way of gathering a block's nodes.
+pub(crate) trait KernelLanes: Lanes4 {
+    /// The block's positions, velocities and angular velocities, node `i`,
+    /// component `c`, element `l` in lane `l` (to be loaded into `Self`).
+    fn gather(nodes: &BlockNodes<'_>) -> Lanes3;
+}
+
+impl KernelLanes for F4 {
+    #[inline(always)]
+    fn gather(nodes: &BlockNodes<'_>) -> Lanes3 {
+        nodes.gather()
+    }
+}
+
+/// A computation written once over a four-lane type, run by
+/// [`run_fastest`] on the fastest lanes this processor has.
+pub(crate) trait LaneKernel {
+    /// What the computation gives.
+    type Output;
+    /// The computation in lanes of `L`. Written `#[inline(always)]`, so that
+    /// it compiles inside the caller's target features.
+    fn run<L: KernelLanes>(self) -> Self::Output;
+}
+
+/// `k` in AVX registers (compiled with AVX2 and FMA) where the processor has
+/// them, else in [`F4`] (baseline SSE2, where `madd` is the C library's
+/// exact `fma`): the same bits either way.
+#[inline(always)]
+pub(crate) fn run_fastest<K: LaneKernel>(k: K) -> K::Output {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx) = Avx2Fma::detect() {
+        return avx::run(avx, k);
+    }
+    k.run::<F4>()
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx;
 
 #[cfg(test)]
 mod tests {
@@ -640,81 +527,6 @@ mod tests {
             );
         }
         assert!(F4::any(Real::is_finite(a)) && !Real::is_finite(a).all());
-    }
-
-    /// The AVX register type gives `F4`'s bits for every operation,
-    /// including NaN, infinities and signed zeros in `max` (but for the
-    /// unspecified max of +0 and −0), comparisons,
-    /// `is_finite`, `select`, `abs`, negation and the fused `madd`; and its
-    /// masks read as `F4`'s. Skipped (passes) without AVX2 and FMA.
-    /// Tolerance: none.
-    #[test]
-    #[cfg(target_arch = "x86_64")]
-    fn avx_lanes_match_portable_lanes_bit_for_bit() {
-        if !(std::arch::is_x86_feature_detected!("avx2")
-            && std::arch::is_x86_feature_detected!("fma"))
-        {
-            return;
-        }
-        let vals = [
-            1.5,
-            -0.0,
-            0.0,
-            f64::NAN,
-            3e-300,
-            -2.25,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-        ];
-        let bits = |x: [f64; 4]| x.map(f64::to_bits);
-        for i in 0..vals.len() {
-            for j in 0..vals.len() {
-                let a4 = [vals[i], vals[j], vals[(i + j) % 8], vals[(i + 3) % 8]];
-                let b4 = [vals[j], vals[(i + 5) % 8], vals[i], vals[(j + 1) % 8]];
-                let c4 = [vals[(j + 2) % 8], vals[i], vals[j], vals[(i + j + 1) % 8]];
-                let (a, b, c) = (F4(a4), F4(b4), F4(c4));
-                let (x, y, z) = (
-                    F4x::from_array(a4),
-                    F4x::from_array(b4),
-                    F4x::from_array(c4),
-                );
-                assert_eq!(bits((x + y).to_array()), bits((a + b).0));
-                assert_eq!(bits((x - y * 2.0).to_array()), bits((a - b * 2.0).0));
-                assert_eq!(bits((x / y).to_array()), bits((a / b).0));
-                assert_eq!(bits((-x).to_array()), bits((-a).0));
-                assert_eq!(bits(x.madd(y, z).to_array()), bits(a.madd(b, c).0));
-                assert_eq!(bits(x.sqrt().to_array()), bits(a.sqrt().0));
-                // (`f64::max` of +0 and −0 may give either, and does differ
-                // between compilations; the kernel's `max` reads sums of
-                // squares, never −0.)
-                let (mx, ma) = (Real::max(x, y).to_array(), Real::max(a, b).0);
-                for l in 0..4 {
-                    if !(a4[l] == 0.0 && b4[l] == 0.0) {
-                        assert_eq!(mx[l].to_bits(), ma[l].to_bits());
-                    }
-                }
-                assert_eq!(bits(Real::abs(x).to_array()), bits(F4::abs(a).0));
-                let masks = [
-                    (Real::gt(x, y), Real::gt(a, b)),
-                    (Real::le(x, y), F4::le(a, b)),
-                    (Real::lt(x, y), F4::lt(a, b)),
-                    (Real::is_finite(x), Real::is_finite(a)),
-                ];
-                for (mx, ma) in masks {
-                    for l in 0..4 {
-                        assert_eq!(F4x::mask_lane(mx, l), ma.lane(l));
-                    }
-                    assert_eq!(F4x::any(mx), F4::any(ma));
-                    assert_eq!(F4x::mask_all(mx), ma.all());
-                    let sel = F4x::select(mx, x, y).to_array();
-                    assert_eq!(bits(sel), bits(F4::select(ma, a, b).0));
-                    let not = F4x::mask_not(mx);
-                    for l in 0..4 {
-                        assert_eq!(F4x::mask_lane(not, l), !ma.lane(l));
-                    }
-                }
-            }
-        }
     }
 
     /// `unzip4` and `zip4` move each pair's values to their lanes and back.
