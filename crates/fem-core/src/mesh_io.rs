@@ -378,6 +378,11 @@ fn add_missing_all(mesh: &mut Mesh) {
 }
 
 // ----- Gmsh 4.1 ASCII .msh -------------------------------------------------
+//
+// Read by hand: the `mshio` crate (0.4.2, ASCII and binary) was tried for
+// issue 21 and panics on malformed headers (`4.1 0 99999999999999999999999`:
+// an unwrap; binary `4.1 1 3`: unimplemented!; `$Nodes` with numNodes 0: an
+// overflow in debug builds), and does not read `$PhysicalNames`.
 
 /// Lines of a file with their 1-based numbers, blank lines skipped.
 struct Lines<'a> {
@@ -456,15 +461,28 @@ fn parse_msh_numbered(text: &str, file: &str) -> Result<MeshFile, FemError> {
     };
     let mut seen_format = false;
     while let Ok((_, l)) = r.ls.next_line() {
-        match l {
+        let end = match l {
             "$MeshFormat" => {
                 r.format()?;
                 seen_format = true;
+                "$EndMeshFormat"
             }
-            "$PhysicalNames" => r.physical_names()?,
-            "$Entities" => r.entities()?,
-            "$Nodes" => r.nodes()?,
-            "$Elements" => r.elements()?,
+            "$PhysicalNames" => {
+                r.physical_names()?;
+                "$EndPhysicalNames"
+            }
+            "$Entities" => {
+                r.entities()?;
+                "$EndEntities"
+            }
+            "$Nodes" => {
+                r.nodes()?;
+                "$EndNodes"
+            }
+            "$Elements" => {
+                r.elements()?;
+                "$EndElements"
+            }
             s if s.starts_with('$') && !s.starts_with("$End") => {
                 // Unknown section: skip to its end.
                 let end = format!("$End{}", &s[1..]);
@@ -474,8 +492,18 @@ fn parse_msh_numbered(text: &str, file: &str) -> Result<MeshFile, FemError> {
                         break;
                     }
                 }
+                continue;
             }
-            _ => {}
+            _ => continue,
+        };
+        // A section read by its counts ends here: a file cut short (or a
+        // count too small) is an error, not a smaller mesh.
+        let (n, l2) = r.ls.next_line()?;
+        if l2 != end {
+            return Err(r.ls.at.err(
+                n,
+                format!("expected `{end}` after the counted lines, found `{l2}`"),
+            ));
         }
     }
     if !seen_format {
@@ -553,8 +581,9 @@ impl MshReader<'_> {
                     .ls
                     .numbers::<f64>(if dim == 0 { 5 } else { 8 }, "an entity")?;
                 let k = if dim == 0 { 4 } else { 7 };
+                // Saturating: a huge or negative count fails the length test.
                 let np = v[k] as usize;
-                if v.len() < k + 1 + np {
+                if np > v.len() - (k + 1) {
                     return Err(self
                         .ls
                         .at
@@ -567,17 +596,27 @@ impl MshReader<'_> {
         Ok(())
     }
 
+    /// A block's count of nodes or elements, refused when negative.
+    fn count(&self, line: usize, value: i64, what: &str) -> Result<usize, FemError> {
+        usize::try_from(value).map_err(|_| {
+            self.ls
+                .at
+                .err(line, format!("{what} = {value} is negative"))
+        })
+    }
+
     /// `$Nodes`: blocks of tags, then their coordinates.
     fn nodes(&mut self) -> Result<(), FemError> {
         let (_, h) = self
             .ls
             .numbers::<u64>(4, "numEntityBlocks numNodes minNodeTag maxNodeTag")?;
         for _ in 0..h[0] {
-            let (_, b) = self
+            let (n2, b) = self
                 .ls
                 .numbers::<i64>(4, "entityDim entityTag parametric numNodesInBlock")?;
-            let count = b[3] as usize;
-            let mut tags = Vec::with_capacity(count);
+            let count = self.count(n2, b[3], "numNodesInBlock")?;
+            // Not reserved by the file's count: a wrong one must not exhaust memory.
+            let mut tags = Vec::new();
             for _ in 0..count {
                 let (_, t) = self.ls.numbers::<u64>(1, "a node tag")?;
                 tags.push(t[0]);
@@ -616,7 +655,8 @@ impl MshReader<'_> {
             let (n2, b) = self
                 .ls
                 .numbers::<i64>(4, "entityDim entityTag elementType numElementsInBlock")?;
-            let (dim, ent, ty, count) = (b[0] as i32, b[1] as i32, b[2], b[3] as usize);
+            let (dim, ent, ty) = (b[0] as i32, b[1] as i32, b[2]);
+            let count = self.count(n2, b[3], "numElementsInBlock")?;
             if dim == 2 && ty != 3 {
                 return Err(self.ls.at.err(
                     n2,
@@ -889,5 +929,69 @@ $EndElements
         let bad = MSH.replace("4.1 0 8", "2.2 0 8");
         let e = parse_msh(&bad, "p.msh").unwrap_err().to_string();
         assert!(e.starts_with("p.msh:2: need Gmsh format"), "{e}");
+    }
+
+    /// Every prefix of a valid file is an error unless it ends with a whole
+    /// section, and no changed byte or wild count makes the reader panic or
+    /// reserve memory by the file's word.
+    #[test]
+    fn msh_truncated_or_garbled_files_are_errors_not_panics() {
+        let ends = [
+            "$EndMeshFormat",
+            "$EndPhysicalNames",
+            "$EndEntities",
+            "$EndNodes",
+            "$EndElements",
+        ];
+        for n in 0..MSH.len() {
+            let prefix = &MSH[..n];
+            let whole_sections = ends.iter().any(|e| prefix.trim_end().ends_with(e));
+            match parse_msh(prefix, "p.msh") {
+                Ok(m) => assert!(whole_sections, "prefix {n} read: {m:?}"),
+                Err(e) => assert!(e.to_string().starts_with("p.msh:"), "{e}"),
+            }
+            for c in ['x', '9', '-', ' ', '\n', '$', '0'] {
+                let mut g = MSH.to_string();
+                g.replace_range(n..n + 1, &c.to_string());
+                let _ = parse_msh(&g, "p.msh");
+            }
+        }
+        for (from, to, message) in [
+            (
+                "2 1 0 4\n",
+                "2 1 0 99999999999999999\n",
+                "p.msh:30: expected a node tag",
+            ),
+            (
+                "2 1 0 4\n",
+                "2 1 0 -4\n",
+                "p.msh:21: numNodesInBlock = -4 is negative",
+            ),
+            (
+                "2 1 3 2\n",
+                "2 1 3 -2\n",
+                "p.msh:35: numElementsInBlock = -2 is negative",
+            ),
+            (
+                "2 1 3 2\n",
+                "2 1 3 1\n",
+                "p.msh:37: expected `$EndElements`",
+            ),
+            (
+                "$PhysicalNames\n2\n",
+                "$PhysicalNames\n99999999999999999\n",
+                "p.msh:8: expected `dim tag",
+            ),
+            (
+                "1 0 0 0 2 1 0 1 2 0\n",
+                "1 0 0 0 2 1 0 1e300 2 0\n",
+                "p.msh:12: entity line shorter",
+            ),
+        ] {
+            let bad = MSH.replace(from, to);
+            assert_ne!(bad, MSH, "{from:?}");
+            let e = parse_msh(&bad, "p.msh").unwrap_err().to_string();
+            assert!(e.starts_with(message), "{to:?}: {e}");
+        }
     }
 }
