@@ -314,7 +314,7 @@ struct FrictionPointArgs {
     plot: Option<Option<PathBuf>>,
 }
 
-fn parse_param(text: &str) -> Result<(String, f64), String> {
+fn parse_param(text: &str) -> Result<(String, f64), plugins_api::AssignmentError> {
     Params::parse_assignment(text)
 }
 

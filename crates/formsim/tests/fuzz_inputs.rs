@@ -405,7 +405,7 @@ fn fuzz_law_parameters() {
                     one_line("build_law", &e.to_string())?;
                 }
                 if let Err(e) = Params::parse_assignment(&text) {
-                    one_line("parse_assignment", &e)?;
+                    one_line("parse_assignment", &e.to_string())?;
                 }
                 Ok(())
             },

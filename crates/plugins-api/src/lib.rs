@@ -39,7 +39,7 @@ pub use error::FrictionError;
 pub use formulation::{DirectionInputs, KinematicFormulation, StepKinematics};
 pub use law::{CriticalShear, FrictionLaw, ShearInputs};
 pub use needs::PointNeeds;
-pub use params::{ParamSpec, Params, check_values};
+pub use params::{AssignmentError, ParamSpec, Params, check_values};
 pub use return_mapping::{
     PairedIntegrator, PointIntegrator, PointState, StepInput, StepOutput, TangentMode,
 };

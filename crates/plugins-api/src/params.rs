@@ -4,6 +4,22 @@ use std::collections::BTreeMap;
 
 use crate::FrictionError;
 
+/// A `KEY=VALUE` assignment (`--param`) that cannot be read.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum AssignmentError {
+    /// No `=` in the text.
+    #[error("parameter `{0}` is not of the form KEY=VALUE")]
+    NotKeyValue(String),
+    /// The value is not a number.
+    #[error("parameter `{key}`: `{value}` is not a number")]
+    NotANumber {
+        /// The key as given.
+        key: String,
+        /// The value text as given.
+        value: String,
+    },
+}
+
 /// One parameter of a component, as `formsim laws` prints it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ParamSpec {
@@ -149,17 +165,17 @@ impl Params {
     /// Parse `KEY=VALUE` (as given to `--param`).
     ///
     /// # Errors
-    /// A message naming the malformed text.
-    pub fn parse_assignment(text: &str) -> Result<(String, f64), String> {
+    /// [`AssignmentError`], naming the malformed text.
+    pub fn parse_assignment(text: &str) -> Result<(String, f64), AssignmentError> {
         let (key, value) = text
             .split_once('=')
-            .ok_or_else(|| format!("parameter `{text}` is not of the form KEY=VALUE"))?;
-        let key = key.trim();
-        let value: f64 = value
-            .trim()
-            .parse()
-            .map_err(|_| format!("parameter `{key}`: `{}` is not a number", value.trim()))?;
-        Ok((key.to_string(), value))
+            .ok_or_else(|| AssignmentError::NotKeyValue(text.to_string()))?;
+        let (key, value) = (key.trim(), value.trim());
+        let number: f64 = value.parse().map_err(|_| AssignmentError::NotANumber {
+            key: key.to_string(),
+            value: value.to_string(),
+        })?;
+        Ok((key.to_string(), number))
     }
 
     /// Check the values against `specs` and return one value per spec, in order
@@ -276,10 +292,9 @@ mod tests {
             ("mu".into(), 0.1)
         );
         assert!(Params::parse_assignment("mu").is_err());
-        assert!(
-            Params::parse_assignment("mu=abc")
-                .unwrap_err()
-                .contains("not a number")
+        assert_eq!(
+            Params::parse_assignment("mu=abc").unwrap_err().to_string(),
+            "parameter `mu`: `abc` is not a number"
         );
     }
 }
