@@ -482,18 +482,11 @@ impl<M: Material, const N: usize> LaneKernel for Block<'_, '_, M, N> {
     /// The block's nodes gathered into lanes of `L` and the kernel run.
     #[inline(always)]
     fn run<L: KernelLanes>(self) {
-        let Block {
-            bt,
-            mat,
-            sec,
-            nodes,
-            dt,
-            st,
-            out,
-        } = self;
-        let [x, v, w] = L::gather(nodes);
+        let [x, v, w] = L::gather(self.nodes);
         let (x, v, w) = (to_lanes::<L>(&x), to_lanes::<L>(&v), to_lanes::<L>(&w));
-        bt.lanes::<M, L, N>(mat, sec, &x, &v, &w, dt, st, out)
+        let (mat, sec, dt) = (self.mat, self.sec, self.dt);
+        self.bt
+            .lanes::<M, L, N>(mat, sec, &x, &v, &w, dt, self.st, self.out)
     }
 }
 
