@@ -1,7 +1,9 @@
 //! Reading a prescribed contact-point history (`formsim friction-point --history IN.csv`).
 //!
 //! Format: comma-separated, one header line naming the columns (any order),
-//! `#` comment lines and blank lines ignored. Units: mm, N, MPa, s.
+//! `#` comment lines and blank lines ignored, read by the `csv` crate (a field
+//! may be quoted, a line may end in `\r\n`, blanks around a field are
+//! dropped). Units: mm, N, MPa, s.
 //!
 //! | column | required | meaning |
 //! |---|---|---|
@@ -118,15 +120,13 @@ pub fn read(path: &Path) -> Result<History, HistoryError> {
 /// # Errors
 /// As [`read`].
 pub fn parse(text: &str, file: &str) -> Result<History, HistoryError> {
-    let mut rows = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let mut rows =
+        crate::csv_records::records(text, true).map(|r| r.map_err(|(line, e)| at(file, line, e)));
     let (header_line, header) = rows
         .next()
+        .transpose()?
         .ok_or_else(|| at(file, 0, "empty file: no header line".into()))?;
-    let cols = Columns::of(header, header_line, file)?;
+    let cols = Columns::of(&header, header_line, file)?;
     let mut out = History {
         times: Vec::new(),
         lines: Vec::new(),
@@ -138,8 +138,8 @@ pub fn parse(text: &str, file: &str) -> Result<History, HistoryError> {
         n: None,
         f: Mat3::identity(),
     };
-    for (line, text) in rows {
-        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
+    for row in rows {
+        let (line, fields) = row?;
         if fields.len() != cols.count {
             return Err(at(
                 file,
@@ -148,7 +148,7 @@ pub fn parse(text: &str, file: &str) -> Result<History, HistoryError> {
             ));
         }
         let row = Row {
-            fields,
+            fields: &fields,
             cols: &cols,
             line,
             file,
@@ -185,12 +185,11 @@ struct Columns<'a> {
 }
 
 impl<'a> Columns<'a> {
-    /// Read and check the header line (`line` of `file`).
-    fn of(header: &'a str, line: usize, file: &str) -> Result<Self, HistoryError> {
-        let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    /// Read and check the header record (`line` of `file`).
+    fn of(header: &'a csv::StringRecord, line: usize, file: &str) -> Result<Self, HistoryError> {
         let known = known_columns();
         let mut index: HashMap<&str, usize> = HashMap::new();
-        for (i, name) in names.iter().enumerate() {
+        for (i, name) in header.iter().enumerate() {
             if !known.iter().any(|k| k == name) {
                 return Err(at(
                     file,
@@ -244,7 +243,7 @@ impl<'a> Columns<'a> {
             temperature: index.contains_key("temperature"),
         };
         Ok(Self {
-            count: names.len(),
+            count: header.len(),
             index,
             present,
         })
@@ -260,7 +259,7 @@ struct Previous {
 
 /// One data row, split into fields.
 struct Row<'a> {
-    fields: Vec<&'a str>,
+    fields: &'a csv::StringRecord,
     cols: &'a Columns<'a>,
     line: usize,
     file: &'a str,
@@ -272,7 +271,7 @@ impl Row<'_> {
     }
 
     fn get(&self, col: &str) -> Result<f64, HistoryError> {
-        let raw = self.fields[self.cols.index[col]];
+        let raw = &self.fields[self.cols.index[col]];
         let v: f64 = raw
             .parse()
             .map_err(|_| self.err(format!("column `{col}`: `{raw}` is not a number")))?;
@@ -438,6 +437,44 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("unit normal"), "{e}");
+    }
+
+    /// Blank lines (also of spaces) and comments (also indented) are skipped
+    /// and the lines counted across them, as the hand-written reader did;
+    /// blanks around fields and names are dropped.
+    #[test]
+    fn blank_and_comment_lines_are_skipped_and_counted() {
+        let text = "\n  \n # indented, comment\n t , p,du_x,du_y,du_z,n_x,n_y,n_z \n\n# c\n 0.1 ,10,0,0,0,0,0,1\n   \n0.2,10,0,0,0,0,0,1";
+        let h = parse(text, "h.csv").unwrap();
+        assert_eq!(h.lines, vec![7, 9]);
+        let e = parse("# only a comment\n  \n", "h.csv").unwrap_err();
+        assert_eq!(e.to_string(), "h.csv:0: empty file: no header line");
+        let e = parse(
+            "t,p,du_x,du_y,du_z,n_x,n_y,n_z\n\n0.1,1,0,0,0,0,1\n",
+            "h.csv",
+        )
+        .unwrap_err();
+        assert_eq!(e.to_string(), "h.csv:3: 7 fields, the header has 8");
+    }
+
+    /// A file with `\r\n` line ends reads as with `\n`, lines counted alike.
+    #[test]
+    fn crlf_line_ends_read_as_lf() {
+        let h = parse(&GOOD.replace('\n', "\r\n"), "h.csv").unwrap();
+        assert_eq!(h.lines, vec![3, 4]);
+        assert_eq!(h.times, parse(GOOD, "h.csv").unwrap().times);
+    }
+
+    /// New with the `csv` crate: a quoted field reads as its text (the
+    /// hand-written reader refused `"0.1"` as not a number); a quoted comma
+    /// stays in its field.
+    #[test]
+    fn quoted_fields_read_as_their_text() {
+        let text = "\"t\",p,du_x,du_y,du_z,n_x,n_y,n_z\n\"0.1\",10,0,0,0,0,0,1\n";
+        assert_eq!(parse(text, "h.csv").unwrap().times, vec![0.1]);
+        let text = "t,p,du_x,du_y,du_z,n_x,n_y,n_z\n0.1,\"1,5\",0,0,0,0,0,1\n";
+        let e = parse(text, "h.csv").unwrap_err().to_string();
+        assert_eq!(e, "h.csv:2: column `p`: `1,5` is not a number");
     }
 
     #[test]

@@ -11,6 +11,7 @@
 
 pub mod compare;
 pub mod components;
+mod csv_records;
 pub mod history;
 pub mod identify;
 pub mod output;
