@@ -38,6 +38,17 @@ pub enum ToolsError {
         /// The file.
         path: PathBuf,
     },
+    /// The points file is not readable as CSV (a quoted field runs over a
+    /// line end).
+    #[error("{path} line {line}: {message}")]
+    Csv {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
     /// The header lacks a coordinate column.
     #[error("{path}: missing column `{column}` (header: {header})")]
     MissingColumn {
@@ -45,7 +56,7 @@ pub enum ToolsError {
         path: PathBuf,
         /// `x`, `y` or `z`.
         column: &'static str,
-        /// The header line.
+        /// The header's names, trimmed, comma-separated.
         header: String,
     },
     /// A line lacks a coordinate.
@@ -128,7 +139,8 @@ pub fn export(spec: &Path, out: &Path) -> Result<Vec<String>, ToolsError> {
     Ok(written)
 }
 
-/// Read `x,y,z` columns (any order; other columns ignored) from a CSV file.
+/// Read `x,y,z` columns (any order; other columns ignored) from a CSV file
+/// (read by the `csv` crate: fields may be quoted, blank lines are skipped).
 ///
 /// # Errors
 /// The file cannot be read, has no header or a coordinate column missing,
@@ -139,45 +151,48 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>, ToolsError> {
         path: file(),
         source,
     })?;
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines
+    let mut records = crate::csv_records::records(&text, false).map(|r| {
+        r.map_err(|(line, message)| ToolsError::Csv {
+            path: file(),
+            line,
+            message,
+        })
+    });
+    let (_, header) = records
         .next()
+        .transpose()?
         .ok_or_else(|| ToolsError::EmptyFile { path: file() })?;
-    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
-    let mut idx = [0usize; 3];
-    for (k, name) in ["x", "y", "z"].into_iter().enumerate() {
-        idx[k] = cols
+    let column = |name: &'static str| {
+        header
             .iter()
-            .position(|c| *c == name)
+            .position(|c| c == name)
             .ok_or_else(|| ToolsError::MissingColumn {
                 path: file(),
                 column: name,
-                header: header.to_string(),
-            })?;
-    }
+                header: header.iter().collect::<Vec<_>>().join(","),
+            })
+    };
+    let idx = [column("x")?, column("y")?, column("z")?];
     let mut points = Vec::new();
-    for (ln, line) in lines {
-        let vals: Vec<&str> = line.split(',').map(str::trim).collect();
+    for record in records {
+        let (line, vals) = record?;
         let mut p = [0.0; 3];
         for (k, name) in ["x", "y", "z"].into_iter().enumerate() {
             let raw = vals.get(idx[k]).ok_or_else(|| ToolsError::MissingValue {
                 path: file(),
-                line: ln + 1,
+                line,
                 column: name,
             })?;
             let v: f64 = raw.parse().map_err(|_| ToolsError::NotANumber {
                 path: file(),
-                line: ln + 1,
+                line,
                 column: name,
                 raw: raw.to_string(),
             })?;
             if !v.is_finite() {
                 return Err(ToolsError::NotFinite {
                     path: file(),
-                    line: ln + 1,
+                    line,
                     column: name,
                     value: v,
                 });
@@ -239,4 +254,53 @@ pub fn project(
         source,
     })?;
     Ok(out.len())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn points(text: &str) -> Result<Vec<Vec3>, ToolsError> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.csv");
+        std::fs::write(&path, text).unwrap();
+        read_points(&path)
+    }
+
+    /// New with the `csv` crate: a quoted coordinate reads as its number (the
+    /// hand-written reader refused `"2"` as not a number), also in a `\r\n`
+    /// file.
+    #[test]
+    fn quoted_coordinates_read_as_numbers() {
+        let p = points("id,\"x\",y,z\r\n\"a, b\",1,\"2\",3\r\n").unwrap();
+        assert_eq!(p, vec![Vec3::new(1.0, 2.0, 3.0)]);
+    }
+
+    /// Blank lines are skipped and counted: an error names the line of the
+    /// bad value; a missing column shows the header's names.
+    #[test]
+    fn errors_name_the_line_across_blank_lines() {
+        let e = points("\n x , y ,z\n\n  \n1,2,3\n4,,6\n").unwrap_err();
+        assert!(
+            e.to_string()
+                .ends_with("p.csv line 6: y = `` is not a number"),
+            "{e}"
+        );
+        let e = points("x, y\n1,2\n").unwrap_err();
+        assert!(
+            e.to_string().ends_with("missing column `z` (header: x,y)"),
+            "{e}"
+        );
+        let e = points("x,y,z\n1,2\n").unwrap_err();
+        assert!(
+            e.to_string()
+                .ends_with("p.csv line 2: missing value for `z`"),
+            "{e}"
+        );
+        let e = points("x,y,z\n1,2,3\n1,\"2,3\n4,5,6\n").unwrap_err();
+        assert!(
+            e.to_string().contains("p.csv line 3: a quoted field"),
+            "{e}"
+        );
+    }
 }
