@@ -18,6 +18,7 @@
 //! stops the comparison at once, named `case X, law Y, formulation Z: …`,
 //! instead of surfacing after the valid rows have run.
 
+use crate::output::csv_text::CsvText;
 use crate::plot::{Panel, PlotError, Series, draw_panels};
 use crate::run::{Progress, RunError, RunOptions, RunResult, run};
 use crate::scene::{self, SceneError};
@@ -466,20 +467,14 @@ fn write_table(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
             "laws × formulations"
         }
     );
-    let mut csv = String::new();
     if with_case {
         md.push_str(" case |");
-        csv.push_str("case,");
     }
     md.push_str(" law | formulation |");
-    csv.push_str("law,formulation");
     for (name, _) in &cols {
         let _ = write!(md, " {name} |");
-        let key = name.replace(' ', "_").replace(['(', ')'], "");
-        let _ = write!(csv, ",{key},{key}_pct");
     }
     md.push_str(" elements | wall time (s) | rel. | increments | rel. | balance error |\n|");
-    csv.push_str(",elements,wall_time_s,wall_rel,increments,increments_rel,balance_error_rel\n");
     for _ in 0..cols.len() + 8 + usize::from(with_case) {
         md.push_str("---|");
     }
@@ -487,12 +482,9 @@ fn write_table(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
     for e in entries {
         md.push('|');
         if with_case {
-            let case = e.case.as_deref().unwrap_or("");
-            let _ = write!(md, " {case} |");
-            let _ = write!(csv, "{case},");
+            let _ = write!(md, " {} |", e.case.as_deref().unwrap_or(""));
         }
         let _ = write!(md, " {} | {} |", e.law, e.formulation);
-        let _ = write!(csv, "{},{}", e.law, e.formulation);
         match &e.result {
             Ok(r) => {
                 for (_, f) in &cols {
@@ -500,55 +492,102 @@ fn write_table(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
                         (Some(v), Some(v0)) if v0 != 0.0 => {
                             let pct = 100.0 * v / v0;
                             let _ = write!(md, " {v:.4} ({pct:.0} %) |");
-                            let _ = write!(csv, ",{v},{pct}");
                         }
                         // No percentage of a zero reference.
                         (Some(v), Some(_)) => {
                             let _ = write!(md, " {v:.4} (–) |");
-                            let _ = write!(csv, ",{v},");
                         }
-                        _ => {
-                            md.push_str(" – |");
-                            csv.push_str(",,");
-                        }
+                        _ => md.push_str(" – |"),
                     }
                 }
                 let s = &r.summary;
-                let wall_rel = s.wall_time_s / reference.summary.wall_time_s;
-                let inc_rel = s.increments as f64 / reference.summary.increments as f64;
                 let _ = writeln!(
                     md,
                     " {} | {:.1} | {:.2} | {} | {:.2} | {:.1e} |",
                     s.elements,
                     s.wall_time_s,
-                    wall_rel,
+                    s.wall_time_s / reference.summary.wall_time_s,
                     s.increments,
-                    inc_rel,
-                    s.energy.balance_error_rel
-                );
-                let _ = writeln!(
-                    csv,
-                    ",{},{},{},{},{},{}",
-                    s.elements,
-                    s.wall_time_s,
-                    wall_rel,
-                    s.increments,
-                    inc_rel,
+                    s.increments as f64 / reference.summary.increments as f64,
                     s.energy.balance_error_rel
                 );
             }
             Err(msg) => {
                 let _ = writeln!(md, " failed: {} |", msg.to_string().replace('|', "/"));
-                let _ = writeln!(csv, ",failed");
             }
         }
     }
-    let write = |name: &str, text: &str| {
-        let p = out.join(name);
-        std::fs::write(&p, text).map_err(CompareError::io(&p))
-    };
-    write("compare.md", &md)?;
-    write("compare.csv", &csv)
+    let p = out.join("compare.md");
+    std::fs::write(&p, md).map_err(CompareError::io(&p))?;
+    let p = out.join("compare.csv");
+    compare_csv(entries, reference, &cols, with_case)
+        .and_then(|csv| csv.write_to(&p))
+        .map_err(CompareError::io(&p))
+}
+
+/// `compare.csv`: the table of `compare.md` with full-precision numbers, a
+/// column of each value and one of its % of the reference (empty for a
+/// reference of zero); a failed run's row ends with `failed`.
+fn compare_csv(
+    entries: &[Entry],
+    reference: &RunResult,
+    cols: &[Column],
+    with_case: bool,
+) -> std::io::Result<CsvText> {
+    let mut csv = CsvText::flexible();
+    let mut header: Vec<String> = Vec::new();
+    if with_case {
+        header.push("case".into());
+    }
+    header.extend(["law".into(), "formulation".into()]);
+    for (name, _) in cols {
+        let key = name.replace(' ', "_").replace(['(', ')'], "");
+        header.extend([key.clone(), format!("{key}_pct")]);
+    }
+    header.extend(
+        [
+            "elements",
+            "wall_time_s",
+            "wall_rel",
+            "increments",
+            "increments_rel",
+            "balance_error_rel",
+        ]
+        .map(String::from),
+    );
+    csv.record(&header)?;
+    for e in entries {
+        let mut row: Vec<String> = Vec::new();
+        if with_case {
+            row.push(e.case.clone().unwrap_or_default());
+        }
+        row.extend([e.law.clone(), e.formulation.clone()]);
+        let Ok(r) = &e.result else {
+            row.push("failed".into());
+            csv.record(&row)?;
+            continue;
+        };
+        for (_, f) in cols {
+            let (v, pct) = match (f(r), f(reference)) {
+                (Some(v), Some(v0)) if v0 != 0.0 => (v.to_string(), (100.0 * v / v0).to_string()),
+                // No percentage of a zero reference.
+                (Some(v), Some(_)) => (v.to_string(), String::new()),
+                _ => (String::new(), String::new()),
+            };
+            row.extend([v, pct]);
+        }
+        let s = &r.summary;
+        row.extend([
+            s.elements.to_string(),
+            s.wall_time_s.to_string(),
+            (s.wall_time_s / reference.summary.wall_time_s).to_string(),
+            s.increments.to_string(),
+            (s.increments as f64 / reference.summary.increments as f64).to_string(),
+            s.energy.balance_error_rel.to_string(),
+        ]);
+        csv.record(&row)?;
+    }
+    Ok(csv)
 }
 
 fn write_plots(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
@@ -589,4 +628,41 @@ fn write_plots(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
         draw_panels(&dir.join(format!("{name}.png")), &panels, 1000, 450)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A failed run's row of `compare.csv` is its case, law and formulation
+    /// then `failed`, shorter than the header; the other rows are full.
+    #[test]
+    fn compare_csv_ends_a_failed_row_with_failed() {
+        let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/block-on-plane.toml");
+        let dir = tempfile::tempdir().unwrap();
+        let matrix = Matrix {
+            cases: vec![Case::parse("d2:blank.mesh.divisions=2").unwrap()],
+            formulations: vec!["convective".into(), "jaumann".into()],
+            ..Default::default()
+        };
+        let mut entries =
+            compare(&scene, &matrix, &dir.path().join("runs"), false, &|_| {}).unwrap();
+        entries[1].result = Err(RunError::Solver {
+            time: 1e-3,
+            message: "diverged".into(),
+            out: "runs/d2-ac-jaumann".into(),
+        });
+        write_table(dir.path(), &entries).unwrap();
+        let csv = std::fs::read_to_string(dir.path().join("compare.csv")).unwrap();
+        let rows: Vec<&str> = csv.lines().collect();
+        assert_eq!(rows.len(), 3, "{csv}");
+        let width = rows[0].split(',').count();
+        assert!(
+            rows[0].starts_with("case,law,formulation,") && width > 8,
+            "{csv}"
+        );
+        assert!(rows[1].starts_with("d2,ac,convective,"), "{csv}");
+        assert_eq!(rows[1].split(',').count(), width, "{csv}");
+        assert_eq!(rows[2], "d2,ac,jaumann,failed");
+    }
 }

@@ -1,11 +1,11 @@
 //! Integrating one contact point along a prescribed history (`formsim friction-point`).
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use plugins_api::{FrictionError, PointIntegrator, PointState, StepOutput};
 
 use crate::history::History;
+use crate::output::csv_text::CsvText;
 
 /// One output row.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -149,7 +149,8 @@ pub fn run(
     Ok((records, summary))
 }
 
-/// Write the records as `t,t_x,t_y,t_z,stick,dgamma,dissipation,omega,mu_eff`.
+/// Write the records as `t,t_x,t_y,t_z,stick,dgamma,dissipation,omega,mu_eff`
+/// (numbers as `{:e}`, `stick` as 0 or 1).
 ///
 /// # Errors
 /// I/O errors, naming the file.
@@ -161,23 +162,33 @@ pub fn write_csv(path: &Path, records: &[Record]) -> Result<(), PointError> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(io)?;
     }
-    let mut w = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
-    writeln!(w, "t,t_x,t_y,t_z,stick,dgamma,dissipation,omega,mu_eff").map_err(io)?;
+    let mut csv = CsvText::new();
+    csv.record([
+        "t",
+        "t_x",
+        "t_y",
+        "t_z",
+        "stick",
+        "dgamma",
+        "dissipation",
+        "omega",
+        "mu_eff",
+    ])
+    .map_err(io)?;
+    let e = |v: f64| format!("{v:e}");
     for r in records {
-        writeln!(
-            w,
-            "{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e}",
-            r.t,
-            r.out.t.x,
-            r.out.t.y,
-            r.out.t.z,
-            u8::from(r.out.stick),
-            r.out.dgamma,
-            r.dissipation,
-            r.omega,
-            r.mu_eff()
-        )
+        csv.record([
+            e(r.t),
+            e(r.out.t.x),
+            e(r.out.t.y),
+            e(r.out.t.z),
+            u8::from(r.out.stick).to_string(),
+            e(r.out.dgamma),
+            e(r.dissipation),
+            e(r.omega),
+            e(r.mu_eff()),
+        ])
         .map_err(io)?;
     }
-    w.flush().map_err(io)
+    csv.write_to(path).map_err(io)
 }

@@ -1,7 +1,7 @@
 //! `formsim tools`: export a tools spec to VTU/OBJ, project a CSV of points on one tool.
 
+use crate::output::csv_text::CsvText;
 use plugins_api::{ToolError, ToolSurface, Vec3};
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use tools_nurbs::NurbsError;
 use tools_nurbs::export::{tessellate, write_obj, write_vtu};
@@ -230,29 +230,26 @@ pub fn project(
     for x in &points {
         out.push(tool.project(x, None)?);
     }
-    let mut s = String::from("px,py,pz,nx,ny,nz,distance,k1,k2,patch,u,v\n");
-    for p in &out {
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{},{},{},{},{},{},{}",
-            p.point.x,
-            p.point.y,
-            p.point.z,
-            p.normal.x,
-            p.normal.y,
-            p.normal.z,
-            p.distance,
-            p.k1,
-            p.k2,
-            p.patch,
-            p.u,
-            p.v
-        );
-    }
-    std::fs::write(out_csv, s).map_err(|source| ToolsError::Write {
+    let write = |source| ToolsError::Write {
         path: out_csv.to_path_buf(),
         source,
-    })?;
+    };
+    let mut csv = CsvText::new();
+    csv.record([
+        "px", "py", "pz", "nx", "ny", "nz", "distance", "k1", "k2", "patch", "u", "v",
+    ])
+    .map_err(write)?;
+    for p in &out {
+        let mut row = [
+            p.point.x, p.point.y, p.point.z, p.normal.x, p.normal.y, p.normal.z, p.distance, p.k1,
+            p.k2,
+        ]
+        .map(|v| v.to_string())
+        .to_vec();
+        row.extend([p.patch.to_string(), p.u.to_string(), p.v.to_string()]);
+        csv.record(&row).map_err(write)?;
+    }
+    csv.write_to(out_csv).map_err(write)?;
     Ok(out.len())
 }
 

@@ -1,4 +1,5 @@
 //! Run outputs: summary, sections, histories, VTK series and plots.
+pub mod csv_text;
 pub mod error;
 pub mod field_plots;
 pub mod vtk;

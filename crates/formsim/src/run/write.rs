@@ -5,10 +5,10 @@ use super::RunResult;
 use super::post::{SectionRow, Snapshot};
 use super::summary::stroke_key;
 use crate::output::OutputError;
+use crate::output::csv_text::CsvText;
 use crate::output::vtk::{BlankFrame, FieldData, write_pvd, write_vtu};
 use crate::plot::{Panel, Series, draw_panels};
 use crate::scene::Model;
-use std::fmt::Write as _;
 use std::path::Path;
 
 fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
@@ -115,7 +115,10 @@ pub fn pvd(path: &Path, frames: &[(f64, String)]) -> Result<(), OutputError> {
 }
 
 fn section_csv(path: &Path, rows: &[SectionRow]) -> Result<(), OutputError> {
-    let mut s = String::from("distance,major,minor,thickness_strain,thinning\n");
+    let io = |e| OutputError::io(path, e);
+    let mut csv = CsvText::new();
+    csv.record(["distance", "major", "minor", "thickness_strain", "thinning"])
+        .map_err(io)?;
     for r in rows {
         for (what, v) in [
             ("major", r.major),
@@ -124,13 +127,12 @@ fn section_csv(path: &Path, rows: &[SectionRow]) -> Result<(), OutputError> {
         ] {
             finite(path, what, v)?;
         }
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{}",
-            r.distance, r.major, r.minor, r.thickness_strain, r.thinning
-        );
+        csv.record(
+            [r.distance, r.major, r.minor, r.thickness_strain, r.thinning].map(|v| v.to_string()),
+        )
+        .map_err(io)?;
     }
-    write_text(path, &s)
+    csv.write_to(path).map_err(io)
 }
 
 fn sections(dir: &Path, snap: &Snapshot, suffix: &str) -> Result<(), OutputError> {
@@ -176,35 +178,8 @@ pub fn all(out: &Path, result: &RunResult, model: &Model, plots: bool) -> Result
     }
 
     // Histories.
-    let path = out.join("energy.csv");
-    let mut s = String::from(
-        "time,stroke,dt,internal,kinetic,hourglass,plastic,contact,friction,external_work,balance_error\n",
-    );
-    for h in &result.history {
-        let e = &h.energy;
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{},{},{},{},{},{}",
-            h.time,
-            h.stroke,
-            h.dt,
-            e.internal,
-            e.kinetic,
-            e.hourglass,
-            e.plastic,
-            e.contact,
-            e.friction,
-            e.external,
-            e.balance_error
-        );
-    }
-    write_text(&path, &s)?;
-    let path = out.join("punch_force.csv");
-    let mut s = String::from("time,stroke,punch_force\n");
-    for h in &result.history {
-        let _ = writeln!(s, "{},{},{}", h.time, h.stroke, h.punch_force);
-    }
-    write_text(&path, &s)?;
+    energy_csv(&out.join("energy.csv"), result)?;
+    punch_force_csv(&out.join("punch_force.csv"), result)?;
     tools_csv(&out.join("tools.csv"), result, model)?;
 
     if plots {
@@ -233,32 +208,87 @@ fn first_null(v: &serde_json::Value, at: String) -> Option<String> {
     }
 }
 
+/// `energy.csv`: time, stroke, time step and the energy ledger of each
+/// history row.
+fn energy_csv(path: &Path, result: &RunResult) -> Result<(), OutputError> {
+    let io = |e| OutputError::io(path, e);
+    let mut csv = CsvText::new();
+    csv.record([
+        "time",
+        "stroke",
+        "dt",
+        "internal",
+        "kinetic",
+        "hourglass",
+        "plastic",
+        "contact",
+        "friction",
+        "external_work",
+        "balance_error",
+    ])
+    .map_err(io)?;
+    for h in &result.history {
+        let e = &h.energy;
+        csv.record(
+            [
+                h.time,
+                h.stroke,
+                h.dt,
+                e.internal,
+                e.kinetic,
+                e.hourglass,
+                e.plastic,
+                e.contact,
+                e.friction,
+                e.external,
+                e.balance_error,
+            ]
+            .map(|v| v.to_string()),
+        )
+        .map_err(io)?;
+    }
+    csv.write_to(path).map_err(io)
+}
+
+/// `punch_force.csv`: time, stroke and punch force of each history row.
+fn punch_force_csv(path: &Path, result: &RunResult) -> Result<(), OutputError> {
+    let io = |e| OutputError::io(path, e);
+    let mut csv = CsvText::new();
+    csv.record(["time", "stroke", "punch_force"]).map_err(io)?;
+    for h in &result.history {
+        csv.record([h.time, h.stroke, h.punch_force].map(|v| v.to_string()))
+            .map_err(io)?;
+    }
+    csv.write_to(path).map_err(io)
+}
+
 /// `tools.csv`: time, stroke, and per tool the force on the blank along its
 /// press axis and in total, the prescribed force (empty unless
 /// force-controlled) and the position along the axis.
 fn tools_csv(path: &Path, result: &RunResult, model: &Model) -> Result<(), OutputError> {
-    let mut s = String::from("time,stroke");
+    let io = |e| OutputError::io(path, e);
+    let mut csv = CsvText::new();
+    let mut header = vec!["time".to_string(), "stroke".to_string()];
     for name in &model.tool_names {
-        let _ = write!(
-            s,
-            ",{name}_force,{name}_force_total,{name}_prescribed,{name}_position"
+        header.extend(
+            ["force", "force_total", "prescribed", "position"].map(|what| format!("{name}_{what}")),
         );
     }
-    s.push('\n');
+    csv.record(&header).map_err(io)?;
     for row in &result.tool_history {
-        let _ = write!(s, "{},{}", row.time, row.stroke);
+        let mut fields = vec![row.time.to_string(), row.stroke.to_string()];
         for t in &row.tools {
             finite(path, "a tool force", t.force)?;
-            let prescribed = t.prescribed.map_or(String::new(), |p| p.to_string());
-            let _ = write!(
-                s,
-                ",{},{},{prescribed},{}",
-                t.force, t.force_total, t.position
-            );
+            fields.extend([
+                t.force.to_string(),
+                t.force_total.to_string(),
+                t.prescribed.map_or(String::new(), |p| p.to_string()),
+                t.position.to_string(),
+            ]);
         }
-        s.push('\n');
+        csv.record(&fields).map_err(io)?;
     }
-    write_text(path, &s)
+    csv.write_to(path).map_err(io)
 }
 
 /// `plots/tools.png`: each tool's force on the blank along its press axis
