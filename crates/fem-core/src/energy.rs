@@ -131,6 +131,30 @@ impl EnergyLedger {
     }
 }
 
+/// The columns of [`History::write_csv`].
+const CSV_HEADER: [&str; 20] = [
+    "step",
+    "time_s",
+    "dt_s",
+    "energy_time_s",
+    "kinetic_mJ",
+    "kinetic_rotational_mJ",
+    "integration_mJ",
+    "internal_mJ",
+    "hourglass_mJ",
+    "plastic_mJ",
+    "contact_mJ",
+    "friction_mJ",
+    "damping_mJ",
+    "external_loads_mJ",
+    "external_prescribed_mJ",
+    "external_mass_scaling_mJ",
+    "external_tools_mJ",
+    "external_mJ",
+    "balance_abs_mJ",
+    "balance_error",
+];
+
 /// One row of a [`History`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HistoryRow {
@@ -194,41 +218,87 @@ impl History {
         });
     }
 
-    /// Write the rows as CSV with a header line (energies in mJ, times in s).
-    pub fn write_csv<W: Write>(&self, mut w: W) -> std::io::Result<()> {
-        writeln!(
-            w,
-            "step,time_s,dt_s,energy_time_s,kinetic_mJ,kinetic_rotational_mJ,integration_mJ,\
-             internal_mJ,hourglass_mJ,plastic_mJ,contact_mJ,friction_mJ,damping_mJ,\
-             external_loads_mJ,external_prescribed_mJ,external_mass_scaling_mJ,external_tools_mJ,external_mJ,balance_abs_mJ,balance_error"
-        )?;
+    /// Write the rows as CSV with a header line (energies in mJ, times in s):
+    /// the step as an integer, every other number as `{:e}`, written with the
+    /// `csv` crate (records ended by `\n`).
+    ///
+    /// # Errors
+    /// I/O errors of `w`.
+    pub fn write_csv<W: Write>(&self, w: W) -> std::io::Result<()> {
+        let mut csv = csv::Writer::from_writer(w);
+        csv.write_record(CSV_HEADER)?;
         for r in &self.rows {
             let e = &r.energy;
-            writeln!(
-                w,
-                "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-                r.step,
-                r.time,
-                r.dt,
-                e.time,
-                e.kinetic,
-                e.kinetic_rotational,
-                e.integration,
-                e.internal,
-                e.hourglass,
-                e.plastic,
-                e.contact,
-                e.friction,
-                e.damping,
-                e.external_loads,
-                e.external_prescribed,
-                e.external_mass_scaling,
-                e.external_tools,
-                e.external,
-                e.balance_abs,
-                e.balance_error
-            )?;
+            let mut fields = vec![r.step.to_string()];
+            fields.extend(
+                [
+                    r.time,
+                    r.dt,
+                    e.time,
+                    e.kinetic,
+                    e.kinetic_rotational,
+                    e.integration,
+                    e.internal,
+                    e.hourglass,
+                    e.plastic,
+                    e.contact,
+                    e.friction,
+                    e.damping,
+                    e.external_loads,
+                    e.external_prescribed,
+                    e.external_mass_scaling,
+                    e.external_tools,
+                    e.external,
+                    e.balance_abs,
+                    e.balance_error,
+                ]
+                .map(|v| format!("{v:e}")),
+            );
+            csv.write_record(&fields)?;
         }
-        Ok(())
+        csv.flush()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The header, then per row the step and every number as `{:e}`, `,`
+    /// between, `\n` after each line.
+    #[test]
+    fn write_csv_writes_the_header_and_each_row_as_formatted() {
+        let mut h = History::new(1, 0.0);
+        let energy = EnergyLedger {
+            time: 0.5,
+            kinetic: 1500.0,
+            kinetic_rotational: -0.0,
+            integration: -2.5e-12,
+            internal: 0.1,
+            balance_error: f64::NAN,
+            ..EnergyLedger::default()
+        };
+        h.rows.push(HistoryRow {
+            step: 42,
+            time: 0.75,
+            dt: 1e-7,
+            energy,
+        });
+        let mut out = Vec::new();
+        h.write_csv(&mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let mut lines = text.split_inclusive('\n');
+        assert_eq!(
+            lines.next().unwrap(),
+            "step,time_s,dt_s,energy_time_s,kinetic_mJ,kinetic_rotational_mJ,integration_mJ,\
+             internal_mJ,hourglass_mJ,plastic_mJ,contact_mJ,friction_mJ,damping_mJ,\
+             external_loads_mJ,external_prescribed_mJ,external_mass_scaling_mJ,external_tools_mJ,\
+             external_mJ,balance_abs_mJ,balance_error\n"
+        );
+        assert_eq!(
+            lines.next().unwrap(),
+            "42,7.5e-1,1e-7,5e-1,1.5e3,-0e0,-2.5e-12,1e-1,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,NaN\n"
+        );
+        assert_eq!(lines.next(), None);
     }
 }
