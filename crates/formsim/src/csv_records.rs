@@ -1,6 +1,7 @@
 //! Reading CSV text with the `csv` crate, each record with the line it
-//! starts on (the history of `friction-point`, the points of `tools project`,
-//! the measurements of `identify`).
+//! starts on: the history of `friction-point` and the points of
+//! `tools project` ([`records`]); the lines of `identify`'s CSV measurements
+//! ([`start_line`]).
 
 /// A record of a CSV text and the 1-based line it starts on.
 pub(crate) type Numbered = (usize, csv::StringRecord);

@@ -13,6 +13,7 @@
 //! Every error names the file and the line.
 
 use super::IdentifyError;
+use crate::csv_records::start_line;
 use crate::run::summary::stroke_key;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -261,7 +262,7 @@ fn read_csv(text: &str) -> Result<Vec<DataSet>, LineError> {
         (column("stroke_mm"), column("quantity"), column("value_mm"))
     else {
         return Err((
-            1,
+            start_line(text, headers.position(), true),
             format!(
                 "the header must name stroke_mm, quantity, value_mm (and optionally se_mm); found `{}`",
                 headers.iter().collect::<Vec<_>>().join(",")
@@ -272,7 +273,7 @@ fn read_csv(text: &str) -> Result<Vec<DataSet>, LineError> {
     let mut points = Vec::new();
     for record in reader.records() {
         let record = record.map_err(|e| (csv_line(&e), e.to_string()))?;
-        let line = record.position().map_or(0, |p| p.line() as usize);
+        let line = start_line(text, record.position(), true);
         let field = |c: usize| record.get(c).unwrap_or("");
         let number = |c: usize, what: &str| -> Result<f64, LineError> {
             field(c)
@@ -588,6 +589,21 @@ mod tests {
         let (_d, path) = write("m.csv", "stroke,q,v\n40,DX,28.5\n");
         let e = Measurements::read(&path).unwrap_err().to_string();
         assert!(e.contains("m.csv:1:") && e.contains("stroke_mm"), "{e}");
+    }
+
+    /// A row after comment or blank lines is named by its own line (the `csv`
+    /// crate's record position is where its reader began to look, before the
+    /// lines it skipped: this read line 5, and the header's error line 1).
+    #[test]
+    fn a_row_after_comments_and_blank_lines_names_its_own_line() {
+        let text = "# c\n\nstroke_mm,quantity,value_mm\n40,DX,28.5\n# note\n\n40,DY,abc\n";
+        let (_d, path) = write("m.csv", text);
+        let e = Measurements::read(&path).unwrap_err().to_string();
+        assert!(e.contains("m.csv:7:") && e.contains("abc"), "{e}");
+        let text = "# c\n\nstroke,q,v\n40,DX,28.5\n";
+        let (_d, path) = write("m.csv", text);
+        let e = Measurements::read(&path).unwrap_err().to_string();
+        assert!(e.contains("m.csv:3:") && e.contains("stroke_mm"), "{e}");
     }
 
     #[test]
