@@ -1,6 +1,7 @@
 //! CSV text written with the `csv` crate, the one way formsim writes its CSV
 //! files (`sections/*.csv`, `energy.csv`, `punch_force.csv`, `tools.csv`,
-//! `compare.csv`, `friction-point` and `tools project` outputs).
+//! `compare.csv`, `friction-point` and `tools project` outputs, the
+//! `die_shoulder_history` example's point history).
 //!
 //! The caller formats every field (`{}` or `{:e}`), so each file keeps its
 //! number format; the `csv` crate separates the fields by `,`, ends each
