@@ -10,7 +10,7 @@ use tools_nurbs::spec::{Tool, load};
 /// What can go wrong in `formsim tools`; each message names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum ToolsError {
-    /// The tools spec does not load.
+    /// The tools spec does not load, or an export file cannot be written.
     #[error(transparent)]
     Spec(#[from] NurbsError),
     /// The output directory cannot be created.
@@ -21,9 +21,6 @@ pub enum ToolsError {
         /// The operating-system error.
         source: std::io::Error,
     },
-    /// A VTU or OBJ file cannot be written (the exporter's message).
-    #[error("{0}")]
-    Export(String),
     /// The points file cannot be read.
     #[error("{path}: cannot read: {source}")]
     Read {
@@ -131,8 +128,8 @@ pub fn export(spec: &Path, out: &Path) -> Result<Vec<String>, ToolsError> {
         let t = tessellate(tool);
         let vtu = out.join(format!("{}.vtu", tool.name()));
         let obj = out.join(format!("{}.obj", tool.name()));
-        write_vtu(&vtu, &t).map_err(ToolsError::Export)?;
-        write_obj(&obj, &t, tool.name()).map_err(ToolsError::Export)?;
+        write_vtu(&vtu, &t)?;
+        write_obj(&obj, &t, tool.name())?;
         written.push(vtu.display().to_string());
         written.push(obj.display().to_string());
     }

@@ -125,6 +125,14 @@ pub enum NurbsError {
         /// What went wrong (line number where known).
         message: String,
     },
+    /// An export file that cannot be written.
+    #[error("{path}: cannot write: {message}")]
+    Write {
+        /// File path.
+        path: String,
+        /// The operating system's message.
+        message: String,
+    },
     /// A tool specification that is not understood.
     #[error("tool spec: {message}")]
     Spec {

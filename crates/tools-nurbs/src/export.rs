@@ -4,6 +4,7 @@
 //! point data `normal` (blank side), `k1`, `k2` (1/mm) and cell data `patch`;
 //! tests read it back with vtkio's XML reader.
 
+use crate::error::NurbsError;
 use crate::faceted::FacetedTool;
 use crate::nurbs_tool::NurbsTool;
 use crate::spec::Tool;
@@ -92,12 +93,15 @@ pub fn tessellate(tool: &Tool) -> Tessellation {
     }
 }
 
-fn io(path: &Path, e: std::io::Error) -> String {
-    format!("{}: cannot write: {e}", path.display())
+fn io(path: &Path, e: std::io::Error) -> NurbsError {
+    NurbsError::Write {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
 }
 
 /// Write a tessellation as an ASCII VTU file.
-pub fn write_vtu(path: &Path, t: &Tessellation) -> Result<(), String> {
+pub fn write_vtu(path: &Path, t: &Tessellation) -> Result<(), NurbsError> {
     let mut s = String::new();
     let _ = writeln!(s, "<?xml version=\"1.0\"?>");
     let _ = writeln!(
@@ -183,7 +187,7 @@ pub fn write_vtu(path: &Path, t: &Tessellation) -> Result<(), String> {
 }
 
 /// Write a tessellation as a Wavefront OBJ file (positions, normals, polygons).
-pub fn write_obj(path: &Path, t: &Tessellation, name: &str) -> Result<(), String> {
+pub fn write_obj(path: &Path, t: &Tessellation, name: &str) -> Result<(), NurbsError> {
     let mut s = String::new();
     let _ = writeln!(
         s,

@@ -250,3 +250,27 @@ fn s_rail_apron_covers_the_overhang_and_leaves_the_channel() {
         .to_string();
     assert!(e.contains("apron"), "{e}");
 }
+
+/// An export into a directory that does not exist is a typed error naming
+/// the file, for both formats.
+#[test]
+fn export_into_a_missing_directory_names_the_file() {
+    let text = "[tools.punch]\nkind = \"punch\"\nmodel = \"full\"\n";
+    let punch = parse(text, &std::env::temp_dir()).unwrap().remove(0);
+    let t = tessellate(&punch);
+    let missing = std::env::temp_dir().join("tools-nurbs-no-such-dir/sub");
+    for (e, file) in [
+        (write_vtu(&missing.join("p.vtu"), &t).unwrap_err(), "p.vtu"),
+        (
+            write_obj(&missing.join("p.obj"), &t, "punch").unwrap_err(),
+            "p.obj",
+        ),
+    ] {
+        assert!(matches!(e, tools_nurbs::NurbsError::Write { .. }), "{e:?}");
+        let text = e.to_string();
+        assert!(
+            text.contains(file) && text.contains("cannot write"),
+            "{text}"
+        );
+    }
+}
