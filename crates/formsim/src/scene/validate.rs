@@ -402,52 +402,53 @@ fn motion_values<'m>(
     prefix: &str,
     motion: &'m Motion,
 ) -> Result<Option<(&'static str, &'m [f64; 3])>, SceneError> {
-    let keys = Keys(loaded);
-    let mkey = |k: &str| format!("{prefix}.{k}");
-    let direction = match motion {
-        Motion::Hold { .. } => None,
+    // The kinematic motions: (its number's key, value, unit), amplitude,
+    // and the vector it runs along or about.
+    let (number, amplitude, along) = match motion {
+        Motion::Hold { .. } => return Ok(None),
+        Motion::Force { direction, .. } => {
+            force_motion(loaded, prefix, motion)?;
+            return Ok(Some(("direction", direction)));
+        }
         Motion::Travel {
             direction,
             distance,
             amplitude,
             ..
-        } => {
-            if !distance.is_finite() {
-                return keys.err(&mkey("distance"), format!("{distance} mm: must be finite"));
-            }
-            check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-            Some(("direction", direction))
-        }
+        } => (
+            ("distance", distance, "mm"),
+            amplitude,
+            ("direction", direction),
+        ),
         Motion::Velocity {
             direction,
             speed,
             amplitude,
             ..
-        } => {
-            if !speed.is_finite() {
-                return keys.err(&mkey("speed"), format!("{speed} mm/s: must be finite"));
-            }
-            check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-            Some(("direction", direction))
-        }
+        } => (
+            ("speed", speed, "mm/s"),
+            amplitude,
+            ("direction", direction),
+        ),
         Motion::Spin {
             axis,
             rate,
             amplitude,
             ..
-        } => {
-            if !rate.is_finite() {
-                return keys.err(&mkey("rate"), format!("{rate} rad/s: must be finite"));
-            }
-            check_amplitude(loaded, &mkey("amplitude"), amplitude.as_ref(), true)?;
-            Some(("axis", axis))
-        }
-        Motion::Force { direction, .. } => {
-            force_motion(loaded, prefix, motion)?;
-            Some(("direction", direction))
-        }
+        } => (("rate", rate, "rad/s"), amplitude, ("axis", axis)),
     };
-    Ok(direction)
+    let (key, value, unit) = number;
+    if !value.is_finite() {
+        let message = format!("{value} {unit}: must be finite");
+        return Keys(loaded).err(&format!("{prefix}.{key}"), message);
+    }
+    check_amplitude(
+        loaded,
+        &format!("{prefix}.amplitude"),
+        amplitude.as_ref(),
+        true,
+    )?;
+    Ok(Some(along))
 }
 
 /// The numbers of a force-controlled motion (`prefix` is its key): a force
