@@ -34,12 +34,8 @@ pub(super) fn run<K: LaneKernel>(avx: Avx2Fma, k: K) -> K::Output {
     unsafe { run_avx2(avx, k) }
 }
 
-/// [`run`]'s body, compiled with the AVX2 and FMA target features. Never
-/// inlined: a kernel that reaches another one (the one-element Swift return
-/// beside the four-element kernel, on a branch the four-element kernel does
-/// not take) keeps its size, and its registers, to itself.
+/// [`run`]'s body, compiled with the AVX2 and FMA target features.
 #[target_feature(enable = "avx2,fma")]
-#[inline(never)]
 unsafe fn run_avx2<K: LaneKernel>(_avx: Avx2Fma, k: K) -> K::Output {
     k.run::<F4x>()
 }
