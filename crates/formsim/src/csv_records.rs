@@ -41,11 +41,13 @@ pub(crate) fn records(
                     Ok((line, r))
                 })
             }
-            Err(e) => Some(Err((
-                e.position().map_or(0, |p| p.line() as usize),
-                e.to_string(),
-            ))),
+            Err(e) => Some(Err((error_line(&e), e.to_string()))),
         })
+}
+
+/// The 1-based line a `csv` reading error is on (0 if unknown).
+pub(crate) fn error_line(e: &csv::Error) -> usize {
+    e.position().map_or(0, |p| p.line() as usize)
 }
 
 /// Whether `record` is a line of blanks (one empty field once trimmed) or,

@@ -13,7 +13,7 @@
 //! Every error names the file and the line.
 
 use super::IdentifyError;
-use crate::csv_records::start_line;
+use crate::csv_records::{LineError, error_line, start_line};
 use crate::run::summary::stroke_key;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -243,8 +243,6 @@ fn line_of(text: &str, at: usize) -> usize {
     text[..at.min(text.len())].matches('\n').count() + 1
 }
 
-type LineError = (usize, String);
-
 // ---- CSV ------------------------------------------------------------------
 
 /// The CSV form: one data set `measured` of draw-in scalars.
@@ -255,7 +253,7 @@ fn read_csv(text: &str) -> Result<Vec<DataSet>, LineError> {
         .from_reader(text.as_bytes());
     let headers = reader
         .headers()
-        .map_err(|e| (csv_line(&e), e.to_string()))?
+        .map_err(|e| (error_line(&e), e.to_string()))?
         .clone();
     let column = |name: &str| headers.iter().position(|h| h == name);
     let (Some(stroke_c), Some(q_c), Some(v_c)) =
@@ -272,7 +270,7 @@ fn read_csv(text: &str) -> Result<Vec<DataSet>, LineError> {
     let se_c = column("se_mm");
     let mut points = Vec::new();
     for record in reader.records() {
-        let record = record.map_err(|e| (csv_line(&e), e.to_string()))?;
+        let record = record.map_err(|e| (error_line(&e), e.to_string()))?;
         let line = start_line(text, record.position(), true);
         let field = |c: usize| record.get(c).unwrap_or("");
         let number = |c: usize, what: &str| -> Result<f64, LineError> {
@@ -318,10 +316,6 @@ fn read_csv(text: &str) -> Result<Vec<DataSet>, LineError> {
         overrides: Vec::new(),
         points,
     }])
-}
-
-fn csv_line(e: &csv::Error) -> usize {
-    e.position().map_or(0, |p| p.line() as usize)
 }
 
 fn positive_se(se: f64, line: usize) -> Result<f64, LineError> {
