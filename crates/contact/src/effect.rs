@@ -358,6 +358,7 @@ impl ContactEffect {
                 displacement: press.map_or_else(Vec3::zeros, |p| p.displacement(i)),
                 step_start: press.map_or_else(Vec3::zeros, |p| p.step_start_displacement(i)),
                 work: self.tool_work_step[i],
+                momentum: press.and_then(|p| p.momentum(i)),
             };
             record(log, &sample);
         }

@@ -78,6 +78,11 @@ pub struct ToolStepLog {
     pub travel: (f64, f64),
     /// Work the tool did on the blank through contact (N·mm).
     pub work: f64,
+    /// A force-controlled tool's momentum along `direction` at the step's
+    /// first and last sample (tonne·mm/s): its change over the step's
+    /// duration is the mean force that went into the tool's own
+    /// acceleration.
+    pub momentum: Option<(f64, f64)>,
 }
 
 /// One explicit step's sample of one tool.
@@ -95,6 +100,8 @@ pub(crate) struct ToolSample {
     pub step_start: Vec3,
     /// Work through contact in this explicit step (N·mm).
     pub work: f64,
+    /// A force-controlled tool's momentum along its direction (tonne·mm/s).
+    pub momentum: Option<f64>,
 }
 
 impl ToolStepLog {
@@ -109,6 +116,7 @@ impl ToolStepLog {
             applied: None,
             travel: (travel, travel),
             work: 0.0,
+            momentum: s.momentum.map(|p| (p, p)),
         }
     }
 
@@ -123,6 +131,9 @@ impl ToolStepLog {
         }
         self.travel.1 = s.displacement.dot(&self.direction);
         self.work += s.work;
+        if let (Some(p), Some(m)) = (s.momentum, self.momentum.as_mut()) {
+            m.1 = p;
+        }
     }
 }
 
@@ -155,6 +166,7 @@ mod tests {
             displacement: Vec3::new(0.0, 0.0, z),
             step_start: Vec3::new(0.0, 0.0, if step == 0 { 0.5 } else { -1.0 }),
             work: 1.0,
+            momentum: Some(z * 2.0),
         };
         record(&mut log, &sample(0, 1.0, 10.0, 0.0));
         record(&mut log, &sample(0, 3.0, 20.0, -1.0));
@@ -168,7 +180,9 @@ mod tests {
         assert_eq!(l.applied.unwrap().mean(l.duration), 100.0);
         assert_eq!(l.travel, (-0.5, 1.0));
         assert_eq!(l.work, 2.0);
+        assert_eq!(l.momentum, Some((0.0, -2.0)));
         assert_eq!(log[1].step, 1);
+        assert_eq!(log[1].momentum, Some((-4.0, -4.0)));
         assert_eq!(Sampled::default().mean_min_max(0.0), (0.0, 0.0, 0.0));
     }
 }

@@ -363,6 +363,16 @@ impl Press {
         self.applied[i]
     }
 
+    /// The momentum (tonne·mm/s) of force-controlled tool `i` along its
+    /// direction, `m v` at the last advance's mid-step speed; `None` when the
+    /// tool is not force-controlled in the current step.
+    pub fn momentum(&self, i: usize) -> Option<f64> {
+        match self.motion(self.current, i) {
+            ToolMotion::Force { mass, .. } => Some(mass * self.free_speed[i]),
+            _ => None,
+        }
+    }
+
     /// The unit direction of tool `i`'s motion in the current step, if it moves.
     pub fn direction(&self, i: usize) -> Option<Vec3> {
         self.motion(self.current, i)

@@ -75,6 +75,11 @@ pub fn write_line(args: fmt::Arguments<'_>) -> Result<(), Failure> {
 /// Set by `--quiet` (see [`init_logs`]).
 static QUIET: AtomicBool = AtomicBool::new(false);
 
+/// Whether `--quiet` was given: errors only.
+pub fn quiet() -> bool {
+    QUIET.load(Ordering::Relaxed)
+}
+
 /// Whether to draw progress bars: not asked to be quiet, and standard error
 /// is a terminal.
 pub fn bars_wanted() -> bool {

@@ -441,8 +441,8 @@ fn columns(reference: &RunResult) -> Vec<Column> {
         Box::new(|r: &RunResult| Some(1e-3 * r.summary.punch_force_max)),
     ));
     cols.push((
-        "kinetic/internal max".into(),
-        Box::new(|r: &RunResult| Some(r.summary.kinetic_to_internal_max)),
+        "kinetic/work max".into(),
+        Box::new(|r: &RunResult| Some(r.summary.kinetic_to_work_max)),
     ));
     cols
 }
@@ -517,12 +517,35 @@ fn write_table(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
             }
         }
     }
+    write_warnings(&mut md, entries);
     let p = out.join("compare.md");
     std::fs::write(&p, md).map_err(CompareError::io(&p))?;
     let p = out.join("compare.csv");
     compare_csv(entries, reference, &cols, with_case)
         .and_then(|csv| csv.write_to(&p))
         .map_err(CompareError::io(&p))
+}
+
+/// Every run's warnings (`summary.json`'s `warnings`) under the table.
+fn write_warnings(md: &mut String, entries: &[Entry]) {
+    let mut lines = Vec::new();
+    for e in entries {
+        if let Ok(r) = &e.result {
+            lines.extend(
+                r.summary
+                    .warnings
+                    .iter()
+                    .map(|w| format!("- `{}`: {w}", e.label)),
+            );
+        }
+    }
+    if !lines.is_empty() {
+        md.push_str("\n## Warnings\n\n");
+        for l in lines {
+            md.push_str(&l);
+            md.push('\n');
+        }
+    }
 }
 
 /// `compare.csv`: the table of `compare.md` with full-precision numbers, a

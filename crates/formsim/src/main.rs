@@ -792,15 +792,7 @@ fn run(args: &RunArgs) -> Outcome {
             true,
         ),
     };
-    let mass =
-        formsim::scene::estimate::mass_scaling_warnings(&loaded).map_err(|e| e.to_string())?;
     out_dir::prepare(&out, out_dir::Owner::Run, replace)?;
-    for w in formsim::scene::validate::warnings(&loaded)
-        .into_iter()
-        .chain(mass)
-    {
-        note!("warning: {w}");
-    }
     let progress = cli_io::bars_wanted();
     let result = formsim::run::run(
         &loaded,
@@ -837,7 +829,7 @@ fn run(args: &RunArgs) -> Outcome {
         result.write_s
     );
     say!(
-        "  energy (mJ): internal {:.1}, plastic {:.1}, friction {:.1}, kinetic {:.2}, hourglass {:.2}, external work {:.1}; balance error {:.2e}; max kinetic/internal while forming {:.3}",
+        "  energy (mJ): internal {:.1}, plastic {:.1}, friction {:.1}, kinetic {:.2}, hourglass {:.2}, external work {:.1}; balance error {:.2e}; max while forming: kinetic/external work {:.3}{}, kinetic/internal {:.3}",
         s.energy.internal,
         s.energy.plastic,
         s.energy.friction,
@@ -845,6 +837,12 @@ fn run(args: &RunArgs) -> Outcome {
         s.energy.hourglass,
         s.energy.external_work,
         s.energy.balance_error_rel,
+        s.kinetic_to_work_max,
+        if s.regime == "dynamic" {
+            " (dynamic scene: not checked)"
+        } else {
+            ""
+        },
         s.kinetic_to_internal_max
     );
     if s.stroke != 0.0 {
@@ -886,8 +884,21 @@ fn run(args: &RunArgs) -> Outcome {
             100.0 * (b.slip_force / b.analytic - 1.0)
         );
     }
-    for w in &s.warnings {
-        say!("  warning: {w}");
+    if let Some(t) = &s.strip {
+        say!(
+            "  strip: draw force {:.2} N, 2 mu F = {:.2} N ({:+.2} %; F = {:.1} N prescribed, {:.1} N delivered, mu = {})",
+            t.draw_force,
+            t.analytic,
+            100.0 * (t.draw_force / t.analytic - 1.0),
+            t.holder_prescribed,
+            t.holder_force,
+            t.mu
+        );
+    }
+    if !cli_io::quiet() {
+        for w in &s.warnings {
+            say!("  warning: {w}");
+        }
     }
     say!(
         "  results: {}/summary.json, sections/, energy.csv, punch_force.csv, tools.csv, blank.pvd (ParaView), plots/*.png",

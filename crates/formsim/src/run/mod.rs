@@ -132,6 +132,10 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         added_mass_percent = setup.added_mass_percent,
         "set-up done"
     );
+    let setup_warnings = setup_warnings(loaded, &setup);
+    for w in &setup_warnings {
+        tracing::warn!("{w}");
+    }
     let mut rec = Recorder::new(loaded, &model, out)?;
     let bar = match &options.progress {
         Progress::Hidden => None,
@@ -149,7 +153,37 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
     }
     let wall = started.elapsed().as_secs_f64();
     let stop = stop.transpose()?;
-    finish(loaded, &model, &setup, rec, out, wall, stop)
+    finish(
+        loaded,
+        &model,
+        Setup {
+            report: &setup,
+            warnings: setup_warnings,
+        },
+        rec,
+        out,
+        wall,
+        stop,
+    )
+}
+
+/// The set-up report and its warnings, for [`finish`].
+struct Setup<'a> {
+    report: &'a fem_core::SetupReport,
+    warnings: Vec<String>,
+}
+
+/// The warnings known before the first step: a mesh too coarse for a tool
+/// radius, and the mass scaling adds at set-up beyond its bound. They go to
+/// the log when the run starts and to `summary.json`'s `warnings` with the
+/// rest.
+fn setup_warnings(loaded: &LoadedScene, setup: &fem_core::SetupReport) -> Vec<String> {
+    let mut w = crate::scene::validate::warnings(loaded);
+    w.extend(crate::scene::estimate::added_mass_warnings(
+        &loaded.scene,
+        setup,
+    ));
+    w
 }
 
 /// Record, step, record … until the end or a solver error (its message);
@@ -187,13 +221,9 @@ fn step_loop(
         {
             b.set_position((1000.0 * model.solver.time() / end) as u64);
             b.set_message(format!(
-                "stroke {stroke:6.2} mm  force {:8.0} N  K/I {:5.3}  balance {:.1e}",
+                "stroke {stroke:6.2} mm  force {:8.0} N  K/W {:5.3}  balance {:.1e}",
                 force,
-                if e.internal > 0.0 {
-                    e.kinetic / e.internal
-                } else {
-                    0.0
-                },
+                warnings::kinetic_to_work(&e),
                 e.balance_error
             ));
         }
@@ -205,7 +235,7 @@ fn step_loop(
 fn finish(
     loaded: &LoadedScene,
     model: &Model,
-    setup: &fem_core::SetupReport,
+    setup: Setup<'_>,
     rec: Recorder<'_>,
     out: &std::path::Path,
     wall: f64,
@@ -223,12 +253,14 @@ fn finish(
     let summary = summary::Summary::new(summary::Inputs {
         loaded,
         model,
-        setup,
+        setup: setup.report,
         wall,
         last: &last,
         states: &rec.states,
         force_max: rec.force_max,
         ki_max: rec.ki_max,
+        kw_max: rec.kw_max,
+        setup_warnings: setup.warnings,
         hg_max: rec.hg_max,
         capstan: (rec.pull_sum.1 > 0).then(|| rec.pull_sum.0 / rec.pull_sum.1 as f64),
         holder: (rec.pull_sum.1 > 0 && rec.strip_holder.is_some()).then(|| {
@@ -237,7 +269,7 @@ fn finish(
         }),
         clamp_seen: rec.clamp_seen,
         stopped: stop.clone(),
-        dt0: setup.dt_initial,
+        dt0: setup.report.dt_initial,
         timing,
     });
     let mut result = RunResult {

@@ -3,6 +3,7 @@
 //! sums `summary.json` needs.
 
 use super::post::{Post, Snapshot};
+use super::warnings::INTERNAL_SHARE_MIN;
 use super::{
     HistoryRow, RunError, pulled_set, strip_holder, stroke_and_force, tools_report, write,
 };
@@ -31,6 +32,7 @@ pub(super) struct Recorder<'a> {
     pub frames: Vec<(f64, String)>,
     pub states: Vec<(f64, Snapshot)>,
     pub ki_max: f64,
+    pub kw_max: f64,
     pub hg_max: f64,
     pub force_max: f64,
     pub pull_sum: (f64, usize),
@@ -77,6 +79,7 @@ impl<'a> Recorder<'a> {
             frames: Vec::new(),
             states: Vec::new(),
             ki_max: 0.0,
+            kw_max: 0.0,
             hg_max: 0.0,
             force_max: 0.0,
             pull_sum: (0.0, 0),
@@ -99,7 +102,11 @@ impl<'a> Recorder<'a> {
             Some(_) => stroke >= o.forming_starts_at,
             None => time >= 0.1 * end,
         };
-        if forming && e.internal > 0.0 {
+        if forming {
+            self.kw_max = self.kw_max.max(super::warnings::kinetic_to_work(&e));
+        }
+        // Ratios over the internal energy only where it is a measure.
+        if forming && e.internal > 0.0 && e.internal >= INTERNAL_SHARE_MIN * e.external {
             self.ki_max = self.ki_max.max(e.kinetic / e.internal);
             self.hg_max = self.hg_max.max(e.hourglass / e.internal);
         }

@@ -3,7 +3,7 @@
 use super::post::{SectionSummary, Snapshot};
 use super::tools_report::{self, PairSummary, ToolSummary};
 use super::warnings::{self, Figures};
-use crate::scene::schema::SceneKind;
+use crate::scene::schema::{Regime, SceneKind};
 use crate::scene::{LoadedScene, Model};
 use fem_core::SetupReport;
 use serde::Serialize;
@@ -175,9 +175,18 @@ pub struct Summary {
     pub friction_energy_share: f64,
     /// `friction / internal` (-).
     pub friction_to_internal: f64,
-    /// Largest kinetic/internal ratio once forming has started (-).
+    /// Largest kinetic/internal ratio once forming has started, over the
+    /// samples whose internal energy is at least 1 % of the external work
+    /// (0 when none is) (-).
     pub kinetic_to_internal_max: f64,
-    /// Largest hourglass/internal ratio once forming has started (-).
+    /// Largest kinetic energy / external work once forming has started (-):
+    /// the quasi-static measure the warning reads.
+    pub kinetic_to_work_max: f64,
+    /// `"quasi-static"` (the kinetic-energy check applies) or `"dynamic"`
+    /// (`scene.regime`).
+    pub regime: String,
+    /// Largest hourglass/internal ratio once forming has started, over the
+    /// same samples as `kinetic_to_internal_max` (-).
     pub hourglass_to_internal_max: f64,
     /// Largest thinning at the end (-).
     pub thinning_max: f64,
@@ -235,6 +244,10 @@ pub struct Inputs<'a> {
     pub force_max: f64,
     /// Largest K/I while forming.
     pub ki_max: f64,
+    /// Largest kinetic energy / external work while forming.
+    pub kw_max: f64,
+    /// Warnings of the set-up (mesh resolution, mass added at set-up).
+    pub setup_warnings: Vec<String>,
     /// Largest hourglass/internal while forming.
     pub hg_max: f64,
     /// Mean pulled-end reaction for capstan/block/strip (N).
@@ -304,15 +317,17 @@ impl Summary {
             _ => None,
         };
         let tools = tools_report::tools(i.model);
-        let mut warnings = warnings::check(
+        let mut warnings = i.setup_warnings.clone();
+        warnings.extend(warnings::check(
             &Figures {
                 added_mass_percent: added_percent,
-                kinetic_to_internal_max: i.ki_max,
+                kinetic_to_work_max: i.kw_max,
+                dynamic: scene.scene.regime == Regime::Dynamic,
                 hourglass_to_internal_max: i.hg_max,
                 balance_error: e.balance_error,
             },
             &tools,
-        );
+        ));
         warnings.append(&mut notes);
         Summary {
             scene: scene.scene.name.clone(),
@@ -353,6 +368,8 @@ impl Summary {
             friction_energy_share: friction_energy_share(e),
             friction_to_internal: friction_to_internal(e),
             kinetic_to_internal_max: i.ki_max,
+            kinetic_to_work_max: i.kw_max,
+            regime: scene.scene.regime.as_str().to_string(),
             hourglass_to_internal_max: i.hg_max,
             thinning_max: i.last.thinning_max,
             punch_force_max: i.force_max,

@@ -48,6 +48,17 @@ pub struct ToolStepSummary {
     /// `force_along.mean / force_prescribed.mean − 1` (-), force control only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub delivered_error: Option<f64>,
+    /// The mean force that went into a force-controlled tool's own
+    /// acceleration over the step, `m Δv / duration` along `direction` (N):
+    /// the tool's momentum change, which the blank does not feel.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_inertia: Option<f64>,
+    /// `delivered_error` with the tool's own acceleration taken out,
+    /// `(force_along.mean + force_inertia) / force_prescribed.mean − 1` (-):
+    /// the share lost to the tool's dashpot or kept by a transient; the
+    /// delivered-force warning reads this.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held_error: Option<f64>,
     /// Travel along `direction` over the step (mm).
     pub travel: f64,
     /// Work the tool did on the blank through contact (mJ = N·mm).
@@ -118,6 +129,11 @@ fn tool_summary(log: &[ToolStepLog], step_names: &[String], travel: f64) -> Tool
 fn step_summary(l: &ToolStepLog) -> ToolStepSummary {
     let along = ForceStats::of(&l.along, l.duration);
     let prescribed = l.applied.as_ref().map(|a| ForceStats::of(a, l.duration));
+    let inertia = l
+        .momentum
+        .filter(|_| l.duration > 0.0)
+        .map(|(first, last)| (last - first) / l.duration);
+    let positive = prescribed.filter(|p| p.mean > 0.0);
     ToolStepSummary {
         index: l.step,
         duration_s: l.duration,
@@ -125,9 +141,9 @@ fn step_summary(l: &ToolStepLog) -> ToolStepSummary {
         force_along: along,
         force_total: ForceStats::of(&l.total, l.duration),
         force_prescribed: prescribed,
-        delivered_error: prescribed
-            .filter(|p| p.mean > 0.0)
-            .map(|p| along.mean / p.mean - 1.0),
+        delivered_error: positive.map(|p| along.mean / p.mean - 1.0),
+        force_inertia: inertia,
+        held_error: positive.map(|p| (along.mean + inertia.unwrap_or(0.0)) / p.mean - 1.0),
         travel: l.travel.1 - l.travel.0,
         work: l.work,
     }
@@ -154,6 +170,11 @@ pub fn pairs(model: &Model) -> BTreeMap<String, PairSummary> {
         .collect()
 }
 
+/// A tool's own acceleration is shown beside its delivered force when it
+/// accounts for more than this share of the prescribed force (the
+/// delivered-force warning's bound).
+const INERTIA_SHOWN: f64 = super::warnings::DELIVERED_FORCE_ERROR_MAX;
+
 /// One line per force-controlled tool and press step: the force it delivered
 /// beside the one prescribed (for the console).
 pub fn delivered_lines(tools: &BTreeMap<String, ToolSummary>) -> Vec<String> {
@@ -163,14 +184,18 @@ pub fn delivered_lines(tools: &BTreeMap<String, ToolSummary>) -> Vec<String> {
         steps.sort_by_key(|(_, s)| s.index);
         for (step, s) in steps {
             if let (Some(p), Some(e)) = (s.force_prescribed, s.delivered_error) {
-                lines.push(format!(
+                let mut line = format!(
                     "{name} in \"{step}\": delivered {:.1} N (mean; min {:.1}, max {:.1}), prescribed {:.1} N ({:+.2} %)",
                     s.force_along.mean,
                     s.force_along.min,
                     s.force_along.max,
                     p.mean,
                     100.0 * e
-                ));
+                );
+                if let Some(i) = s.force_inertia.filter(|i| i.abs() > INERTIA_SHOWN * p.mean) {
+                    line.push_str(&format!(" ({:+.1} N from the tool's own acceleration)", -i));
+                }
+                lines.push(line);
             }
         }
     }

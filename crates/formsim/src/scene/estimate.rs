@@ -6,7 +6,8 @@
 //! The sizes come from the scene alone (a generated mesh's node and element
 //! counts follow from its keys), so that a scene too large for the machine
 //! is refused before anything large is allocated; a mesh file is counted
-//! once read. The added mass needs the built model ([`mass_scaling_warnings`]).
+//! once read. The added mass needs the built model ([`added_mass_warnings`]
+//! reads its set-up report).
 
 use super::schema::{MeshSpec, Scene, material_model};
 use super::{LoadedScene, SceneError};
@@ -451,25 +452,6 @@ pub fn added_mass_warnings(scene: &Scene, report: &SetupReport) -> Vec<String> {
         )],
         _ => Vec::new(),
     }
-}
-
-/// Build and initialise the model of `loaded` to learn the mass that
-/// scaling adds, and return [`added_mass_warnings`] (nothing to build
-/// without `solver.mass_scaling_dt`). For the warnings of a run before it
-/// starts; `scene check` reads the same report from the model it builds.
-///
-/// # Errors
-/// Building or initialising the model.
-pub fn mass_scaling_warnings(loaded: &LoadedScene) -> Result<Vec<String>, SceneError> {
-    if loaded.scene.solver.mass_scaling_dt.is_none() {
-        return Ok(Vec::new());
-    }
-    let mut model = super::build(loaded)?;
-    let report = model
-        .solver
-        .initialize()
-        .map_err(|e| loaded.key_error("solver", e.to_string()))?;
-    Ok(added_mass_warnings(&loaded.scene, &report))
 }
 
 /// The lines `scene check` prints about a built and initialised model:

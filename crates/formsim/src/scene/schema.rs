@@ -53,6 +53,33 @@ pub struct Meta {
     pub kind: SceneKind,
     /// The unit system; formsim computes in mm, N, MPa, tonne, s only.
     pub units: Units,
+    /// `"quasi-static"` (default: the run warns when its kinetic energy
+    /// exceeds 5 % of the external work while forming) or `"dynamic"` (a
+    /// scene dynamic by design: an impact, a flight, an oscillator; the
+    /// quasi-static check does not apply).
+    #[serde(default)]
+    pub regime: Regime,
+}
+
+/// Whether a scene is meant to be quasi-static (`scene.regime`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Regime {
+    /// Inertia should not matter: the kinetic-energy check applies.
+    #[default]
+    QuasiStatic,
+    /// Dynamic by design: the kinetic-energy check does not apply.
+    Dynamic,
+}
+
+impl Regime {
+    /// The name as written in a scene.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::QuasiStatic => "quasi-static",
+            Self::Dynamic => "dynamic",
+        }
+    }
 }
 
 /// Post-processing preset of a scene.

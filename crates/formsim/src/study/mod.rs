@@ -329,9 +329,13 @@ pub struct Outcome {
     pub wall_s: Spread,
     /// Energy balance error of the run (relative).
     pub balance_error: f64,
-    /// Largest kinetic/internal energy ratio of the run (after forming starts):
-    /// whether a mass-scaled or fast variant stayed quasi-static.
+    /// Largest kinetic/internal energy ratio of the run (after forming starts).
     pub kinetic_to_internal_max: f64,
+    /// Largest kinetic energy / external work of the run (after forming
+    /// starts): whether a mass-scaled or fast variant stayed quasi-static.
+    pub kinetic_to_work_max: f64,
+    /// The run's warnings (`summary.json`'s `warnings`).
+    pub warnings: Vec<String>,
     /// Each quantity's value (numbers) or `None` (curves).
     pub values: Vec<Option<f64>>,
     /// Each quantity's error against the reference (`None` for the reference).
@@ -667,6 +671,8 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
             wall_s: Spread::of(&r.wall),
             balance_error: result.summary.energy.balance_error_rel,
             kinetic_to_internal_max: result.summary.kinetic_to_internal_max,
+            kinetic_to_work_max: result.summary.kinetic_to_work_max,
+            warnings: result.summary.warnings.clone(),
             values: r
                 .values
                 .iter()
@@ -797,6 +803,8 @@ mod tests {
             wall_s: one,
             balance_error: 0.0,
             kinetic_to_internal_max: 0.0,
+            kinetic_to_work_max: 0.0,
+            warnings: Vec::new(),
             values: Vec::new(),
             errors: Vec::new(),
             worst,

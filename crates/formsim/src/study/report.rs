@@ -105,8 +105,8 @@ fn markdown(r: &Results) -> String {
          (smallest–largest). A variant is cheaper only when every run was. Errors are \
          relative to the reference: a number's `|v − v_ref| / |v_ref|`, a curve's RMS \
          difference at the reference's points over the reference curve's largest \
-         magnitude (the max norm is in `study.json`). K/I max: the largest kinetic over \
-         internal energy of the run (quasi-static when small). Tolerance: {}.\n\n",
+         magnitude (the max norm is in `study.json`). K/W max: the largest kinetic energy \
+         over the external work of the run (quasi-static below 0.05). Tolerance: {}.\n\n",
         r.scene,
         settings.join(", "),
         r.threads,
@@ -163,6 +163,20 @@ fn markdown(r: &Results) -> String {
         }
         md.push('\n');
     }
+    let warned: Vec<&Outcome> = r
+        .outcomes
+        .iter()
+        .filter(|o| !o.warnings.is_empty())
+        .collect();
+    if !warned.is_empty() {
+        md.push_str("## Warnings\n\n");
+        for o in warned {
+            for w in &o.warnings {
+                let _ = writeln!(md, "- `{}`: {w}", o.label);
+            }
+        }
+        md.push('\n');
+    }
     md.push_str("## Recommendation\n\n");
     md.push_str(&recommend(r));
     md
@@ -179,7 +193,7 @@ fn table(md: &mut String, r: &Results, knob: Option<usize>, keep: impl Fn(&Outco
     for q in &r.spec.quantities {
         let _ = write!(md, " `{}` |", q.name());
     }
-    md.push_str(" worst | increments | CPU s | wall s | speed-up | K/I max | balance |\n|");
+    md.push_str(" worst | increments | CPU s | wall s | speed-up | K/W max | balance |\n|");
     for _ in 0..r.spec.quantities.len() + 8 {
         md.push_str("---|");
     }
@@ -221,7 +235,7 @@ fn table(md: &mut String, r: &Results, knob: Option<usize>, keep: impl Fn(&Outco
             o.speed_up.median,
             o.speed_up.min,
             o.speed_up.max,
-            o.kinetic_to_internal_max,
+            o.kinetic_to_work_max,
             o.balance_error
         );
     }

@@ -1,0 +1,93 @@
+//! The shipped scenes say what is true: each runs as shipped with no warning
+//! but the true ones its docs explain, and the figures behind the warnings
+//! (the kinetic energy's share of the external work, the force a
+//! force-controlled tool holds) measure what they claim. The hard cases are
+//! checked the same way in `hard_cases.rs`.
+
+mod common;
+
+use common::run_scene;
+use formsim::run::RunResult;
+use formsim::run::warnings::KINETIC_TO_WORK_MAX;
+
+/// Assert that `r` warns exactly with lines containing `expected`, in order.
+fn warns_only(name: &str, r: &RunResult, expected: &[&str]) {
+    let w = &r.summary.warnings;
+    assert_eq!(w.len(), expected.len(), "{name}: {w:#?}");
+    for (w, e) in w.iter().zip(expected) {
+        assert!(w.contains(e), "{name}: {w}");
+    }
+}
+
+/// Strip drawn between a force-controlled holder and a rising die
+/// (closed form: draw force `2 μ F`). Its internal energy is 0.2 mJ against
+/// 225 mJ of work, so kinetic/internal was 1.7e20 while the kinetic energy
+/// was 1 % of the work: the quasi-static measure is the work's share
+/// (bound 0.05), and kinetic/internal is left out where the internal energy
+/// is below 1 % of the work. In the `lift` step the die carries the holder
+/// up from rest to 20 mm/s: the holder delivers +21 % of its force, and the
+/// tool's own momentum change accounts for all but 1 % of it.
+#[test]
+fn strip_draw_runs_clean_and_its_lift_is_the_holders_acceleration() {
+    let (_d, r) = run_scene("strip-draw", &[]);
+    warns_only("strip-draw", &r, &[]);
+    let s = &r.summary;
+    assert!(
+        s.kinetic_to_work_max > 0.0 && s.kinetic_to_work_max < KINETIC_TO_WORK_MAX,
+        "K/W {}",
+        s.kinetic_to_work_max
+    );
+    assert_eq!(s.kinetic_to_internal_max, 0.0, "internal energy ~ 0");
+    let lift = &s.tools["holder"].steps["lift"];
+    let delivered = lift.delivered_error.unwrap();
+    let held = lift.held_error.unwrap();
+    let inertia = lift.force_inertia.unwrap();
+    // Before: the +21 % delivered error alone fired the warning.
+    assert!(delivered > 0.1, "lift delivered {delivered}");
+    // Direction −z, the holder carried up: momentum along −z falls.
+    assert!(inertia < -100.0, "lift inertia {inertia} N");
+    assert!(held.abs() < 0.01, "lift held error {held}");
+    let draw = &s.tools["holder"].steps["draw"];
+    assert!(draw.held_error.unwrap().abs() < 0.01);
+}
+
+/// The block on a plane and the capstan (closed forms `μN` and `e^{μθ}`):
+/// no warning; their kinetic/internal ratios (11.3 for the block) were
+/// ratios over an elastic energy of 3e-4 mJ against 5 mJ of friction work.
+#[test]
+fn block_and_capstan_run_clean() {
+    for name in ["block-on-plane", "capstan"] {
+        let (_d, r) = run_scene(name, &[]);
+        warns_only(name, &r, &[]);
+        assert!(r.summary.kinetic_to_work_max < KINETIC_TO_WORK_MAX);
+        assert_eq!(r.summary.regime, "quasi-static");
+    }
+}
+
+/// The forming benchmarks as shipped, full size: the square cup, the
+/// aluminium cup and the S-rail are quasi-static (kinetic energy below 5 %
+/// of the work while forming) with mass scaling under its bound. Before the
+/// stick stiffness default went from 1e5 to 1e4 MPa/mm the cup warned
+/// (K/I 0.052), the aluminium cup added 1106 % of its mass and the S-rail
+/// warned (K/I 0.072). The S-rail's 5 mm elements over its 5 mm shoulders
+/// warn, truly (docs/s-rail.md; `s-rail-fine.toml` resolves them).
+#[test]
+fn forming_benchmarks_run_clean() {
+    let cases: [(&str, &[&str]); 3] = [
+        ("square-cup", &[]),
+        ("square-cup-al", &[]),
+        ("s-rail", &["coarsely resolved"]),
+    ];
+    for (name, expected) in cases {
+        let sets = ["output.frames=0", "output.plots=false"];
+        let (_d, r) = run_scene(name, &sets);
+        warns_only(name, &r, expected);
+        let s = &r.summary;
+        assert!(s.kinetic_to_work_max < KINETIC_TO_WORK_MAX, "{name}");
+        assert!(s.kinetic_to_internal_max < 0.05, "{name}");
+        eprintln!(
+            "{name}: K/W {:.4}, K/I {:.4}, added mass {:.0} %",
+            s.kinetic_to_work_max, s.kinetic_to_internal_max, s.added_mass_percent
+        );
+    }
+}
