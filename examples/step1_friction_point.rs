@@ -25,8 +25,8 @@
 //! area is `D = μ p × Σ Δγ` (the slip length), with `Σ Δγ = U - μ p/k_T`: the
 //! stick spring keeps the last `μ p/k_T` of the travel as elastic
 //! displacement. Here `μ = 0.144` and `p = 10 MPa`, the NUMISHEET'93 square
-//! cup's value (docs/friction-math.md §7), and `k_T = 1e5 MPa/mm`, the
-//! default: the stick phase lasts only `μ p/k_T = 14.4 nm` of travel, which is
+//! cup's value (docs/friction-math.md §7), and `k_T = 1e4 MPa/mm`, the
+//! default: the stick phase lasts only `μ p/k_T = 144 nm` of travel, which is
 //! why the history below moves in nanometres.
 //!
 //! The same history is then run through the Wriggers–van der Ven–Stein law
@@ -44,15 +44,15 @@
 //!
 //! ```text
 //! step  U (nm)   |t| (MPa)  k_T U (MPa)  state
-//!    5    0.300     0.0300       0.0300  stick
+//!    5    3.000     0.0300       0.0300  stick
 //! ...
-//!   35   12.600     1.2600       1.2600  stick
-//!   38   14.820     1.4400       1.4820  slip
+//!   35  126.000     1.2600       1.2600  stick
+//!   38  148.200     1.4400       1.4820  slip
 //! ...
-//! 37 steps in stick, 23 in slip; total travel U = 36.600 nm
+//! 37 steps in stick, 23 in slip; total travel U = 366.000 nm
 //! sliding: |t| = 1.440000 MPa, mu p = 1.440000 MPa (rel. error 0.0e0)
-//! slip length: sum dgamma = 22.200000 nm, U - mu p/k_T = 22.200000 nm (rel. error 0.0e0)
-//! dissipation: D = 3.196800e-5 N/mm, mu p (U - mu p/k_T) = 3.196800e-5 N/mm (rel. error 0.0e0)
+//! slip length: sum dgamma = 222.000000 nm, U - mu p/k_T = 222.000000 nm (rel. error 0.0e0)
+//! dissipation: D = 3.196800e-4 N/mm, mu p (U - mu p/k_T) = 3.196800e-4 N/mm (rel. error 0.0e0)
 //!
 //! wvs (alpha = 0.03, beta = 0.144, nu = 0.8): 39 stick steps, effective mu = |t|/p = 0.162929,
 //! beta + alpha p^(nu-1) = 0.162929 (rel. error 1.7e-16)
@@ -79,7 +79,7 @@ const MU: f64 = 0.144;
 const STEPS: u32 = 60;
 /// Slip increment growth per step (mm): step `n` moves `n × DELTA`, a linear
 /// ramp of the sliding speed from rest.
-const DELTA: f64 = 2e-8;
+const DELTA: f64 = 2e-7;
 /// Time step (s). Coulomb does not read it; it only has to be positive.
 const DT: f64 = 1e-4;
 
@@ -168,7 +168,7 @@ fn run_history(integrator: &dyn PointIntegrator, print: bool) -> Outcome {
 
 fn run() {
     // --- Amontons–Coulomb -------------------------------------------------
-    // A law by name with its parameters (k_t keeps its default 1e5 MPa/mm),
+    // A law by name with its parameters (k_t keeps its default 1e4 MPa/mm),
     // paired with the convective formulation. On a fixed flat tool every
     // formulation transports the traction unchanged, so the choice does not
     // matter here; it does on curved, moving or deforming contact (step 4).

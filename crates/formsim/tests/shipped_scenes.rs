@@ -37,7 +37,13 @@ fn strip_draw_runs_clean_and_its_lift_is_the_holders_acceleration() {
         "K/W {}",
         s.kinetic_to_work_max
     );
-    assert_eq!(s.kinetic_to_internal_max, 0.0, "internal energy ~ 0");
+    // Over the samples whose internal energy is at least 1 % of the work
+    // (the clamp): 0.3, not the 1.7e20 of a ratio over zero.
+    assert!(
+        s.kinetic_to_internal_max < 1.0,
+        "K/I {}",
+        s.kinetic_to_internal_max
+    );
     let lift = &s.tools["holder"].steps["lift"];
     let delivered = lift.delivered_error.unwrap();
     let held = lift.held_error.unwrap();

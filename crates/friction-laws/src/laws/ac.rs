@@ -151,6 +151,9 @@ mod tests {
             .with("mu", 0.11)
             .resolve("ac", Ac::PARAMS)
             .unwrap();
-        assert_eq!(Ac::build(&v).unwrap().stick_stiffness(), 1e5);
+        assert_eq!(
+            Ac::build(&v).unwrap().stick_stiffness(),
+            crate::laws::DEFAULT_STICK_STIFFNESS
+        );
     }
 }

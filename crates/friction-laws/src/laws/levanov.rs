@@ -259,7 +259,7 @@ mod tests {
             .with("m", 1.0)
             .resolve("levanov", Levanov::PARAMS)
             .unwrap();
-        assert_eq!(v, vec![1.0, 1.25, 1e5]);
+        assert_eq!(v, vec![1.0, 1.25, crate::laws::DEFAULT_STICK_STIFFNESS]);
         assert_eq!(Levanov::build(&v).unwrap().needs(), PointNeeds::FLOW_STRESS);
     }
 }

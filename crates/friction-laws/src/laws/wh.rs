@@ -466,7 +466,19 @@ mod tests {
             .with("a1", A1)
             .resolve("wh", Wh::PARAMS)
             .unwrap();
-        assert_eq!(v, vec![A0, A1, 0.0, 0.0, 0.0, 0.0, 0.0, 1e5]);
+        assert_eq!(
+            v,
+            vec![
+                A0,
+                A1,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                crate::laws::DEFAULT_STICK_STIFFNESS
+            ]
+        );
         let law = Wh::build(&v).unwrap();
         assert!(law.work_dependent() && law.name() == "wh");
     }

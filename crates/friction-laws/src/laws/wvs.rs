@@ -477,7 +477,10 @@ mod tests {
             .with("nu", 0.8)
             .resolve("wvs", Wvs::PARAMS)
             .unwrap();
-        assert_eq!(v, vec![0.03, 0.144, 0.8, 1e-3, 1e5]);
+        assert_eq!(
+            v,
+            vec![0.03, 0.144, 0.8, 1e-3, crate::laws::DEFAULT_STICK_STIFFNESS]
+        );
         assert_eq!(Wvs::build(&v).unwrap().name(), "wvs");
     }
 }
