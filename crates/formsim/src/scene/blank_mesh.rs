@@ -9,13 +9,38 @@ use super::schema::MeshSpec;
 use super::{LoadedScene, SceneError};
 use fem_core::{FemError, Mesh, MeshFile, MeshQuality, Vec3};
 
-/// The blank mesh of the scene, with its `all` sets, checked.
+/// The file's own numbers of a blank mesh read from a file.
+#[derive(Debug, Clone, Default)]
+pub struct FileIds {
+    /// The file's id of each node, by index.
+    pub nodes: Vec<i64>,
+    /// The file's id of each element, by index.
+    pub elements: Vec<i64>,
+}
+
+impl FileIds {
+    /// How a message names node `n`: its file id, else its 0-based index.
+    pub fn node(ids: Option<&Self>, n: usize) -> i64 {
+        ids.and_then(|f| f.nodes.get(n).copied())
+            .unwrap_or(n as i64)
+    }
+
+    /// How a message names element `e`: its file id, else its 0-based index.
+    pub fn element(ids: Option<&Self>, e: usize) -> i64 {
+        ids.and_then(|f| f.elements.get(e).copied())
+            .unwrap_or(e as i64)
+    }
+}
+
+/// The blank mesh of the scene, with its `all` sets, checked, and the
+/// file's numbers when it was read from a file.
 ///
 /// # Errors
 /// Generator parameters (`blank.mesh`), unreadable or inconsistent files
 /// and too large a file mesh (`blank.mesh.path`, with the file and line),
 /// bad elements (naming the element and its nodes).
-pub fn build_mesh(loaded: &LoadedScene) -> Result<Mesh, SceneError> {
+pub fn build_mesh(loaded: &LoadedScene) -> Result<(Mesh, Option<FileIds>), SceneError> {
+    let mut ids = None;
     let mut mesh = match &loaded.scene.blank.mesh {
         MeshSpec::File { path, translate } => {
             let file = read_file(loaded, path)?;
@@ -24,6 +49,10 @@ pub fn build_mesh(loaded: &LoadedScene) -> Result<Mesh, SceneError> {
             let est = estimate::estimate(&loaded.scene, MeshSize::of_mesh(&file.mesh));
             estimate::check_size(loaded, &est)?;
             let mut m = file.mesh;
+            ids = Some(FileIds {
+                nodes: file.node_ids,
+                elements: file.element_ids,
+            });
             for p in &mut m.nodes {
                 *p += Vec3::new(translate[0], translate[1], translate[2]);
             }
@@ -41,7 +70,7 @@ pub fn build_mesh(loaded: &LoadedScene) -> Result<Mesh, SceneError> {
         }
     };
     mesh.add_all_sets();
-    Ok(mesh)
+    Ok((mesh, ids))
 }
 
 /// Read the `.inp` or `.msh` file `path` (relative to the scene).

@@ -51,6 +51,9 @@ pub struct Model {
     pub law: String,
     /// See `law`.
     pub formulation: String,
+    /// The file's node and element numbers, when the blank mesh was read
+    /// from a file (messages name nodes and elements by them).
+    pub file_ids: Option<super::blank_mesh::FileIds>,
 }
 
 impl std::fmt::Debug for Model {
@@ -164,7 +167,7 @@ fn hardening_curve(spec: &HardeningSpec) -> Result<Hardening, shell_elements::Sh
 /// each attached to the scene key it comes from.
 pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     let s: &Scene = &loaded.scene;
-    let mesh = super::blank_mesh::build_mesh(loaded)?;
+    let (mesh, file_ids) = super::blank_mesh::build_mesh(loaded)?;
     let settings = SolverSettings {
         safety_factor: s.solver.safety_factor,
         mass_scaling_dt: s.solver.mass_scaling_dt,
@@ -203,6 +206,7 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
         stroke,
         law,
         formulation,
+        file_ids,
     })
 }
 
