@@ -670,7 +670,7 @@ mod tests {
         };
         let mut entries =
             compare(&scene, &matrix, &dir.path().join("runs"), false, &|_| {}).unwrap();
-        entries[1].result = Err(RunError::Solver {
+        entries[1].result = Err(RunError::Failed {
             time: 1e-3,
             message: "diverged".into(),
             out: "runs/d2-ac-jaumann".into(),

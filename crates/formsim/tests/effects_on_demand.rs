@@ -137,7 +137,7 @@ fn a_run_without_frames_writes_no_frame() {
             "solver.end_time=1e-3",
         ],
     );
-    assert_eq!(r.summary.status, "completed");
+    assert_eq!(r.summary.status, formsim::run::Status::Completed);
     assert!(!dir.path().join("blank.pvd").exists());
     assert!(!dir.path().join("vtk").exists());
     let (dir, _) = run_scene(

@@ -156,7 +156,11 @@ fn completes(name: &str, sets: &[&str]) -> (f64, bool) {
 /// [`completes`], returning the run's result.
 fn completed_run(name: &str, sets: &[&str]) -> formsim::run::RunResult {
     let (dir, r) = run_scene(name, sets);
-    assert_eq!(r.summary.status, "completed", "{name} {sets:?}");
+    assert_eq!(
+        r.summary.status,
+        formsim::run::Status::Completed,
+        "{name} {sets:?}"
+    );
     if sets.iter().all(|s| s.starts_with("contact.plugin=")) {
         shipped_warnings_are_true(name, &r.summary.warnings);
     }
@@ -346,7 +350,7 @@ fn dt_limit_at_105_of_the_combined_limit_is_stopped() {
         out: dir.path().to_path_buf(),
         progress: Default::default(),
     };
-    let Err(formsim::run::RunError::Solver { message, .. }) = formsim::run::run(&loaded, &options)
+    let Err(formsim::run::RunError::Failed { message, .. }) = formsim::run::run(&loaded, &options)
     else {
         panic!("the run at 1.05 of the limit was not stopped");
     };
@@ -358,8 +362,9 @@ fn dt_limit_at_105_of_the_combined_limit_is_stopped() {
     // What was computed is kept: the summary says why the run stopped.
     let summary = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
     let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
-    let status = summary["status"].as_str().unwrap();
-    assert!(status.contains("above the stable limit"), "{status}");
+    assert_eq!(summary["status"], "failed");
+    let cause = summary["cause"].as_str().unwrap();
+    assert!(cause.contains("above the stable limit"), "{cause}");
     assert!(dir.path().join("energy.csv").is_file());
 }
 

@@ -125,7 +125,7 @@ fn square_cup_coarse_writes_every_output() {
         "{:?}",
         r.summary.energy
     );
-    assert_eq!(r.summary.status, "completed");
+    assert_eq!(r.summary.status, formsim::run::Status::Completed);
 
     let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
     let json: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -356,7 +356,7 @@ fn levanov_cup_reads_the_flow_stress_from_the_first_step() {
         ],
     );
     assert_eq!(r.summary.law, "levanov");
-    assert_eq!(r.summary.status, "completed");
+    assert_eq!(r.summary.status, formsim::run::Status::Completed);
     assert!(r.summary.energy.balance_error_rel < 0.02);
 }
 

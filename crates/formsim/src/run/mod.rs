@@ -7,7 +7,14 @@
 //! step, through the solver's shared fields) and samples histories on a
 //! fixed schedule; everything that allocates (snapshots,
 //! frames) happens only at the scheduled times.
+//!
+//! A run ends [`Status::Completed`], [`Status::Failed`] (the solver stopped,
+//! a value became NaN or infinite, a frame could not be written) or
+//! [`Status::Interrupted`] ([`interrupt`], at the next step boundary). A run
+//! that stops early still writes `summary.json` with its status and cause and
+//! the histories up to the last finite sample.
 
+pub mod finite;
 pub mod out_dir;
 pub mod post;
 mod recorder;
@@ -24,7 +31,49 @@ use crate::scene::{LoadedScene, Model, SceneError};
 use post::Snapshot;
 use recorder::Recorder;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
+
+/// Set by [`interrupt`]; the step loop reads it at every step boundary.
+static INTERRUPT: AtomicBool = AtomicBool::new(false);
+
+/// Ask the runs of this process to stop at their next step boundary, as
+/// [`Status::Interrupted`] (what a SIGINT handler calls). Returns whether a
+/// stop had already been asked for.
+pub fn interrupt() -> bool {
+    INTERRUPT.swap(true, Ordering::Relaxed)
+}
+
+/// How a run ended: `summary.json`'s `status`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// The run reached its end time.
+    Completed,
+    /// The run stopped early: the solver stopped, a value became NaN or
+    /// infinite, or a file could not be written during the run.
+    Failed,
+    /// The run was interrupted ([`interrupt`], Ctrl-C).
+    Interrupted,
+}
+
+/// Why a run stopped before its end.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stop {
+    /// [`Status::Failed`] or [`Status::Interrupted`].
+    pub status: Status,
+    /// What stopped it, one line (`summary.json`'s `cause`).
+    pub cause: String,
+}
+
+impl Stop {
+    fn failed(cause: impl std::fmt::Display) -> Self {
+        Self {
+            status: Status::Failed,
+            cause: cause.to_string(),
+        }
+    }
+}
 
 /// How to run.
 #[derive(Debug, Clone)]
@@ -55,13 +104,30 @@ pub enum RunError {
     /// The scene is invalid.
     #[error(transparent)]
     Scene(#[from] SceneError),
-    /// The solver stopped (what was computed so far has been written).
+    /// The run failed: the solver stopped, a value became NaN or infinite,
+    /// or a frame could not be written (what was computed so far has been
+    /// written, `summary.json` with `"status": "failed"`).
     #[error("run stopped at t = {time:.6e} s: {message} (results so far in {out})")]
-    Solver {
+    Failed {
         /// Time reached (s).
         time: f64,
-        /// The solver's message.
+        /// The cause (`summary.json`'s `cause`).
         message: String,
+        /// Output directory.
+        out: String,
+    },
+    /// The run was interrupted (what was computed so far has been written,
+    /// `summary.json` with `"status": "interrupted"`).
+    #[error(
+        "run interrupted at step {step} (t = {time:.6e} s, stroke {stroke:.3} mm); results so far in {out}"
+    )]
+    Interrupted {
+        /// Steps taken.
+        step: u64,
+        /// Time reached (s).
+        time: f64,
+        /// Stroke reached (mm).
+        stroke: f64,
         /// Output directory.
         out: String,
     },
@@ -85,6 +151,29 @@ pub struct HistoryRow {
     pub dt: f64,
 }
 
+impl HistoryRow {
+    /// Whether every number of the row is finite.
+    fn is_finite(&self) -> bool {
+        let e = &self.energy;
+        [
+            self.time,
+            self.stroke,
+            self.punch_force,
+            self.dt,
+            e.internal,
+            e.kinetic,
+            e.hourglass,
+            e.plastic,
+            e.contact,
+            e.friction,
+            e.external,
+            e.balance_error,
+        ]
+        .iter()
+        .all(|v| v.is_finite())
+    }
+}
+
 /// Everything a run produced, in memory.
 #[derive(Debug, Clone)]
 pub struct RunResult {
@@ -106,8 +195,9 @@ pub struct RunResult {
 /// Run `loaded` and write its outputs to `options.out`.
 ///
 /// # Errors
-/// Scene/model errors before the run; a solver error during the run (after
-/// writing what was computed so far); output errors.
+/// Scene/model errors before the run; [`RunError::Failed`] or
+/// [`RunError::Interrupted`] for a run that stopped early (after writing what
+/// was computed so far); output errors.
 pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunError> {
     let scene = &loaded.scene;
     let out = &options.out;
@@ -136,7 +226,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
     for w in &setup_warnings {
         tracing::warn!("{w}");
     }
-    let mut rec = Recorder::new(loaded, &model, out)?;
+    let mut rec = Recorder::new(loaded, &model, out);
     let bar = match &options.progress {
         Progress::Hidden => None,
         Progress::Terminal => progress_bar(),
@@ -152,7 +242,6 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         _ => {}
     }
     let wall = started.elapsed().as_secs_f64();
-    let stop = stop.transpose()?;
     finish(
         loaded,
         &model,
@@ -186,34 +275,59 @@ fn setup_warnings(loaded: &LoadedScene, setup: &fem_core::SetupReport) -> Vec<St
     w
 }
 
-/// Record, step, record … until the end or a solver error (its message);
-/// an output error while recording ends the loop as `Some(Err)`.
+/// Record, step, record … until the end (`None`), or why the run stopped:
+/// a solver error, the first non-finite value, an output error while
+/// recording, an interrupt.
 fn step_loop(
     model: &mut Model,
     rec: &mut Recorder<'_>,
     bar: Option<&indicatif::ProgressBar>,
-) -> Option<Result<String, RunError>> {
+) -> Option<Stop> {
     let end = model.end_time;
     let mut press_log = PressLog::default();
     let mut mark = Instant::now();
     loop {
         let (stroke, force, e) = match rec.record(model) {
             Ok(v) => v,
-            Err(err) => return Some(Err(err)),
+            Err(stop) => {
+                rec.output_s += mark.elapsed().as_secs_f64();
+                return Some(stop);
+            }
         };
         if model.solver.time() >= end {
             rec.output_s += mark.elapsed().as_secs_f64();
             return None;
         }
-        // The steps `Solver::run_until(end, …)` takes, landing on `end`.
         rec.output_s += mark.elapsed().as_secs_f64();
+        if INTERRUPT.load(Ordering::Relaxed) {
+            let s = &model.solver;
+            return Some(Stop {
+                status: Status::Interrupted,
+                cause: format!(
+                    "interrupted at step {} (t = {:.6e} s, stroke {stroke:.3} mm)",
+                    s.steps(),
+                    s.time()
+                ),
+            });
+        }
+        // The steps `Solver::run_until(end, …)` takes, landing on `end`.
         let stepped = model.solver.step_toward(end);
         mark = Instant::now();
         if let Err(err) = stepped {
             // The caller reports the stop; at -vv it shows where the log stood.
             tracing::debug!(time = model.solver.time(), "run stopped: {err}");
+            // The solver's message names what it tripped on; the first
+            // non-finite value of the state, if any, is the cause.
+            let cause = match finite::scan(model) {
+                Some(v) => format!("{v}; the solver stopped on it: {err}"),
+                None => err.to_string(),
+            };
             rec.output_s += mark.elapsed().as_secs_f64();
-            return Some(Ok(err.to_string()));
+            return Some(Stop::failed(cause));
+        }
+        if let Some(v) = finite::ledger(model) {
+            rec.output_s += mark.elapsed().as_secs_f64();
+            return Some(Stop::failed(finite::scan(model).unwrap_or(v)));
         }
         press_log.update(model, stroke);
         if model.solver.steps().is_multiple_of(64)
@@ -230,24 +344,32 @@ fn step_loop(
     }
 }
 
-/// The final snapshot, `summary.json` and every file; the solver's stop,
-/// if any, as the error (after writing).
+/// The final snapshot, `summary.json` and every file; the stop, if any, as
+/// the error (after writing).
 fn finish(
     loaded: &LoadedScene,
     model: &Model,
     setup: Setup<'_>,
-    rec: Recorder<'_>,
+    mut rec: Recorder<'_>,
     out: &std::path::Path,
     wall: f64,
-    stop: Option<String>,
+    stop: Option<Stop>,
 ) -> Result<RunResult, RunError> {
     let o = &loaded.scene.output;
     let finish = Instant::now();
     let time = model.solver.time();
     let (stroke, force) = stroke_and_force(model, o.symmetry_factor);
     let last = rec.post.snapshot(model, time, stroke, force);
-    if o.frames > 0 {
-        write::pvd(&out.join("blank.pvd"), &rec.frames)?;
+    if stop.is_some() {
+        // The histories up to the last finite sample (the recorder keeps no
+        // sample of a state with a non-finite value: this is a guard).
+        let n = rec
+            .history
+            .iter()
+            .position(|h| !h.is_finite())
+            .unwrap_or(rec.history.len());
+        rec.history.truncate(n);
+        rec.tool_history.truncate(n);
     }
     let timing = timing::Timing::new(model, rec.output_s, finish.elapsed().as_secs_f64());
     let summary = summary::Summary::new(summary::Inputs {
@@ -268,7 +390,7 @@ fn finish(
             (rec.holder_sum.0 / n, rec.holder_sum.1 / n)
         }),
         clamp_seen: rec.clamp_seen,
-        stopped: stop.clone(),
+        stop: stop.as_ref(),
         dt0: setup.report.dt_initial,
         timing,
     });
@@ -281,16 +403,26 @@ fn finish(
         write_s: 0.0,
     };
     let writing = Instant::now();
-    write::all(out, &result, model, o.plots)?;
+    write::all(out, &result, model, o.plots, &rec.frames)?;
     result.write_s = writing.elapsed().as_secs_f64();
-    if let Some(message) = stop {
-        return Err(RunError::Solver {
+    let out = out.display().to_string();
+    match stop {
+        None => Ok(result),
+        Some(Stop {
+            status: Status::Interrupted,
+            ..
+        }) => Err(RunError::Interrupted {
+            step: model.solver.steps(),
             time,
-            message,
-            out: out.display().to_string(),
-        });
+            stroke,
+            out,
+        }),
+        Some(Stop { cause, .. }) => Err(RunError::Failed {
+            time,
+            message: cause,
+            out,
+        }),
     }
-    Ok(result)
 }
 
 /// Stroke (mm) and punch force (full-model N) of the stroke tool.

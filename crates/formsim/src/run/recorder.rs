@@ -1,11 +1,15 @@
 //! What the run loop records between steps: histories on their schedule,
 //! snapshots at the report strokes, VTK frames, and the running maxima and
-//! sums `summary.json` needs.
+//! sums `summary.json` needs. Before it keeps the state (a history sample, a
+//! report stroke, a frame) it checks that every value of the model is
+//! finite ([`super::finite::scan`]): a non-finite value stops the run, and
+//! no kept sample holds one.
 
 use super::post::{Post, Snapshot};
 use super::warnings::INTERNAL_SHARE_MIN;
 use super::{
-    HistoryRow, RunError, pulled_set, strip_holder, stroke_and_force, tools_report, write,
+    HistoryRow, RunError, Stop, finite, pulled_set, strip_holder, stroke_and_force, tools_report,
+    write,
 };
 use crate::output::OutputError;
 use crate::scene::{LoadedScene, Model};
@@ -44,21 +48,15 @@ pub(super) struct Recorder<'a> {
 }
 
 impl<'a> Recorder<'a> {
-    /// A recorder for `model`, writing frames under `out/vtk` (created when
-    /// the scene asks for frames).
-    pub fn new(loaded: &'a LoadedScene, model: &Model, out: &Path) -> Result<Self, RunError> {
+    /// A recorder for `model`, writing frames under `out/vtk` (created with
+    /// the first frame).
+    pub fn new(loaded: &'a LoadedScene, model: &Model, out: &Path) -> Self {
         let o = &loaded.scene.output;
         let end = model.end_time;
         let vtk_dir = out.join("vtk");
-        if o.frames > 0 {
-            std::fs::create_dir_all(&vtk_dir).map_err(|e| OutputError::Io {
-                path: vtk_dir.clone(),
-                source: e,
-            })?;
-        }
         let mut strokes = o.report_strokes.clone();
         strokes.sort_by(f64::total_cmp);
-        Ok(Self {
+        Self {
             loaded,
             post: Post::new(&model.mesh, &o.sections, &o.draw_in, o.punch_edge_distance),
             vtk_dir,
@@ -86,12 +84,14 @@ impl<'a> Recorder<'a> {
             holder_sum: (0.0, 0.0),
             clamp_seen: false,
             output_s: 0.0,
-        })
+        }
     }
 
     /// Record the model as it is now; returns its stroke, punch force and
-    /// energy ledger (for the progress bar).
-    pub fn record(&mut self, model: &Model) -> Result<(f64, f64, EnergyLedger), RunError> {
+    /// energy ledger (for the progress bar), or why the run must stop: a
+    /// non-finite value in a state due to be kept, a frame that could not be
+    /// written, a pulled set the solver does not know.
+    pub fn record(&mut self, model: &Model) -> Result<(f64, f64, EnergyLedger), Stop> {
         let o = &self.loaded.scene.output;
         let end = model.end_time;
         let time = model.solver.time();
@@ -113,8 +113,16 @@ impl<'a> Recorder<'a> {
         if let Some(c) = model.contact() {
             self.clamp_seen |= c.pairs().iter().any(|p| p.clamped);
         }
-        self.pulled(model, time)?;
-        if time >= self.next_sample || time >= end {
+        self.pulled(model, time).map_err(Stop::failed)?;
+        let sample = time >= self.next_sample || time >= end;
+        let state_due = self.strokes.first().is_some_and(|&r| stroke >= r - 1e-4);
+        let frame_due = o.frames > 0 && (time >= self.next_frame || time >= end);
+        if (sample || state_due || frame_due)
+            && let Some(v) = finite::scan(model)
+        {
+            return Err(Stop::failed(v));
+        }
+        if sample {
             self.history.push(HistoryRow {
                 time,
                 stroke,
@@ -135,9 +143,13 @@ impl<'a> Recorder<'a> {
                 break;
             }
         }
-        if o.frames > 0 && (time >= self.next_frame || time >= end) {
+        if frame_due {
+            if self.frames.is_empty() {
+                std::fs::create_dir_all(&self.vtk_dir)
+                    .map_err(|e| Stop::failed(OutputError::io(&self.vtk_dir, e)))?;
+            }
             let name = format!("blank_{:04}.vtu", self.frames.len());
-            write::frame(&self.vtk_dir.join(&name), model, time, stroke)?;
+            write::frame(&self.vtk_dir.join(&name), model, time, stroke).map_err(Stop::failed)?;
             // Relative to blank.pvd, which sits beside vtk/.
             self.frames.push((time, format!("vtk/{name}")));
             self.next_frame += self.frame_every;

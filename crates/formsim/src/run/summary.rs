@@ -222,8 +222,14 @@ pub struct Summary {
     pub settings: serde_json::Value,
     /// `--set` overrides applied.
     pub overrides: Vec<String>,
-    /// `"completed"` or the reason the run stopped.
-    pub status: String,
+    /// How the run ended: `completed`, `failed` or `interrupted`.
+    pub status: super::Status,
+    /// Why a run that did not complete stopped, one line (the first
+    /// non-finite value with its quantity, node or element, step and time;
+    /// the solver's message; the file that could not be written; where an
+    /// interrupt stopped it). Absent for a completed run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cause: Option<String>,
 }
 
 /// What [`Summary::new`] reads.
@@ -257,7 +263,7 @@ pub struct Inputs<'a> {
     /// Whether a clamp was active.
     pub clamp_seen: bool,
     /// Why the run stopped early.
-    pub stopped: Option<String>,
+    pub stop: Option<&'a super::Stop>,
     /// First time step (s).
     pub dt0: f64,
     /// Seconds per stage.
@@ -390,7 +396,8 @@ impl Summary {
             warnings,
             settings: settings(scene),
             overrides: i.loaded.overrides.clone(),
-            status: i.stopped.clone().unwrap_or_else(|| "completed".to_string()),
+            status: i.stop.map_or(super::Status::Completed, |s| s.status),
+            cause: i.stop.map(|s| s.cause.clone()),
         }
     }
 }

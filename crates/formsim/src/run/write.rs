@@ -1,9 +1,9 @@
 //! Writing a run's files: `summary.json`, `sections/*.csv`, `energy.csv`,
 //! `punch_force.csv`, `tools.csv`, VTK frames and the `.pvd` series, PNG plots.
 
-use super::RunResult;
 use super::post::{SectionRow, Snapshot};
 use super::summary::stroke_key;
+use super::{RunResult, Status};
 use crate::output::OutputError;
 use crate::output::csv_text::CsvText;
 use crate::output::vtk::{BlankFrame, FieldData, write_pvd, write_vtu};
@@ -135,25 +135,78 @@ fn section_csv(path: &Path, rows: &[SectionRow]) -> Result<(), OutputError> {
     csv.write_to(path).map_err(io)
 }
 
-fn sections(dir: &Path, snap: &Snapshot, suffix: &str) -> Result<(), OutputError> {
-    for (name, rows) in &snap.curves {
-        section_csv(&dir.join(format!("{name}{suffix}.csv")), rows)?;
-    }
-    Ok(())
-}
-
-/// Every file of the run.
+/// Every file of the run, the small ones first so that they are the most
+/// likely to land on a full disk: the histories (`energy.csv`,
+/// `punch_force.csv`, `tools.csv`), the sections, `summary.json`, then the
+/// frames' `blank.pvd` (when the run wrote `frames`) and the plots.
+///
+/// A run that did not complete writes what is finite: a section file with
+/// a non-finite value is left out (listed in `summary.json`'s
+/// `not_written`), a non-finite figure of `summary.json` too (listed in
+/// `not_finite`), and a plot or `blank.pvd` that cannot be written is
+/// skipped (logged).
 ///
 /// # Errors
-/// Non-finite values, I/O, plotting.
-pub fn all(out: &Path, result: &RunResult, model: &Model, plots: bool) -> Result<(), OutputError> {
+/// Non-finite values, I/O, plotting (of a completed run; of a stopped run,
+/// I/O of the histories and `summary.json`).
+pub fn all(
+    out: &Path,
+    result: &RunResult,
+    model: &Model,
+    plots: bool,
+    frames: &[(f64, String)],
+) -> Result<(), OutputError> {
+    let stopped = result.summary.status != Status::Completed;
+
+    // Histories.
+    energy_csv(&out.join("energy.csv"), result)?;
+    punch_force_csv(&out.join("punch_force.csv"), result)?;
+    tools_csv(&out.join("tools.csv"), result, model)?;
+
+    // Sections, at the end and at each report stroke.
+    let mut not_written = Vec::new();
+    let dir = out.join("sections");
+    if !result.last.curves.is_empty() {
+        std::fs::create_dir_all(&dir).map_err(|source| OutputError::Io {
+            path: dir.clone(),
+            source,
+        })?;
+        let mut each = |snap: &Snapshot, suffix: &str| -> Result<(), OutputError> {
+            for (name, rows) in &snap.curves {
+                match section_csv(&dir.join(format!("{name}{suffix}.csv")), rows) {
+                    Err(OutputError::Invalid { what }) if stopped => {
+                        // Named relative to the output directory.
+                        let prefix = format!("{}/", out.display());
+                        not_written.push(what.strip_prefix(&prefix).unwrap_or(&what).to_string());
+                    }
+                    other => other?,
+                }
+            }
+            Ok(())
+        };
+        each(&result.last, "")?;
+        for (r, snap) in &result.states {
+            each(snap, &format!("_stroke{}", stroke_key(*r)))?;
+        }
+    }
+
     // summary.json
     let path = out.join("summary.json");
     let invalid = |e: serde_json::Error| OutputError::Invalid {
         what: format!("{}: {e}", path.display()),
     };
-    let value = serde_json::to_value(&result.summary).map_err(invalid)?;
-    if let Some(key) = first_null(&value, String::new()) {
+    let mut value = serde_json::to_value(&result.summary).map_err(invalid)?;
+    if stopped {
+        let mut not_finite = Vec::new();
+        drop_nulls(&mut value, String::new(), &mut not_finite);
+        if let serde_json::Value::Object(m) = &mut value {
+            for (key, list) in [("not_finite", not_finite), ("not_written", not_written)] {
+                if !list.is_empty() {
+                    m.insert(key.into(), list.into());
+                }
+            }
+        }
+    } else if let Some(key) = first_null(&value, String::new()) {
         return Err(OutputError::Invalid {
             what: format!(
                 "{}: `{key}` is not finite (NaN or infinity); the run is not trustworthy",
@@ -164,28 +217,60 @@ pub fn all(out: &Path, result: &RunResult, model: &Model, plots: bool) -> Result
     let json = serde_json::to_string_pretty(&value).map_err(invalid)?;
     write_text(&path, &(json + "\n"))?;
 
-    // Sections, at the end and at each report stroke.
-    let dir = out.join("sections");
-    if !result.last.curves.is_empty() {
-        std::fs::create_dir_all(&dir).map_err(|source| OutputError::Io {
-            path: dir.clone(),
-            source,
-        })?;
-        sections(&dir, &result.last, "")?;
-        for (r, snap) in &result.states {
-            sections(&dir, snap, &format!("_stroke{}", stroke_key(*r)))?;
+    // The large files.
+    let large = || -> Result<(), OutputError> {
+        if !frames.is_empty() {
+            pvd(&out.join("blank.pvd"), frames)?;
         }
+        if plots {
+            plots_png(out, result, model)?;
+        }
+        Ok(())
+    };
+    match large() {
+        Err(e) if stopped => {
+            tracing::info!("the stopped run's remaining files are not written: {e}");
+            Ok(())
+        }
+        other => other,
     }
+}
 
-    // Histories.
-    energy_csv(&out.join("energy.csv"), result)?;
-    punch_force_csv(&out.join("punch_force.csv"), result)?;
-    tools_csv(&out.join("tools.csv"), result, model)?;
-
-    if plots {
-        plots_png(out, result, model)?;
+/// Remove the nulls (non-finite numbers serialised) of `v`, pushing the
+/// dotted key of each to `keys`.
+fn drop_nulls(v: &mut serde_json::Value, at: String, keys: &mut Vec<String>) {
+    let join = |k: &str| {
+        if at.is_empty() {
+            k.to_string()
+        } else {
+            format!("{at}.{k}")
+        }
+    };
+    match v {
+        serde_json::Value::Object(m) => {
+            m.retain(|k, v| {
+                if v.is_null() {
+                    keys.push(join(k));
+                    false
+                } else {
+                    true
+                }
+            });
+            for (k, v) in m.iter_mut() {
+                drop_nulls(v, join(k), keys);
+            }
+        }
+        serde_json::Value::Array(a) => {
+            for (k, v) in a.iter_mut().enumerate() {
+                if v.is_null() {
+                    keys.push(join(&k.to_string()));
+                }
+                drop_nulls(v, join(&k.to_string()), keys);
+            }
+            a.retain(|v| !v.is_null());
+        }
+        _ => {}
     }
-    Ok(())
 }
 
 /// The dotted key of the first null (a non-finite number serialised) in `v`.
