@@ -782,6 +782,9 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The exit code of an interrupted run (128 + SIGINT, as shells report it).
+const INTERRUPTED: i32 = 130;
+
 fn run(args: &RunArgs) -> Outcome {
     let loaded = formsim::scene::load(&args.scene, &args.set).map_err(|e| e.to_string())?;
     // The default directory is formsim's own: its earlier results are replaced.
@@ -794,7 +797,19 @@ fn run(args: &RunArgs) -> Outcome {
     };
     out_dir::prepare(&out, out_dir::Owner::Run, replace)?;
     let progress = cli_io::bars_wanted();
-    let result = formsim::run::run(
+    // Ctrl-C stops the run at the next step boundary (it writes what it has
+    // computed and exits with 130); a second one exits at once.
+    if let Err(e) = ctrlc::set_handler(|| {
+        if formsim::run::interrupt() {
+            std::process::exit(INTERRUPTED);
+        }
+        note!(
+            "interrupt: stopping at the next step and writing the results so far (Ctrl-C again to quit at once)"
+        );
+    }) {
+        tracing::warn!("Ctrl-C will end the run without writing its results: {e}");
+    }
+    let result = match formsim::run::run(
         &loaded,
         &formsim::run::RunOptions {
             out: out.clone(),
@@ -804,8 +819,14 @@ fn run(args: &RunArgs) -> Outcome {
                 formsim::run::Progress::Hidden
             },
         },
-    )
-    .map_err(|e| e.to_string())?;
+    ) {
+        Ok(r) => r,
+        Err(e @ formsim::run::RunError::Interrupted { .. }) => {
+            note!("{e}");
+            return Ok(ExitCode::from(INTERRUPTED as u8));
+        }
+        Err(e) => return Err(e.to_string().into()),
+    };
     let s = &result.summary;
     say!(
         "{}: {} + {}, {} {} shells, {} increments in {:.1} s ({:.3e} element cycles/s, {} threads)",
