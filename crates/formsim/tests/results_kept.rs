@@ -2,14 +2,32 @@
 //! interrupted or cannot write a frame still writes `summary.json` with its
 //! status and cause, and the histories up to that moment, all finite.
 
-mod cli_support;
-mod common;
-
-use cli_support::{formsim, text};
-use common::root;
-use std::path::Path;
-use std::process::{Command, Stdio};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
+
+/// The repository's root (`tests/common` has one too, beside helpers these
+/// tests do not use).
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The `formsim` binary run with `args`.
+fn formsim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_formsim"))
+        .args(args)
+        .output()
+        .expect("formsim runs")
+}
+
+/// Standard output then standard error, as text.
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
 
 /// The coarse square cup (10 × 10 quarter mesh, 3 ms draw).
 const COARSE_CUP: [&str; 4] = [
@@ -105,7 +123,7 @@ fn an_interrupted_run_writes_its_results_and_exits_with_130() {
     let out = dir.path().join("out");
     let scene = root().join("scenes/square-cup.toml");
     // The full cup: minutes of work, interrupted after its first frame.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_formsim"))
+    let child = Command::new(env!("CARGO_BIN_EXE_formsim"))
         .args(["-q", "run", scene.to_str().unwrap(), "--out"])
         .arg(&out)
         .stdout(Stdio::piped())

@@ -34,7 +34,7 @@ fn coarse_s_rail() -> (tempfile::TempDir, RunResult) {
 fn s_rail_coarse_runs_end_to_end() {
     let (dir, r) = coarse_s_rail();
     let s = &r.summary;
-    assert_eq!(s.status, "completed");
+    assert_eq!(s.status, formsim::run::Status::Completed);
     assert!((s.stroke - 9.0).abs() < 1e-6, "stroke {}", s.stroke);
     assert!(
         s.description.contains("reconstruction"),
