@@ -144,3 +144,42 @@ fn shipped_measurement_files_read() {
         assert!(!m.is_empty(), "{name}");
     }
 }
+
+/// The smallest budget `identify` accepts for one fitted value (3) runs to
+/// its limit and reports what it found. It panicked inside argmin's
+/// Nelder–Mead, which asks for the first simplex again and unwraps the
+/// answer; a point already evaluated is now read whatever the limit.
+#[test]
+fn identify_at_the_smallest_evaluation_budget_reports_instead_of_panicking() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("id");
+    let scene = repo("scenes/square-cup-al.toml");
+    let csv = repo("data/numisheet93-al-drawin-40mm.csv");
+    let o = formsim(&[
+        "identify",
+        scene.to_str().unwrap(),
+        "--measurements",
+        csv.to_str().unwrap(),
+        "--fit",
+        "contact.params.ac.mu=0.05..0.3",
+        "--out",
+        out.to_str().unwrap(),
+        "--max-evaluations",
+        "3",
+        "-q",
+        "--set",
+        "blank.mesh.divisions=6",
+        "--set",
+        "output.frames=0",
+        "--set",
+        "output.plots=false",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        stdout.contains("stopped at the limit of 3 evaluations"),
+        "{stdout}"
+    );
+}

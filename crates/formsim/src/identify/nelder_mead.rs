@@ -41,10 +41,14 @@ impl CostFunction for Problem<'_, '_> {
     type Output = f64;
 
     fn cost(&self, z: &Vec<f64>) -> Result<f64, argmin::core::Error> {
-        if self.ev.log().len() >= self.limit {
+        let x = values(self.ev.params(), z);
+        // A point already evaluated is read, whatever the limit: argmin's
+        // Nelder–Mead asks for every vertex of the first simplex again in
+        // its `init` and unwraps the answer (the limit of 3 panicked there).
+        if self.ev.entry(&x).is_none() && self.ev.log().len() >= self.limit {
             return Err(argmin::core::Error::msg("the evaluation limit is reached"));
         }
-        match self.ev.evaluate(&values(self.ev.params(), z)) {
+        match self.ev.evaluate(&x) {
             Ok(e) => Ok(e.cost),
             Err(e) => {
                 let message = e.to_string();

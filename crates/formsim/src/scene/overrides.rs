@@ -14,7 +14,7 @@ use toml::{Table, Value};
 /// Parse `KEY=VALUE`.
 ///
 /// # Errors
-/// No `=`, or an empty key.
+/// No `=`, an empty key, or a key with an empty segment (`blank..thickness`).
 pub fn parse_assignment(text: &str) -> Result<(String, Value), SceneError> {
     let bad = |message: &str| SceneError::Override {
         assignment: text.to_string(),
@@ -26,6 +26,11 @@ pub fn parse_assignment(text: &str) -> Result<(String, Value), SceneError> {
     let key = key.trim();
     if key.is_empty() {
         return Err(bad("empty key"));
+    }
+    if key.split('.').any(|part| part.trim().is_empty()) {
+        return Err(bad(
+            "empty segment in the key (a leading, trailing or doubled `.`)",
+        ));
     }
     let value = value.trim();
     let parsed = toml::from_str::<Table>(&format!("v = {value}"))
@@ -171,5 +176,21 @@ mod tests {
         let (k, v) = parse_assignment("steps[0]=").unwrap();
         let e = apply(&mut t, &k, v, "steps[0]=").unwrap_err().to_string();
         assert!(e.contains("cannot be removed"), "{e}");
+    }
+
+    /// `blank..thickness` once set a key named "" inside `blank`; a key with
+    /// an empty segment is refused, naming it.
+    #[test]
+    fn an_empty_path_segment_is_refused() {
+        for a in [
+            "blank..thickness=1",
+            ".blank=1",
+            "blank.=1",
+            "steps[0]. .duration=1",
+        ] {
+            let e = parse_assignment(a).unwrap_err().to_string();
+            assert!(e.contains("empty segment"), "{a}: {e}");
+            assert!(e.contains(a.split('=').next().unwrap()), "{a}: {e}");
+        }
     }
 }
