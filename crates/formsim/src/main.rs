@@ -31,6 +31,10 @@ struct Cli {
     /// No progress bars, and log errors only.
     #[arg(short, long, global = true)]
     quiet: bool,
+    /// Run scenes whose estimated wall time exceeds 24 hours (refused
+    /// otherwise, naming the key that sets the step: usually a slip).
+    #[arg(long, global = true)]
+    allow_long: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -331,6 +335,7 @@ fn main() -> ExitCode {
     shell_elements::kinds::ensure_linked();
     let cli = Cli::parse();
     cli_io::init_logs(cli.verbose, cli.quiet);
+    formsim::scene::estimate::allow_long_runs(cli.allow_long);
     if let Some(n) = cli.threads
         && let Err(e) = rayon::ThreadPoolBuilder::new()
             .num_threads(usize::from(n))

@@ -606,3 +606,51 @@ fn element_and_material_resolve_through_the_registry() {
         assert_eq!(model.shells.element, "belytschko-tsay");
     }
 }
+
+/// A run estimated at more than 24 hours is refused up front, naming the
+/// key that sets the step (`solver.mass_scaling_dt=1e-15` was "ok … 87384
+/// days") or, with the estimated stable step, the press step that sets the
+/// end (a 1e6 s step); `--allow-long` lets the estimate through.
+#[test]
+fn absurd_run_times_are_refused_unless_allowed() {
+    assert_refused(
+        &cup(),
+        &["solver.mass_scaling_dt=1e-15"],
+        &[
+            "solver.mass_scaling_dt: the run would take about 87384",
+            "days",
+            "--allow-long",
+        ],
+    );
+    assert_refused(
+        &root().join("scenes/strip-draw.toml"),
+        &["steps[2].duration=1e6"],
+        &["steps[2].duration: the run would take about", "days"],
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_formsim"))
+        .args(["--allow-long", "scene", "check"])
+        .arg(cup())
+        .args(["--set", "solver.mass_scaling_dt=1e-15"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(text.contains("87384.3 days"), "{text}");
+}
+
+/// With `solver.fixed_dt` the estimate counts the fixed step: the dt-limit
+/// case runs 11,873 increments of 3.369e-7 s, and its estimate said 9,547
+/// of the estimated stable step (4.19e-7 s) before.
+#[test]
+fn estimate_counts_the_fixed_step() {
+    let (code, out, err, _) = check_cli(&root().join("scenes/hard/dt-limit.toml"), &[]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        out.contains("11873 increments of 3.369e-7 s (fixed step)"),
+        "{out}"
+    );
+}

@@ -41,6 +41,22 @@ pub const MEMORY_FALLBACK: f64 = 8.0 * GIB;
 /// at 2,000 × 2,000 writes its 21 frames in about 19 GiB).
 pub const FRAMES_DISK_CAP: f64 = 64.0 * GIB;
 
+/// Longest estimated wall time of a run (s) formsim starts without
+/// `--allow-long`: 24 hours. The shipped scenes take seconds to minutes; an
+/// estimate of days is nearly always a slip of a key (a mass-scaling step of
+/// 1e-15 s, a press step of 1e6 s), so it is refused up front, naming the
+/// key, unless the user says the run is meant ([`allow_long_runs`]).
+pub const RUN_TIME_MAX_S: f64 = 86_400.0;
+
+/// Set by `--allow-long`: runs longer than [`RUN_TIME_MAX_S`] are accepted.
+static ALLOW_LONG: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Accept (or refuse again) runs whose estimate exceeds [`RUN_TIME_MAX_S`]
+/// for the rest of the process (`formsim --allow-long`).
+pub fn allow_long_runs(allow: bool) {
+    ALLOW_LONG.store(allow, std::sync::atomic::Ordering::Relaxed);
+}
+
 /// Wall time of one element in one increment (µs), everything included
 /// (shells, contact, output), Belytschko–Tsay. Measured 2026-11-25 after the
 /// contact work of issue 15 with `formsim run scenes/square-cup.toml` (2
@@ -168,6 +184,20 @@ pub enum StepSource {
     Stable,
     /// `solver.dt_max`.
     DtMax,
+    /// `solver.fixed_dt`.
+    Fixed,
+}
+
+impl StepSource {
+    /// The scene key that sets the step, and how `scene check` names it.
+    pub fn key_and_name(self) -> (&'static str, &'static str) {
+        match self {
+            Self::MassScaling => ("solver.mass_scaling_dt", "mass scaling"),
+            Self::Stable => ("solver.safety_factor", "estimated stable step"),
+            Self::DtMax => ("solver.dt_max", "dt_max"),
+            Self::Fixed => ("solver.fixed_dt", "fixed step"),
+        }
+    }
 }
 
 /// What a run of a scene needs.
@@ -225,10 +255,14 @@ pub fn stable_dt(scene: &Scene, mesh: &MeshSize) -> f64 {
     scene.solver.safety_factor * mesh.min_length / c
 }
 
-/// The time step a run takes: the mass-scaling step, else the estimated
-/// stable step, bounded by `dt_max`.
+/// The time step a run takes: `fixed_dt` (the engine runs at it, with no
+/// safety factor and no mass scaling), else the mass-scaling step, else the
+/// estimated stable step, bounded by `dt_max`.
 fn time_step(scene: &Scene, mesh: &MeshSize) -> (f64, StepSource) {
     let sv = &scene.solver;
+    if let Some(dt) = sv.fixed_dt {
+        return (dt, StepSource::Fixed);
+    }
     let (dt, source) = match sv.mass_scaling_dt {
         Some(t) => (t, StepSource::MassScaling),
         None => (stable_dt(scene, mesh), StepSource::Stable),
@@ -346,12 +380,13 @@ fn mesh_key(scene: &Scene) -> (&'static str, String) {
 /// Refuse a run larger than the machine: memory above [`memory_limit`]
 /// (naming `output.history_points` when the history rows are the larger
 /// part, else the mesh's key), frames above [`FRAMES_DISK_CAP`] (naming
-/// `output.frames`).
+/// `output.frames`), and then a run longer than [`check_run_time`] accepts.
 ///
 /// # Errors
 /// One line: the key, its value, the estimate and the limit.
 pub fn check_size(loaded: &LoadedScene, est: &Estimate) -> Result<(), SceneError> {
-    check_size_within(loaded, est, memory_limit())
+    check_size_within(loaded, est, memory_limit())?;
+    check_run_time(loaded, est)
 }
 
 fn check_size_within(
@@ -395,6 +430,54 @@ fn check_size_within(
         ));
     }
     Ok(())
+}
+
+/// Refuse a run whose estimated wall time exceeds [`RUN_TIME_MAX_S`] unless
+/// [`allow_long_runs`] was called, naming the key that sets the step and
+/// the one that sets the end.
+///
+/// # Errors
+/// One line: the step's key and value, the end's key and value, the
+/// increments, the estimate and the bound.
+pub fn check_run_time(loaded: &LoadedScene, est: &Estimate) -> Result<(), SceneError> {
+    if est.run_time_s <= RUN_TIME_MAX_S || ALLOW_LONG.load(std::sync::atomic::Ordering::Relaxed) {
+        return Ok(());
+    }
+    let s = &loaded.scene;
+    // The end's key: `solver.end_time`, else the longest press step.
+    let end_key = match s.solver.end_time {
+        Some(_) => "solver.end_time".to_string(),
+        None => s
+            .steps
+            .iter()
+            .map(|st| {
+                st.duration
+                    .or(st.until.as_ref().map(|u| u.max_duration))
+                    .unwrap_or(0.0)
+            })
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or("steps".to_string(), |(k, _)| format!("steps[{k}].duration")),
+    };
+    let (step_key, step_name) = est.dt_source.key_and_name();
+    // A step the scene sets is the likelier slip; the estimated stable step
+    // is not a key, so then the end is.
+    let key = match est.dt_source {
+        StepSource::Stable => end_key.clone(),
+        _ => step_key.to_string(),
+    };
+    Err(loaded.key_error(
+        &key,
+        format!(
+            "the run would take about {} ({:.3e} increments of {:.3e} s ({step_name}) to {:.4e} s ({end_key}) on {:.0} elements at {MICROSECONDS_PER_ELEMENT_CYCLE} µs each), more than {}: check the step and the end time, or pass --allow-long to run it",
+            format_duration(est.run_time_s),
+            est.increments,
+            est.dt,
+            est.end_time,
+            est.mesh.elements,
+            format_duration(RUN_TIME_MAX_S),
+        ),
+    ))
 }
 
 /// Refuse a mass-scaling step that leaves fewer than
@@ -468,11 +551,7 @@ pub fn report_lines(scene: &Scene, est: &Estimate, setup: &SetupReport) -> Vec<S
         None => "no mass scaling".to_string(),
     };
     let (limit, what) = memory_limit();
-    let step = match est.dt_source {
-        StepSource::MassScaling => "mass scaling",
-        StepSource::Stable => "estimated stable step",
-        StepSource::DtMax => "dt_max",
-    };
+    let (_, step) = est.dt_source.key_and_name();
     vec![
         format!(
             "mass        {:.4e} tonne; {scaling}; first step {:.3e} s",
