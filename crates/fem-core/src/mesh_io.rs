@@ -8,10 +8,12 @@ use std::path::Path;
 const INP_SHELLS: [&str; 5] = ["S4", "S4R", "S4R5", "S4RS", "S4RSW"];
 
 fn read_text(path: &Path) -> Result<String, FemError> {
-    std::fs::read_to_string(path).map_err(|e| FemError::Parse {
-        file: path.display().to_string(),
-        line: 0,
-        message: format!("cannot read the file: {e}"),
+    plugins_api::input_file::read_text(path, plugins_api::input_file::MESH_LIMIT).map_err(|e| {
+        FemError::Parse {
+            file: path.display().to_string(),
+            line: 0,
+            message: format!("cannot read the file: {e}"),
+        }
     })
 }
 

@@ -107,11 +107,12 @@ fn rotation_from_vector(r: &Vec3) -> Mat3 {
 /// non-finite number, non-increasing time, non-unit normal: each with the line.
 pub fn read(path: &Path) -> Result<History, HistoryError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| HistoryError {
-        file: file.clone(),
-        line: 0,
-        message: format!("cannot read: {e}"),
-    })?;
+    let text = plugins_api::input_file::read_text(path, plugins_api::input_file::TEXT_LIMIT)
+        .map_err(|e| HistoryError {
+            file: file.clone(),
+            line: 0,
+            message: format!("cannot read: {e}"),
+        })?;
     parse(&text, &file)
 }
 

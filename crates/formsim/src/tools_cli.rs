@@ -26,8 +26,8 @@ pub enum ToolsError {
     Read {
         /// The file.
         path: PathBuf,
-        /// The operating-system error.
-        source: std::io::Error,
+        /// Why it was not read.
+        source: plugins_api::input_file::InputFileError,
     },
     /// The points file has no header.
     #[error("{path}: empty file (expected a header x,y,z)")]
@@ -144,10 +144,11 @@ pub fn export(spec: &Path, out: &Path) -> Result<Vec<String>, ToolsError> {
 /// or a coordinate is missing, not a number or not finite.
 pub fn read_points(path: &Path) -> Result<Vec<Vec3>, ToolsError> {
     let file = || path.to_path_buf();
-    let text = std::fs::read_to_string(path).map_err(|source| ToolsError::Read {
-        path: file(),
-        source,
-    })?;
+    let text = plugins_api::input_file::read_text(path, plugins_api::input_file::TEXT_LIMIT)
+        .map_err(|source| ToolsError::Read {
+            path: file(),
+            source,
+        })?;
     let mut records = crate::csv_records::records(&text, false).map(|r| {
         r.map_err(|(line, message)| ToolsError::Csv {
             path: file(),

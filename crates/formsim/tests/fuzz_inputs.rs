@@ -412,3 +412,154 @@ fn fuzz_law_parameters() {
         )
         .unwrap();
 }
+
+/// Run the binary with `args`; it must exit within 20 s (a FIFO or
+/// /dev/zero read as a file hung forever or grew to gigabytes), non-zero,
+/// with one error line containing `needle`.
+fn refused_at_once(args: &[&std::ffi::OsStr], needle: &str) {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_formsim"))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed().as_secs() > 20 {
+            child.kill().ok();
+            panic!("{args:?}: still running after 20 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} succeeded");
+    assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+    assert!(err.contains(needle), "{args:?}: `{needle}` not in {err}");
+    assert!(!err.contains("panicked"), "{args:?}: {err}");
+}
+
+/// Every file formsim reads, as a special file (a FIFO, a character
+/// device, a directory) or as a file over its size limit (a sparse file:
+/// no disk), is refused at once with one line: the scene, a blank mesh, a
+/// tool mesh, a tool spec, a points CSV, a point history, measurements and
+/// a plugin library.
+#[test]
+fn special_and_oversized_files_are_refused_at_once() {
+    use plugins_api::input_file::{MESH_LIMIT, TEXT_LIMIT};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let fifo = d.join("fifo");
+    assert!(
+        std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let sparse = |name: &str, len: u64| {
+        let p = d.join(name);
+        std::fs::File::create(&p).unwrap().set_len(len).unwrap();
+        p
+    };
+    let big_text = sparse("big.toml", TEXT_LIMIT + 1);
+    let big_inp = sparse("big.inp", MESH_LIMIT + 1);
+    let big_stl = sparse("big.stl", MESH_LIMIT + 1);
+    let zero = PathBuf::from("/dev/zero");
+    let scene = root().join("scenes/strip-draw.toml");
+    let al = root().join("scenes/square-cup-al.toml");
+    let spec = root().join("scenes/tools/square-cup-tools.toml");
+    let os = |s: &str| std::ffi::OsString::from(s);
+    let cases: Vec<(&str, PathBuf, &str)> = vec![
+        ("scene", fifo.clone(), "FIFO"),
+        ("scene", zero.clone(), "character device"),
+        ("scene", d.to_path_buf(), "directory"),
+        ("scene", big_text.clone(), "more than the"),
+        ("mesh", fifo.clone(), "FIFO"),
+        ("mesh", big_inp.clone(), "more than the"),
+        ("tool", zero.clone(), "character device"),
+        ("tool", big_stl.clone(), "more than the"),
+        ("spec", fifo.clone(), "FIFO"),
+        ("points", zero.clone(), "character device"),
+        ("history", fifo.clone(), "FIFO"),
+        ("history", big_text.clone(), "more than the"),
+        ("measurements", zero.clone(), "character device"),
+        ("measurements", big_text.clone(), "more than the"),
+        ("plugin", fifo.clone(), "FIFO"),
+        ("plugin", zero.clone(), "character device"),
+    ];
+    for (kind, path, needle) in cases {
+        let p = path.as_os_str().to_owned();
+        let args: Vec<std::ffi::OsString> = match kind {
+            "scene" => vec![os("scene"), os("check"), p],
+            "mesh" | "tool" => {
+                let link = d.join(if kind == "mesh" { "m.inp" } else { "t.stl" });
+                std::fs::remove_file(&link).ok();
+                std::os::unix::fs::symlink(&path, &link).unwrap();
+                let text = if kind == "mesh" {
+                    scene_with_mesh("m.inp")
+                } else {
+                    scene_with_tool("t.stl")
+                };
+                let s = d.join(format!("{kind}.toml"));
+                std::fs::write(&s, text).unwrap();
+                vec![os("scene"), os("check"), s.into_os_string()]
+            }
+            "spec" => vec![
+                os("tools"),
+                os("export"),
+                p,
+                os("--out"),
+                d.join("x").into(),
+            ],
+            "points" => vec![
+                os("tools"),
+                os("project"),
+                spec.clone().into(),
+                os("--tool"),
+                os("punch"),
+                os("--points"),
+                p,
+                os("--out"),
+                d.join("p.csv").into(),
+            ],
+            "history" => vec![
+                os("friction-point"),
+                os("--law"),
+                os("ac"),
+                os("--param"),
+                os("mu=0.1"),
+                os("--history"),
+                p,
+                os("--out"),
+                d.join("h.csv").into(),
+            ],
+            "measurements" => vec![
+                os("identify"),
+                al.clone().into(),
+                os("--measurements"),
+                p,
+                os("--fit"),
+                os("contact.params.ac.mu=0.05..0.3"),
+                os("--out"),
+                d.join("id").into(),
+            ],
+            "plugin" => {
+                let mut set = os("contact.plugin=");
+                set.push(&p);
+                vec![
+                    os("scene"),
+                    os("check"),
+                    scene.clone().into(),
+                    os("--set"),
+                    set,
+                ]
+            }
+            _ => unreachable!(),
+        };
+        let args: Vec<&std::ffi::OsStr> = args.iter().map(|a| a.as_os_str()).collect();
+        refused_at_once(&args, needle);
+    }
+}

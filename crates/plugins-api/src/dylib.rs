@@ -27,14 +27,8 @@ pub(crate) const ERROR_BUFFER: usize = 1024;
 /// # Errors
 /// File not found, a directory, not valid UTF-8, not loadable.
 pub(crate) fn open_library(path: &Path) -> Result<Library, String> {
-    match std::fs::metadata(path) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err("file not found".into());
-        }
-        Err(e) => return Err(format!("cannot read the file: {e}")),
-        Ok(m) if m.is_dir() => return Err("is a directory, not a shared library".into()),
-        Ok(_) => {}
-    }
+    // A device, FIFO or directory is refused before the loader opens it.
+    crate::input_file::check(path, crate::input_file::MESH_LIMIT).map_err(|e| e.to_string())?;
     let mut load_path = PathBuf::from(path);
     if path.parent().is_none_or(|p| p.as_os_str().is_empty()) {
         load_path = Path::new(".").join(path);

@@ -10,6 +10,8 @@
 //! through a versioned C-ABI table ([`abi`], [`loader`]), and the conformance
 //! suite every law must pass ([`conformance`], §5), and the rigid-tool contract
 //! that contact queries ([`tool`]: closest point, normal, curvature, pose).
+//! It also reads users' files for every crate above it ([`input_file`]:
+//! regular files only, within a size limit).
 //!
 //! It must not know about meshes, tool geometry, scenes or any particular law: the
 //! built-in laws live in `friction-laws`, which depends on this crate like any
@@ -24,6 +26,7 @@ pub mod conformance;
 mod dylib;
 pub mod error;
 pub mod formulation;
+pub mod input_file;
 pub mod kinematics;
 pub mod law;
 pub mod loader;

@@ -26,7 +26,8 @@ fn file_err(path: &Path, message: String) -> NurbsError {
 
 /// Read an `.stl` (ASCII or binary) or `.obj` file, chosen by extension.
 pub fn read_mesh(path: &Path) -> Result<TriMesh, NurbsError> {
-    let bytes = std::fs::read(path).map_err(|e| file_err(path, format!("cannot read: {e}")))?;
+    let bytes = plugins_api::input_file::read_bytes(path, plugins_api::input_file::MESH_LIMIT)
+        .map_err(|e| file_err(path, format!("cannot read: {e}")))?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())

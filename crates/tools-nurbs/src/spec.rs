@@ -167,10 +167,11 @@ pub fn parse(text: &str, base: &Path) -> Result<Vec<Tool>, NurbsError> {
 
 /// Read and build a spec file (relative mesh paths resolve against its directory).
 pub fn load(path: &Path) -> Result<Vec<Tool>, NurbsError> {
-    let text = std::fs::read_to_string(path).map_err(|e| NurbsError::File {
-        path: path.display().to_string(),
-        message: format!("cannot read: {e}"),
-    })?;
+    let text = plugins_api::input_file::read_text(path, plugins_api::input_file::TEXT_LIMIT)
+        .map_err(|e| NurbsError::File {
+            path: path.display().to_string(),
+            message: format!("cannot read: {e}"),
+        })?;
     let base = path.parent().unwrap_or(Path::new("."));
     parse(&text, base).map_err(|e| match e {
         NurbsError::Spec { message } => NurbsError::File {

@@ -158,11 +158,12 @@ impl Measurements {
     /// # Errors
     /// The file cannot be read, or a line is malformed: `FILE:LINE: what`.
     pub fn read(path: &Path) -> Result<Self, IdentifyError> {
-        let text = std::fs::read_to_string(path).map_err(|e| IdentifyError::Measurements {
-            path: path.to_path_buf(),
-            line: 0,
-            message: e.to_string(),
-        })?;
+        let text = plugins_api::input_file::read_text(path, plugins_api::input_file::TEXT_LIMIT)
+            .map_err(|e| IdentifyError::Measurements {
+                path: path.to_path_buf(),
+                line: 0,
+                message: e.to_string(),
+            })?;
         let is_csv = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("csv"));

@@ -11,7 +11,7 @@ pub enum SceneError {
         /// The file.
         path: PathBuf,
         /// The cause.
-        source: std::io::Error,
+        source: plugins_api::input_file::InputFileError,
     },
     /// The file is not valid TOML.
     #[error("{path}:{line}: {message}")]

@@ -80,10 +80,11 @@ fn key_error(
 /// I/O, TOML syntax, unknown/missing/mistyped keys, values out of range: each
 /// names the file, the line (when the key is in the file) and the key.
 pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = plugins_api::input_file::read_text(path, plugins_api::input_file::TEXT_LIMIT)
+        .map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
     parse(&text, path, overrides)
 }
 

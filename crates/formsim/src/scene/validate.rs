@@ -139,11 +139,21 @@ fn blank(loaded: &LoadedScene) -> Result<(), SceneError> {
         }
         MeshSpec::File { path, translate } => {
             let full = loaded.base_dir().join(path);
-            if !full.is_file() {
-                return keys.err(
-                    "blank.mesh.path",
-                    format!("\"{path}\": no such file ({})", full.display()),
-                );
+            use plugins_api::input_file::{InputFileError, MESH_LIMIT, check};
+            match check(&full, MESH_LIMIT) {
+                Ok(()) => {}
+                Err(InputFileError::NotFound) => {
+                    return keys.err(
+                        "blank.mesh.path",
+                        format!("\"{path}\": no such file ({})", full.display()),
+                    );
+                }
+                Err(e) => {
+                    return keys.err(
+                        "blank.mesh.path",
+                        format!("\"{path}\" ({}): {e}", full.display()),
+                    );
+                }
             }
             if translate.iter().any(|v| !v.is_finite()) {
                 return keys.err(
