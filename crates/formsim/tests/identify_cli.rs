@@ -183,3 +183,33 @@ fn identify_at_the_smallest_evaluation_budget_reports_instead_of_panicking() {
         "{stdout}"
     );
 }
+
+/// A measured quantity the scene does not report (a draw-in point it does
+/// not have) is refused before any run, naming the line.
+#[test]
+fn identify_refuses_a_quantity_the_scene_does_not_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("m.csv");
+    std::fs::write(
+        &csv,
+        "stroke_mm,quantity,value_mm\n40,DX,28.5\n40,DQ,28.5\n",
+    )
+    .unwrap();
+    let out = dir.path().join("id");
+    let scene = repo("scenes/square-cup-al.toml");
+    let o = formsim(&[
+        "identify",
+        scene.to_str().unwrap(),
+        "--measurements",
+        csv.to_str().unwrap(),
+        "--fit",
+        "contact.params.ac.mu=0.05..0.3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("states.40.draw_in.DQ (line 3)"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(!out.join("runs").exists(), "{err}");
+}

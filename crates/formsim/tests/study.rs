@@ -225,3 +225,37 @@ fn bad_study_options_are_named() {
         assert!(stderr.contains(word), "{args:?}: {stderr}");
     }
 }
+
+/// A quantity the scene does not report (a misspelt key, a section or
+/// report stroke it does not have) is refused while planning, naming it and
+/// what the scene reports, and nothing runs (no output folder). Before, the
+/// reference ran first and failed on it.
+#[test]
+fn a_quantity_the_scene_does_not_report_stops_the_study_before_any_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    for (q, needle) in [
+        ("draw_in.DQ", "`draw_in.DQ`"),
+        ("punch_forse_max", "`punch_forse_max`"),
+        ("states.17.draw_in.DX", "`states.17.draw_in.DX`"),
+        ("OQ:major", "section `OQ`"),
+        ("OD@17:major", "at stroke 17 mm"),
+    ] {
+        let o = formsim(&[
+            "study",
+            "scenes/square-cup.toml",
+            "--vary",
+            "contact.law=ac,wvs",
+            "--quantities",
+            q,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(!o.status.success(), "{q}");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(stderr.contains(needle), "{q}: {stderr}");
+        assert!(stderr.contains("draw_in: DD, DX, DY"), "{q}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+        assert!(!out.exists(), "{q}");
+    }
+}

@@ -231,10 +231,38 @@ pub fn check(options: &Options, data: &Measurements) -> Result<(), IdentifyError
                 .zip(&start)
                 .map(|(p, v)| params::assignment(p, *v)),
         );
+        let scene_strokes = crate::scene::load(&options.scene, &sets)
+            .map_err(|e| IdentifyError::Scene(format!("set {}: {e}", set.name)))?
+            .scene
+            .output
+            .report_strokes;
+        // As every evaluation runs it: with a report state at each measured stroke.
+        let one = Measurements {
+            path: data.path.clone(),
+            sets: vec![set.clone()],
+        };
+        sets.extend(evaluate::run_overrides(&one, &scene_strokes));
         let loaded = crate::scene::load(&options.scene, &sets)
             .map_err(|e| IdentifyError::Scene(format!("set {}: {e}", set.name)))?;
-        crate::scene::build(&loaded)
+        let probe = crate::run::probe::probe(&loaded)
             .map_err(|e| IdentifyError::Scene(format!("set {}: {e}", set.name)))?;
+        for p in &set.points {
+            let checked = match &p.quantity {
+                measurements::Quantity::Scalar { key } => probe.check_key(key),
+                measurements::Quantity::Curve {
+                    section, stroke, ..
+                } => probe.check_curve(section, Some(*stroke)),
+                measurements::Quantity::Force { .. } => Ok(()),
+            };
+            checked.map_err(|why| {
+                IdentifyError::Scene(format!(
+                    "set {}: {} (line {}): {why}",
+                    set.name,
+                    p.label(),
+                    p.line
+                ))
+            })?;
+        }
     }
     Ok(())
 }

@@ -17,6 +17,7 @@
 pub mod finite;
 pub mod out_dir;
 pub mod post;
+pub mod probe;
 mod recorder;
 pub mod reference;
 pub mod summary;

@@ -110,6 +110,14 @@ pub enum StudyError {
         /// The label.
         label: String,
     },
+    /// A quantity the variant's scene does not report.
+    #[error("--quantities: {label}: {message}")]
+    QuantityNotReported {
+        /// The variant's label.
+        label: String,
+        /// The quantity and what the scene reports.
+        message: String,
+    },
     /// A variant's scene does not load or build.
     #[error("{label}: {source}")]
     Variant {
@@ -502,7 +510,25 @@ fn variant(
         source,
     };
     let loaded = scene::load(scene_path, &sets).map_err(in_variant)?;
-    scene::build(&loaded).map_err(in_variant)?;
+    let probe = crate::run::probe::probe(&loaded).map_err(|e| match e {
+        RunError::Scene(source) => in_variant(source),
+        other => StudyError::QuantityNotReported {
+            label: label.clone(),
+            message: other.to_string(),
+        },
+    })?;
+    for q in &spec.quantities {
+        let checked = match q {
+            Quantity::Scalar { key } => probe.check_key(key),
+            Quantity::Curve {
+                section, stroke, ..
+            } => probe.check_curve(section, *stroke),
+        };
+        checked.map_err(|message| StudyError::QuantityNotReported {
+            label: label.clone(),
+            message,
+        })?;
+    }
     Ok(Variant {
         label,
         settings,
