@@ -654,3 +654,30 @@ fn estimate_counts_the_fixed_step() {
         "{out}"
     );
 }
+
+/// A value far beyond any sheet or metal is named at its key, not as the
+/// infinite mass or step it makes downstream (`blank.thickness=1e300` was
+/// reported as "node 0: lumped rotational inertia = inf").
+#[test]
+fn absurd_physical_values_name_their_key() {
+    for (set, needle) in [
+        (
+            "blank.thickness=1e300",
+            "blank.thickness: 1e300 mm: must be at most 1e3 mm",
+        ),
+        (
+            "blank.material.youngs_modulus=1e300",
+            "blank.material.youngs_modulus: 1e300 MPa: must be at most 1e7 MPa",
+        ),
+        (
+            "blank.material.density=1e300",
+            "blank.material.density: 1e300 tonne/mm^3: must be at most",
+        ),
+        (
+            "blank.mesh.size=[1e300, 10]",
+            "blank.mesh.size: 1e300 mm: must be at most",
+        ),
+    ] {
+        assert_refused(&root().join("scenes/strip-draw.toml"), &[set], &[needle]);
+    }
+}

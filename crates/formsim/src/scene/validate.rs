@@ -8,6 +8,15 @@ use super::SceneError;
 use super::estimate::{self, MeshSize};
 use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, SceneKind, Step};
 
+/// Largest blank thickness accepted (mm).
+pub const THICKNESS_MAX: f64 = 1e3;
+/// Largest side of a generated blank accepted (mm).
+pub const SIZE_MAX: f64 = 1e5;
+/// Largest Young's modulus accepted (MPa).
+pub const YOUNGS_MODULUS_MAX: f64 = 1e7;
+/// Largest density accepted (tonne/mm³).
+pub const DENSITY_MAX: f64 = 1e-3;
+
 /// Check `loaded.scene`.
 ///
 /// # Errors
@@ -24,6 +33,16 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
     guards(loaded)
 }
 
+/// A value as a message shows it: plain between 1e-4 and 1e6, else in
+/// exponent form (`1e300`, not three hundred digits).
+fn number(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e6).contains(&v.abs()) || !v.is_finite() {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 /// The error of one key, and the two range checks every section uses.
 struct Keys<'a>(&'a LoadedScene);
 
@@ -36,7 +55,32 @@ impl Keys<'_> {
         if v.is_finite() && v > 0.0 {
             Ok(())
         } else {
-            self.err(key, format!("{v} {unit}: must be finite and > 0"))
+            self.err(key, format!("{} {unit}: must be finite and > 0", number(v)))
+        }
+    }
+
+    /// `v` in `(0, max]`: a bound well beyond any sheet, tool or metal, so
+    /// that a slip of a key (`1e300`) is named here instead of as the
+    /// infinite mass or step it would make downstream.
+    fn physical(
+        &self,
+        key: &str,
+        v: f64,
+        unit: &str,
+        max: f64,
+        why: &str,
+    ) -> Result<(), SceneError> {
+        self.positive(key, v, unit)?;
+        if v <= max {
+            Ok(())
+        } else {
+            self.err(
+                key,
+                format!(
+                    "{} {unit}: must be at most {max:e} {unit} ({why})",
+                    number(v)
+                ),
+            )
         }
     }
 
@@ -101,7 +145,13 @@ fn blank(loaded: &LoadedScene) -> Result<(), SceneError> {
             ),
         );
     }
-    keys.positive("blank.thickness", b.thickness, "mm")?;
+    keys.physical(
+        "blank.thickness",
+        b.thickness,
+        "mm",
+        THICKNESS_MAX,
+        "a shell thicker than a metre is no sheet",
+    )?;
     if !(1..=9).contains(&b.integration_points) {
         return keys.err(
             "blank.integration_points",
@@ -122,8 +172,15 @@ fn blank(loaded: &LoadedScene) -> Result<(), SceneError> {
             divisions,
             origin,
         } => {
-            keys.positive("blank.mesh.size", size[0], "mm")?;
-            keys.positive("blank.mesh.size", size[1], "mm")?;
+            for side in size {
+                keys.physical(
+                    "blank.mesh.size",
+                    *side,
+                    "mm",
+                    SIZE_MAX,
+                    "a blank larger than 100 m",
+                )?;
+            }
             let (nx, ny) = divisions.pair();
             for n in [nx, ny] {
                 if !(1..=4096).contains(&n) {
@@ -189,8 +246,20 @@ fn material(loaded: &LoadedScene) -> Result<(), SceneError> {
     let (s, keys) = (&loaded.scene, Keys(loaded));
     let b = &s.blank;
     let m = &b.material;
-    keys.positive("blank.material.youngs_modulus", m.youngs_modulus, "MPa")?;
-    keys.positive("blank.material.density", m.density, "tonne/mm^3")?;
+    keys.physical(
+        "blank.material.youngs_modulus",
+        m.youngs_modulus,
+        "MPa",
+        YOUNGS_MODULUS_MAX,
+        "ten times diamond's; is the unit MPa?",
+    )?;
+    keys.physical(
+        "blank.material.density",
+        m.density,
+        "tonne/mm^3",
+        DENSITY_MAX,
+        "1e5 times steel's; is the unit tonne/mm^3?",
+    )?;
     if !(m.poissons_ratio > -1.0 && m.poissons_ratio < 0.5) {
         return keys.err(
             "blank.material.poissons_ratio",
