@@ -27,6 +27,7 @@ pub mod warnings;
 pub mod write;
 
 use crate::output::OutputError;
+use crate::scene::blank_mesh::FileIds;
 use crate::scene::validate::dof_from_name;
 use crate::scene::{LoadedScene, Model, SceneError};
 use post::Snapshot;
@@ -214,10 +215,10 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         out = %out.display(),
         "run"
     );
-    let setup = model
-        .solver
-        .initialize()
-        .map_err(|e| loaded.key_error("solver", e.to_string()))?;
+    let setup = model.solver.initialize().map_err(|e| {
+        let message = FileIds::rename(model.file_ids.as_ref(), &e.to_string());
+        loaded.key_error("solver", message)
+    })?;
     tracing::info!(
         dt_initial = setup.dt_initial,
         added_mass_percent = setup.added_mass_percent,
@@ -319,9 +320,10 @@ fn step_loop(
             tracing::debug!(time = model.solver.time(), "run stopped: {err}");
             // The solver's message names what it tripped on; the first
             // non-finite value of the state, if any, is the cause.
+            let err = FileIds::rename(model.file_ids.as_ref(), &err.to_string());
             let cause = match finite::scan(model) {
                 Some(v) => format!("{v}; the solver stopped on it: {err}"),
-                None => err.to_string(),
+                None => err,
             };
             rec.output_s += mark.elapsed().as_secs_f64();
             return Some(Stop::failed(cause));

@@ -26,10 +26,11 @@ pub struct Probe {
 /// The scene does not build or set up.
 pub fn probe(loaded: &LoadedScene) -> Result<Probe, RunError> {
     let mut model = crate::scene::build(loaded)?;
-    let setup = model
-        .solver
-        .initialize()
-        .map_err(|e| loaded.key_error("solver", e.to_string()))?;
+    let setup = model.solver.initialize().map_err(|e| {
+        let message =
+            crate::scene::blank_mesh::FileIds::rename(model.file_ids.as_ref(), &e.to_string());
+        loaded.key_error("solver", message)
+    })?;
     let o = &loaded.scene.output;
     let post = Post::new(&model.mesh, &o.sections, &o.draw_in, o.punch_edge_distance);
     let last = post.snapshot(&model, 0.0, 0.0, 0.0);

@@ -30,6 +30,62 @@ impl FileIds {
         ids.and_then(|f| f.elements.get(e).copied())
             .unwrap_or(e as i64)
     }
+
+    /// `message` from the engine, which numbers nodes and elements from 0,
+    /// with every `node N` and `element N` (and `nodes N, M, …`) renamed to
+    /// the file's numbers.
+    pub fn rename(ids: Option<&Self>, message: &str) -> String {
+        let Some(f) = ids else {
+            return message.to_string();
+        };
+        let mut out = String::with_capacity(message.len());
+        let mut rest = message;
+        while let Some((at, word, table)) = next_number_word(rest, f) {
+            let after = at + word.len();
+            out.push_str(&rest[..after]);
+            rest = &rest[after..];
+            // The list after the word: digits, separated by ", ".
+            loop {
+                let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+                if digits == 0 {
+                    break;
+                }
+                let n: Option<usize> = rest[..digits].parse().ok();
+                match n.and_then(|n| table.get(n)) {
+                    Some(id) => out.push_str(&id.to_string()),
+                    None => out.push_str(&rest[..digits]),
+                }
+                rest = &rest[digits..];
+                if rest.starts_with(", ") && rest[2..].starts_with(|c: char| c.is_ascii_digit()) {
+                    out.push_str(", ");
+                    rest = &rest[2..];
+                } else {
+                    break;
+                }
+            }
+        }
+        out.push_str(rest);
+        out
+    }
+}
+
+/// The first `node `, `nodes `, `element ` or `elements ` in `text` that a
+/// digit follows: its position, the word and the id table it names.
+fn next_number_word<'a>(text: &str, f: &'a FileIds) -> Option<(usize, &'static str, &'a [i64])> {
+    let words: [(&'static str, &'a [i64]); 4] = [
+        ("nodes ", &f.nodes),
+        ("node ", &f.nodes),
+        ("elements ", &f.elements),
+        ("element ", &f.elements),
+    ];
+    words
+        .iter()
+        .filter_map(|(w, t)| {
+            text.match_indices(w)
+                .find(|(i, _)| text[i + w.len()..].starts_with(|c: char| c.is_ascii_digit()))
+                .map(|(i, _)| (i, *w, *t))
+        })
+        .min_by_key(|(i, w, _)| (*i, std::cmp::Reverse(w.len())))
 }
 
 /// The blank mesh of the scene, with its `all` sets, checked, and the
@@ -319,6 +375,21 @@ fn describe(err: FemError, mesh: &Mesh, names: &Names) -> MeshError {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The engine's 0-based numbers become the file's; other numbers stay.
+    #[test]
+    fn rename_uses_the_files_numbers() {
+        let f = FileIds {
+            nodes: vec![101, 102, 103],
+            elements: vec![7, 8],
+        };
+        let m = "node 0: mass 2; element 1 (nodes 0, 2, 9) at step 3";
+        assert_eq!(
+            FileIds::rename(Some(&f), m),
+            "node 101: mass 2; element 8 (nodes 101, 103, 9) at step 3"
+        );
+        assert_eq!(FileIds::rename(None, m), m);
+    }
 
     fn square() -> Mesh {
         fem_core::rectangle(2.0, 1.0, 2, 1).unwrap()
