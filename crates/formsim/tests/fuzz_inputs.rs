@@ -563,3 +563,51 @@ fn special_and_oversized_files_are_refused_at_once() {
         refused_at_once(&args, needle);
     }
 }
+
+/// The option grammar of `study`, `identify` and `compare`: `--vary
+/// KEY=V1,V2`, `--reference KEY=V`, `--quantities` names (`KEY`,
+/// `SECTION[@STROKE]:COLUMN`), `--fit KEY=LO..HI[:START]` and `--case
+/// NAME:KEY=VALUE;…`, from fragments of valid options and nasty text: each
+/// parses, or is refused with one line, never a panic.
+#[test]
+fn fuzz_study_identify_and_compare_options() {
+    let piece = prop_oneof![
+        Just("contact.params.ac.mu".to_string()),
+        Just("blank.mesh.divisions".to_string()),
+        Just("=".to_string()),
+        Just("..".to_string()),
+        Just(":".to_string()),
+        Just("@".to_string()),
+        Just(",".to_string()),
+        Just(";".to_string()),
+        Just(".".to_string()),
+        Just("OD".to_string()),
+        Just("major".to_string()),
+        Just("default".to_string()),
+        nasty_value(),
+        "[ -~]{0,12}",
+    ];
+    let text = proptest::collection::vec(piece, 0..8).prop_map(|v| v.concat());
+    runner()
+        .run(&text, |t| {
+            if let Err(e) = formsim::study::Knob::parse(&t) {
+                one_line("--vary", &e.to_string())?;
+            }
+            if let Err(e) = formsim::study::parse_reference(&t) {
+                one_line("--reference", &e.to_string())?;
+            }
+            for q in t.split(',') {
+                if let Err(e) = formsim::study::quantity::Quantity::parse(q) {
+                    one_line("--quantities", &e.to_string())?;
+                }
+            }
+            if let Err(e) = formsim::identify::params::FitParam::parse(&t) {
+                one_line("--fit", &e.to_string())?;
+            }
+            if let Err(e) = formsim::compare::Case::parse(&t) {
+                one_line("--case", &e.to_string())?;
+            }
+            Ok(())
+        })
+        .unwrap();
+}
