@@ -153,27 +153,22 @@ fn shipped_measurement_files_read() {
 fn identify_at_the_smallest_evaluation_budget_reports_instead_of_panicking() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("id");
-    let scene = repo("scenes/square-cup-al.toml");
     let csv = repo("data/numisheet93-al-drawin-40mm.csv");
-    let o = formsim(&[
-        "identify",
-        scene.to_str().unwrap(),
-        "--measurements",
-        csv.to_str().unwrap(),
-        "--fit",
-        "contact.params.ac.mu=0.05..0.3",
-        "--out",
-        out.to_str().unwrap(),
-        "--max-evaluations",
-        "3",
-        "-q",
-        "--set",
-        "blank.mesh.divisions=6",
-        "--set",
-        "output.frames=0",
-        "--set",
-        "output.plots=false",
-    ]);
+    let o = identify_al_mu(
+        &csv,
+        &out,
+        &[
+            "--max-evaluations",
+            "3",
+            "-q",
+            "--set",
+            "blank.mesh.divisions=6",
+            "--set",
+            "output.frames=0",
+            "--set",
+            "output.plots=false",
+        ],
+    );
     let err = String::from_utf8_lossy(&o.stderr);
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{err}");
@@ -196,8 +191,19 @@ fn identify_refuses_a_quantity_the_scene_does_not_report() {
     )
     .unwrap();
     let out = dir.path().join("id");
+    let o = identify_al_mu(&csv, &out, &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("states.40.draw_in.DQ (line 3)"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(!out.join("runs").exists(), "{err}");
+}
+
+/// `formsim identify` of AC's μ on the aluminium cup against `csv` into
+/// `out`, with `extra` arguments.
+fn identify_al_mu(csv: &Path, out: &Path, extra: &[&str]) -> Output {
     let scene = repo("scenes/square-cup-al.toml");
-    let o = formsim(&[
+    let mut args = vec![
         "identify",
         scene.to_str().unwrap(),
         "--measurements",
@@ -206,10 +212,7 @@ fn identify_refuses_a_quantity_the_scene_does_not_report() {
         "contact.params.ac.mu=0.05..0.3",
         "--out",
         out.to_str().unwrap(),
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(!o.status.success());
-    assert!(err.contains("states.40.draw_in.DQ (line 3)"), "{err}");
-    assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(!out.join("runs").exists(), "{err}");
+    ];
+    args.extend_from_slice(extra);
+    formsim(&args)
 }

@@ -236,16 +236,19 @@ pub fn all(
     }
 }
 
+/// `at.k`, or `k` at the top.
+fn dotted(at: &str, k: &str) -> String {
+    if at.is_empty() {
+        k.to_string()
+    } else {
+        format!("{at}.{k}")
+    }
+}
+
 /// Remove the nulls (non-finite numbers serialised) of `v`, pushing the
 /// dotted key of each to `keys`.
 fn drop_nulls(v: &mut serde_json::Value, at: String, keys: &mut Vec<String>) {
-    let join = |k: &str| {
-        if at.is_empty() {
-            k.to_string()
-        } else {
-            format!("{at}.{k}")
-        }
-    };
+    let join = |k: &str| dotted(&at, k);
     match v {
         serde_json::Value::Object(m) => {
             m.retain(|k, v| {
@@ -275,13 +278,7 @@ fn drop_nulls(v: &mut serde_json::Value, at: String, keys: &mut Vec<String>) {
 
 /// The dotted key of the first null (a non-finite number serialised) in `v`.
 fn first_null(v: &serde_json::Value, at: String) -> Option<String> {
-    let join = |k: &str| {
-        if at.is_empty() {
-            k.to_string()
-        } else {
-            format!("{at}.{k}")
-        }
-    };
+    let join = |k: &str| dotted(&at, k);
     match v {
         serde_json::Value::Null => Some(at),
         serde_json::Value::Object(m) => m.iter().find_map(|(k, v)| first_null(v, join(k))),
