@@ -64,6 +64,7 @@ fn compare_crosses_cases_with_formulations() {
     let md = std::fs::read_to_string(dir.path().join("compare.md")).unwrap();
     assert!(md.contains("| case | law | formulation |"), "{md}");
     assert!(!md.contains("NaN"), "{md}");
+    assert!(!md.contains("## Warnings"), "{md}");
     let csv = std::fs::read_to_string(dir.path().join("compare.csv")).unwrap();
     let rows: Vec<&str> = csv.lines().collect();
     assert_eq!(rows.len(), 5, "{csv}");
@@ -159,4 +160,37 @@ fn compare_rejects_a_row_listed_twice() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("`ac-convective` appears twice"), "{e}");
+}
+
+/// Each row's warnings (`summary.json`'s `warnings`) are listed under the
+/// table of `compare.md`: the block under WVS has no closed form to check.
+#[test]
+fn compare_lists_each_rows_warnings() {
+    let dir = tempfile::tempdir().unwrap();
+    let matrix = Matrix {
+        cases: vec![
+            Case::parse("coulomb").unwrap(),
+            Case::parse(
+                "pressure:contact.law=wvs;contact.params.wvs.alpha=0.03;contact.params.wvs.beta=0.2;contact.params.wvs.nu=0.8",
+            )
+            .unwrap(),
+        ],
+        laws: Vec::new(),
+        formulations: Vec::new(),
+        sets: strings(&["output.plots=false", "output.frames=0"]),
+    };
+    let entries = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap();
+    let warned: Vec<&String> = entries
+        .iter()
+        .flat_map(|e| &e.result.as_ref().unwrap().summary.warnings)
+        .collect();
+    assert_eq!(warned.len(), 1, "{warned:?}");
+    assert!(warned[0].contains("no analytic reference"), "{warned:?}");
+    let md = std::fs::read_to_string(dir.path().join("compare.md")).unwrap();
+    let label = &entries[1].label;
+    assert!(md.contains("## Warnings"), "{md}");
+    assert!(
+        md.contains(&format!("- `{label}`: no analytic reference")),
+        "{md}"
+    );
 }

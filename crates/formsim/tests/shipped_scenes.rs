@@ -55,6 +55,28 @@ fn strip_draw_runs_clean_and_its_lift_is_the_holders_acceleration() {
     assert!(held.abs() < 0.01, "lift held error {held}");
     let draw = &s.tools["holder"].steps["draw"];
     assert!(draw.held_error.unwrap().abs() < 0.01);
+
+    // `formsim run` prints the closed-form check (it was only in
+    // summary.json) and no warning.
+    let dir = tempfile::tempdir().unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_formsim"))
+        .args(["run", "scenes/strip-draw.toml", "--out"])
+        .arg(dir.path().join("out"))
+        .current_dir(common::root())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success());
+    assert!(
+        stdout.contains("strip: draw force 300.07 N, 2 mu F = 300.00 N (+0.02 %"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("warning"), "{stdout}");
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
 
 /// The block on a plane and the capstan (closed forms `μN` and `e^{μθ}`):

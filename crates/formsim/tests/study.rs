@@ -139,10 +139,13 @@ fn study_of_the_coarse_cup_gives_each_variant_its_errors_and_costs() {
         "## `blank.mesh.divisions`",
         "## `contact.law`",
         "## `output.frames`",
+        "## Warnings",
         "## Recommendation",
     ] {
         assert!(md.contains(heading), "{heading}\n{md}");
     }
+    // The coarse meshes' warning, listed per variant as summary.json has it.
+    assert!(md.contains("- `divisions-8`: blank.mesh:"), "{md}");
     for png in ["pareto.png", "times.png"] {
         assert!(
             std::fs::metadata(out.join(png)).unwrap().len() > 1000,
