@@ -154,13 +154,14 @@ pub struct HistoryRow {
 }
 
 impl HistoryRow {
-    /// Whether every number of the row is finite.
-    fn is_finite(&self) -> bool {
+    /// The row of `energy.csv`: time, stroke, step, then the energies
+    /// (internal, kinetic, hourglass, plastic, contact, friction, external
+    /// work, balance error).
+    pub fn energy_row(&self) -> [f64; 11] {
         let e = &self.energy;
         [
             self.time,
             self.stroke,
-            self.punch_force,
             self.dt,
             e.internal,
             e.kinetic,
@@ -171,8 +172,11 @@ impl HistoryRow {
             e.external,
             e.balance_error,
         ]
-        .iter()
-        .all(|v| v.is_finite())
+    }
+
+    /// Whether every number of the row is finite.
+    fn is_finite(&self) -> bool {
+        self.punch_force.is_finite() && self.energy_row().iter().all(|v| v.is_finite())
     }
 }
 

@@ -310,24 +310,8 @@ fn energy_csv(path: &Path, result: &RunResult) -> Result<(), OutputError> {
     ])
     .map_err(io)?;
     for h in &result.history {
-        let e = &h.energy;
-        csv.record(
-            [
-                h.time,
-                h.stroke,
-                h.dt,
-                e.internal,
-                e.kinetic,
-                e.hourglass,
-                e.plastic,
-                e.contact,
-                e.friction,
-                e.external,
-                e.balance_error,
-            ]
-            .map(|v| v.to_string()),
-        )
-        .map_err(io)?;
+        csv.record(h.energy_row().map(|v| v.to_string()))
+            .map_err(io)?;
     }
     csv.write_to(path).map_err(io)
 }
