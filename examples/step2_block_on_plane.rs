@@ -199,7 +199,7 @@ fn add_contact(
     let spec = PairSpec::new("plane-block", 0, 1.7e5);
     let pair = ContactPair::new(&spec, friction, &geometry, nodes).expect("valid pair settings");
     // No press: the plane stays where it was built.
-    let contact = ContactEffect::new(tools, None, vec![pair], geometry, vec![THICKNESS; 4])
+    let contact = ContactEffect::new(tools, vec![pair], geometry, vec![THICKNESS; 4])
         .expect("the pair's tool exists and there is one thickness per node");
     solver.add_effect(contact)
 }

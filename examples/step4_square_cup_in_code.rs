@@ -131,7 +131,10 @@ fn build_in_code() -> Cup {
     let end_time = press.nominal_duration();
 
     // --- Contact ----------------------------------------------------------------------
-    let contact = solver.add_effect(contact_effect(&mesh, tools, press));
+    // The press is a stage of the solver's step: it moves the tools before
+    // the effects' forces, and contact reads where it put them.
+    solver.set_press(press).expect("before set-up");
+    let contact = solver.add_effect(contact_effect(&mesh, tools));
 
     // --- Boundary conditions ----------------------------------------------------------
     // Symmetry planes x = 0 and y = 0: normal translation and in-plane
@@ -319,8 +322,8 @@ fn press_programme(tools: &[Box<dyn ToolSurface>]) -> Press {
 }
 
 /// The contact effect: one pair per tool against every blank node, the
-/// tools, the press that moves them and the blank's nodal geometry.
-fn contact_effect(mesh: &Mesh, tools: Vec<Box<dyn ToolSurface>>, press: Press) -> ContactEffect {
+/// tools (the solver's press moves them) and the blank's nodal geometry.
+fn contact_effect(mesh: &Mesh, tools: Vec<Box<dyn ToolSurface>>) -> ContactEffect {
     // Each pair has its own integrator (law × formulation; the pairs keep
     // per-point state). The penalty stiffness follows the blank's bulk
     // modulus and the scene's penalty scale 0.1; nodes farther than 1 mm
@@ -349,14 +352,7 @@ fn contact_effect(mesh: &Mesh, tools: Vec<Box<dyn ToolSurface>>, press: Press) -
         .collect();
     // The effect starts from the initial thickness and then reads the
     // shells' nodal thickness every step (a shared field).
-    ContactEffect::new(
-        tools,
-        Some(press),
-        pairs,
-        geometry,
-        vec![T0; mesh.nodes.len()],
-    )
-    .expect("valid contact")
+    ContactEffect::new(tools, pairs, geometry, vec![T0; mesh.nodes.len()]).expect("valid contact")
 }
 
 /// The `--set` overrides that make `scenes/square-cup.toml` this cup.
@@ -374,7 +370,7 @@ fn forces(solver: &Solver, contact: fem_core::EffectId) -> (f64, f64, f64) {
     let c: &ContactEffect = solver
         .effect(contact)
         .expect("the id was returned for a ContactEffect");
-    let press = c.press().expect("the cup has a press");
+    let press = solver.press().expect("the cup has a press");
     let down = Vec3::new(0.0, 0.0, -1.0);
     let stroke = press.displacement(PUNCH).dot(&down);
     let punch = -c.reactions()[PUNCH].dot(&down) * SYMMETRY;

@@ -68,6 +68,9 @@ impl Effect for Timed {
     fn energies(&self) -> EnergyTally {
         self.inner.energies()
     }
+    fn tool_loads(&self) -> &[fem_core::ToolLoad] {
+        self.inner.tool_loads()
+    }
     fn reads(&self) -> &[NodalField] {
         self.inner.reads()
     }
@@ -171,7 +174,8 @@ fn build_cup(options: &Options) -> Cup {
         .into_iter()
         .map(|t| Box::new(t) as Box<dyn ToolSurface>)
         .collect();
-    let contact = ContactEffect::new(boxed, Some(press), pairs, geometry, vec![T0; nn]).unwrap();
+    solver.set_press(press).unwrap();
+    let contact = ContactEffect::new(boxed, pairs, geometry, vec![T0; nn]).unwrap();
     let cid = solver.add_effect(Timed {
         inner: contact,
         spent: Duration::ZERO,
@@ -328,7 +332,7 @@ fn report(options: &Options, cup: &Cup, timing: &Timing) {
     let steps = timing.summary.steps as f64;
     let timed: &Timed = solver.effect(cup.contact).unwrap();
     let c = &timed.inner;
-    let press = c.press().unwrap();
+    let press = solver.press().unwrap();
     println!(
         "cup {n}x{n} ({nn} nodes), skip_far {skip}, rayon threads {}",
         rayon::current_num_threads()

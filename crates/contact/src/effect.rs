@@ -1,6 +1,7 @@
-//! Contact as an engine effect: the tools, the press that moves them, the pairs,
-//! and the blank's nodal thickness and flow stress that the pairs read (from
-//! the shared fields the shells write).
+//! Contact as an engine effect (stage 5 of the explicit step,
+//! docs/architecture.md §3): the tools, placed where the press stage put
+//! them, the pairs, and the blank's nodal thickness and flow stress that the
+//! pairs read (from the shared fields the shells write).
 
 use fem_core::{
     Effect, EnergyTally, FemError, FieldAccess, Forces, NodalField, NodalState, Press, StableDt,
@@ -14,12 +15,14 @@ use std::time::Instant;
 use crate::tool_log::{ToolSample, ToolStepLog, record};
 use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair, ContactTiming};
 
-/// Tools, press and contact pairs over one blank, as a [`fem_core::Effect`].
+/// Tools and contact pairs over one blank, as a [`fem_core::Effect`].
 ///
-/// Per step: the press (when there is one) places the tools at `t_{n+1}`; the
-/// blank's nodal geometry is updated for what the active pairs read; each pair
-/// active in the current press step adds its forces; the reactions are summed
-/// per tool (force-controlled tools read them next step).
+/// Per step: the tools take the poses the press stage gave them for
+/// `t_{n+1}` ([`StepContext::press`]; tools without a press stay where they
+/// are); the blank's nodal geometry is updated for what the active pairs
+/// read; each pair active in the current press step adds its forces; the
+/// reactions are summed per tool ([`Effect::tool_loads`]: force-controlled
+/// tools read them in the next press stage).
 ///
 /// The blank's nodal thickness and outer-fibre flow stress are `fem-core`
 /// shared fields: contact reads [`NodalField::THICKNESS`] and, when a pair's
@@ -49,7 +52,6 @@ use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair, ContactTiming}
 /// in parallel; the results are the same bits on any number of threads.
 pub struct ContactEffect {
     tools: Vec<Box<dyn ToolSurface>>,
-    press: Option<Press>,
     pairs: Vec<ContactPair>,
     geometry: BlankGeometry,
     needs: PointNeeds,
@@ -97,13 +99,13 @@ impl std::fmt::Debug for ContactEffect {
 
 impl ContactEffect {
     /// Contact of `pairs` against `tools` over the blank `geometry` of initial
-    /// thickness `thickness` (mm, per node), moved by `press` if given.
+    /// thickness `thickness` (mm, per node). The solver's press, if any,
+    /// moves the tools (tool `i` is the press's tool `i`).
     ///
     /// # Errors
     /// A pair referring to a missing tool; a thickness list of the wrong length.
     pub fn new(
         tools: Vec<Box<dyn ToolSurface>>,
-        press: Option<Press>,
         pairs: Vec<ContactPair>,
         geometry: BlankGeometry,
         thickness: Vec<f64>,
@@ -144,7 +146,6 @@ impl ContactEffect {
             reactions: vec![Vec3::zeros(); tools.len()],
             loads: vec![ToolLoad::default(); tools.len()],
             tools,
-            press,
             pairs,
             geometry,
             needs,
@@ -220,11 +221,6 @@ impl ContactEffect {
         &self.tools
     }
 
-    /// The press, if any.
-    pub fn press(&self) -> Option<&Press> {
-        self.press.as_ref()
-    }
-
     /// The pairs.
     pub fn pairs(&self) -> &[ContactPair] {
         &self.pairs
@@ -252,8 +248,8 @@ impl ContactEffect {
         e
     }
 
-    /// Seconds spent per stage of the contact steps so far: the press and the
-    /// nodal geometry, and every pair's stages summed. What the stages leave
+    /// Seconds spent per stage of the contact steps so far: placing the tools
+    /// and the nodal geometry, and every pair's stages summed. What the stages leave
     /// out of the whole [`Effect::add_forces`] (copying the shared fields,
     /// summing the energies, logging the tools, handing the step to rayon's
     /// pool) is small; the solver times the whole call
@@ -266,22 +262,19 @@ impl ContactEffect {
         t
     }
 
-    /// One contact step (`ctx.dt > 0`): press, nodal geometry, every pair.
+    /// One contact step (`ctx.dt > 0`): tools, nodal geometry, every pair.
     fn step(
         &mut self,
-        ctx: &StepContext,
+        ctx: &StepContext<'_>,
         state: &NodalState,
         forces: &mut Forces,
     ) -> Result<(), FemError> {
         let t_start = Instant::now();
-        if let Some(press) = &mut self.press {
-            press.advance(ctx.time, ctx.dt, &self.loads)?;
+        if let Some(press) = ctx.press {
             for (i, tool) in self.tools.iter_mut().enumerate() {
                 tool.set_pose(press.pose(i), press.velocity(i));
             }
         }
-        let t_press = Instant::now();
-        self.timing.press += (t_press - t_start).as_secs_f64();
         let view = BlankView {
             x0: &state.x0,
             x: &state.x,
@@ -294,7 +287,7 @@ impl ContactEffect {
                 .map(|(a, b)| (a.as_slice(), b.as_slice())),
         };
         self.geometry.update(&view, ctx.dt, self.needs);
-        self.timing.geometry += t_press.elapsed().as_secs_f64();
+        self.timing.geometry += t_start.elapsed().as_secs_f64();
         self.reactions.iter_mut().for_each(|r| *r = Vec3::zeros());
         self.loads.iter_mut().for_each(|l| *l = ToolLoad::default());
         let mut friction = 0.0;
@@ -302,7 +295,7 @@ impl ContactEffect {
         let mut blank_work = 0.0;
         self.tool_work_step.iter_mut().for_each(|w| *w = 0.0);
         for (k, (active, energy)) in self.active.iter_mut().zip(&mut self.before).enumerate() {
-            *active = self.press.as_ref().is_none_or(|p| p.pair_active(k));
+            *active = ctx.press.is_none_or(|p| p.pair_active(k));
             *energy = self.pairs[k].energy;
         }
         step_pairs(
@@ -338,14 +331,13 @@ impl ContactEffect {
         for (load, r) in self.loads.iter_mut().zip(&self.reactions) {
             load.force = *r;
         }
-        self.log_tools(ctx.dt);
+        self.log_tools(ctx.dt, ctx.press);
         Ok(())
     }
 
     /// Sample what each tool did in this explicit step.
-    fn log_tools(&mut self, dt: f64) {
+    fn log_tools(&mut self, dt: f64, press: Option<&Press>) {
         for (i, log) in self.tool_log.iter_mut().enumerate() {
-            let press = self.press.as_ref();
             let direction = press
                 .and_then(|p| p.direction(i).or_else(|| p.first_direction(i)))
                 .unwrap_or(-Vec3::z());
@@ -463,7 +455,7 @@ impl Effect for ContactEffect {
 
     fn add_forces(
         &mut self,
-        ctx: &StepContext,
+        ctx: &StepContext<'_>,
         state: &NodalState,
         forces: &mut Forces,
         fields: &mut FieldAccess<'_>,
@@ -520,6 +512,12 @@ impl Effect for ContactEffect {
                 element: node,
                 what: "contact springs (penalty + stick) at a blank node (element = node index)",
             })
+    }
+
+    /// The force and contact stiffness of the blank on each tool in the
+    /// last step.
+    fn tool_loads(&self) -> &[ToolLoad] {
+        &self.loads
     }
 
     fn energies(&self) -> EnergyTally {

@@ -5,11 +5,10 @@
 ///
 /// A [`crate::ContactPair`] fills the stages of its own step
 /// (`broad_phase` … `scatter`); [`crate::ContactEffect::timing`] adds its
-/// pairs' together with its own `press` and `geometry`.
+/// pairs' together with its own `geometry`. The press is a stage of the
+/// solver's step, timed there (`fem_core::StepTiming::press`).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ContactTiming {
-    /// Placing the tools for the step (the press) (s).
-    pub press: f64,
     /// The blank's nodal geometry update (areas, normals, gradients the laws read) (s).
     pub geometry: f64,
     /// Candidate selection: bounding-box margin and far-node skipping (pair step 1a, `stages::broad_phase`) (s).
@@ -27,7 +26,6 @@ pub struct ContactTiming {
 impl ContactTiming {
     /// Stage-wise sum.
     pub fn add(&mut self, o: &ContactTiming) {
-        self.press += o.press;
         self.geometry += o.geometry;
         self.broad_phase += o.broad_phase;
         self.projection += o.projection;
@@ -38,8 +36,7 @@ impl ContactTiming {
 
     /// Sum of the stages (s).
     pub fn sum(&self) -> f64 {
-        self.press
-            + self.geometry
+        self.geometry
             + self.broad_phase
             + self.projection
             + self.normal
@@ -48,9 +45,8 @@ impl ContactTiming {
     }
 
     /// The stages as `(name, seconds)`, in the order of the step.
-    pub fn stages(&self) -> [(&'static str, f64); 7] {
+    pub fn stages(&self) -> [(&'static str, f64); 6] {
         [
-            ("press", self.press),
             ("geometry", self.geometry),
             ("broad_phase", self.broad_phase),
             ("projection", self.projection),

@@ -52,7 +52,7 @@ fn slip_force(law: &str, params: Params, formulation: &str, mu: f64) -> (f64, f6
         vel: RigidVelocity::default(),
     });
     let contact =
-        ContactEffect::new(vec![plane], None, vec![pair], geometry, vec![thickness; 4]).unwrap();
+        ContactEffect::new(vec![plane], vec![pair], geometry, vec![thickness; 4]).unwrap();
     let id = solver.add_effect(contact);
     let n_total = 1000.0;
     solver

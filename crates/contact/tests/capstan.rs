@@ -75,7 +75,7 @@ fn tension_ratio(formulation: &str, mu: f64) -> f64 {
     )
     .unwrap();
     let tools: Vec<Box<dyn ToolSurface>> = vec![Box::new(drum)];
-    solver.add_effect(ContactEffect::new(tools, None, vec![pair], geometry, vec![T; n]).unwrap());
+    solver.add_effect(ContactEffect::new(tools, vec![pair], geometry, vec![T; n]).unwrap());
     // Keep the strip in its plane: the centre line holds uy (the width may contract).
     solver.fix("centre", Dofs::of(&[Dof::Uy])).unwrap();
     let t_hold = 200.0;

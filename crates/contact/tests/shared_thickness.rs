@@ -41,14 +41,7 @@ fn contact_on_plane(nodes: &[Vec3], quads: &[[u32; 4]], t0: f64) -> ContactEffec
         pose: RigidPose::default(),
         vel: RigidVelocity::default(),
     });
-    ContactEffect::new(
-        vec![plane],
-        None,
-        vec![pair],
-        geometry,
-        vec![t0; nodes.len()],
-    )
-    .unwrap()
+    ContactEffect::new(vec![plane], vec![pair], geometry, vec![t0; nodes.len()]).unwrap()
 }
 
 /// A solver with contact on the plane (added first) and steel shells of

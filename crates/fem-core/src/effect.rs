@@ -1,6 +1,6 @@
 //! The `Effect` trait: anything that adds nodal forces (element families, contact, springs), with its masses, time step and energies.
 
-use crate::{FemError, FieldAccess, Forces, NodalField, NodalState, StepContext};
+use crate::{FemError, FieldAccess, Forces, NodalField, NodalState, StepContext, ToolLoad};
 use std::any::Any;
 
 /// The stable time step an effect imposes, and which of its elements limits it.
@@ -129,17 +129,26 @@ pub trait Effect: Any + Send {
 
     /// Add forces/moments for the configuration in `state` (`x` at `t_{n+1}`,
     /// `v`/`w` at `t_{n+1/2}`), as forces acting on the nodes; update internal
-    /// state (stresses) and energies. `fields` holds the shared nodal fields:
+    /// state (stresses) and energies. `ctx.press` is the press at `t_{n+1}`. `fields` holds the shared nodal fields:
     /// those this effect reads were written in this same call of the solver
     /// (at `t_{n+1}`) by effects that ran before it; those it writes, it
     /// writes for the configuration in `state`.
     fn add_forces(
         &mut self,
-        ctx: &StepContext,
+        ctx: &StepContext<'_>,
         state: &NodalState,
         forces: &mut Forces,
         fields: &mut FieldAccess<'_>,
     ) -> Result<(), FemError>;
+
+    /// What this effect did to each rigid tool of the press in its last
+    /// [`Effect::add_forces`] (index: tool, as in [`crate::Press`]). The
+    /// solver sums them over the effects and hands them to the press stage
+    /// of the next step, where force-controlled tools read them. The default
+    /// touches no tool.
+    fn tool_loads(&self) -> &[ToolLoad] {
+        &[]
+    }
 
     /// Cumulative energies this effect accounts for, at the configuration of
     /// the last `add_forces` call (mJ).

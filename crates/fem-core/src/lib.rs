@@ -1,9 +1,11 @@
 //! # fem-core: formsim's explicit engine
 //!
-//! Place in the pipeline: steps 4–6 of an explicit step (docs/architecture.md §3) —
-//! boundary conditions, central-difference update of the nodal state with
-//! the stable time step and mass scaling, and the energy ledger — plus the
-//! quad-shell [`Mesh`] the blank is built from. It owns the nodal state
+//! Place in the pipeline: it runs the explicit step (docs/architecture.md §3)
+//! and owns its stages 1–3 and 6 — integration of the nodal state with its
+//! boundary conditions, the energy ledger, the press that moves the rigid
+//! tools, the stable time step with mass scaling — and calls the effects for
+//! stages 4–5 (element and contact forces); plus the quad-shell [`Mesh`]
+//! the blank is built from. It owns the nodal state
 //! ([`NodalState`]), the force accumulators ([`Forces`]), the [`Effect`]
 //! trait through which element families, contact and anything else add
 //! nodal forces, masses, time-step limits and energies, the nodal fields

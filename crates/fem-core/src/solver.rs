@@ -1,27 +1,36 @@
 //! The explicit solver: set-up (masses, mass scaling, initial forces), the central-difference step, run loop and output hook.
 //!
-//! # One step (`t_n → t_{n+1}`)
+//! # One step (`t_n → t_{n+1}`), stage by stage
 //!
-//! With `Δt = Δt_{n+1/2}` (chosen at the end of the previous step) and
-//! `Δt̄ = (Δt_{n-1/2} + Δt_{n+1/2})/2`:
+//! [`Solver::step`] runs six named stages in this order; the numbers are the
+//! ones every document uses. With `Δt = Δt_{n+1/2}` (chosen at the end of the
+//! previous step) and `Δt̄ = (Δt_{n-1/2} + Δt_{n+1/2})/2`:
 //!
-//! 1. `a_n = M⁻¹ f_n`; `v_{n+1/2} = [(1 − c Δt̄/2) v_{n-1/2} + Δt̄ a_n] / (1 + c Δt̄/2)`
-//!    (`c` the dynamic-relaxation damping, 0 by default); the same for `w`
-//!    with the scalar inertia.
-//! 2. Constrained DOFs overwrite their velocity: fixed → 0, prescribed
-//!    velocity → `value · A(t_{n+1/2})`, prescribed displacement →
-//!    `(value · A(t_{n+1}) − u_n)/Δt` (so the displacement is met exactly).
-//! 3. Energy ledger at `t_n` (see [`crate::energy`]).
-//! 4. `x_{n+1} = x_n + Δt v_{n+1/2}`; `t_{n+1} = t_n + Δt`.
-//! 5. Forces at `t_{n+1}`: zero, add nodal loads `value · A(t_{n+1})`, then each
-//!    effect, every writer of a shared nodal field before its readers (see
-//!    [`crate::fields`]): a reader sees the field at `t_{n+1}`, as its writer
-//!    computed it in this same step.
-//! 6. `Δt_{n+3/2} = min(safety × stable dt, dt_max)`, the stable dt the
-//!    smallest of the effects' own and of the effects on one node together
-//!    ([`crate::nodal_limit`]), with mass scaling if configured; a collapse
-//!    stops the run with an error. A fixed step (`fixed_dt`) is checked
-//!    against the stable dt instead, and the run stops when it is above.
+//! 1. **Integrate** (`update_nodes`, one pass over the nodes):
+//!    `a_n = M⁻¹ f_n`; `v_{n+1/2} = [(1 − c Δt̄/2) v_{n-1/2} + Δt̄ a_n] / (1 + c Δt̄/2)`
+//!    (`c` the dynamic-relaxation damping, 0 by default; the same for `w`
+//!    with the scalar inertia); constrained DOFs overwrite their velocity
+//!    (fixed → 0, prescribed velocity → `value · A(t_{n+1/2})`, prescribed
+//!    displacement → `(value · A(t_{n+1}) − u_n)/Δt`, so the displacement is
+//!    met exactly); `x_{n+1} = x_n + Δt v_{n+1/2}`.
+//! 2. **Ledger** (`book_energy`): the energies at `t_n` (see
+//!    [`crate::energy`]); `t_{n+1} = t_n + Δt`.
+//! 3. **Press** (`move_press`, [`crate::press`]): the rigid tools move to
+//!    `t_{n+1}`, force-controlled ones reading what the effects did to them
+//!    in the last step ([`Effect::tool_loads`]). The effects read the press
+//!    through [`StepContext::press`].
+//! 4. **Element forces** and 5. **contact forces** (`compute_forces`): zero,
+//!    add nodal loads `value · A(t_{n+1})`, then each effect, every writer of
+//!    a shared nodal field before its readers (see [`crate::fields`]): a
+//!    reader sees the field at `t_{n+1}`, as its writer computed it in this
+//!    same step. In formsim the writers are the blank's shells (stage 4) and
+//!    the reader is contact (stage 5).
+//! 6. **Time step** (`next_dt`): `Δt_{n+3/2} = min(safety × stable dt, dt_max)`,
+//!    the stable dt the smallest of the effects' own and of the effects on
+//!    one node together ([`crate::nodal_limit`]), with mass scaling if
+//!    configured; a collapse stops the run with an error. A fixed step
+//!    (`fixed_dt`) is checked against the stable dt instead, and the run
+//!    stops when it is above.
 //!
 //! Nodes with zero mass (zero inertia) do not move (do not rotate): they are
 //! counted in [`SetupReport::massless_nodes`].
@@ -30,8 +39,8 @@ use crate::fields::{Declared, effect_order};
 use crate::nodal_limit::NodalLimit;
 use crate::{
     Amplitude, BoundaryCondition, Dof, Dofs, Effect, EnergyLedger, EnergyTally, FemError, Forces,
-    Mesh, MotionKind, NodalField, NodalLoad, NodalState, SharedFields, SolverSettings, StableDt,
-    StepContext, Vec3,
+    Mesh, MotionKind, NodalField, NodalLoad, NodalState, Press, SharedFields, SolverSettings,
+    StableDt, StepContext, ToolLoad, Vec3,
 };
 use std::any::Any;
 use std::collections::BTreeMap;
@@ -107,12 +116,14 @@ pub struct StepReport {
 pub struct StepTiming {
     /// Whole calls of [`Solver::step`] (s).
     pub total: f64,
-    /// Steps 1–4: velocities, constraints, positions and the energy ledger (s).
+    /// Stages 1–2: velocities, constraints, positions and the energy ledger (s).
     pub integration: f64,
-    /// Step 5 outside the effects: zeroing the forces, nodal loads, the
+    /// Stage 3: the press moving the rigid tools to `t_{n+1}` (s).
+    pub press: f64,
+    /// Stages 4–5 outside the effects: zeroing the forces, nodal loads, the
     /// finiteness check of the summed forces (s).
     pub assembly: f64,
-    /// Step 6: the effects' stable time steps and mass scaling during the run (s).
+    /// Stage 6: the effects' stable time steps and mass scaling during the run (s).
     pub time_step: f64,
     /// Each effect's [`Effect::add_forces`], by effect index (order of
     /// addition, see [`Solver::effect_name`]) (s).
@@ -121,7 +132,7 @@ pub struct StepTiming {
 
 impl StepTiming {
     /// The engine's own seconds: `integration + assembly + time_step`
-    /// (everything of the step but the effects' forces).
+    /// (everything of the step but the press and the effects' forces).
     pub fn engine(&self) -> f64 {
         self.integration + self.assembly + self.time_step
     }
@@ -130,6 +141,7 @@ impl StepTiming {
     fn reset(&mut self) {
         self.total = 0.0;
         self.integration = 0.0;
+        self.press = 0.0;
         self.assembly = 0.0;
         self.time_step = 0.0;
         self.effects.iter_mut().for_each(|s| *s = 0.0);
@@ -390,6 +402,11 @@ pub struct Solver {
     order: Vec<usize>,
     /// The nodal fields effects share, allocated at set-up.
     fields: SharedFields,
+    /// The press that moves the rigid tools, if any (its own stage).
+    press: Option<Press>,
+    /// What the effects did to each tool of the press in the last force
+    /// computation, summed (read by the press in the next step).
+    tool_loads: Vec<ToolLoad>,
     point_masses: Vec<(u32, f64, f64)>,
     constraints: Vec<Constraint>,
     /// Reaction (N or N·mm) of each constraint at the ledger time `t_n`.
@@ -470,6 +487,8 @@ impl Solver {
             effects: Vec::new(),
             order: Vec::new(),
             fields: SharedFields::default(),
+            press: None,
+            tool_loads: Vec::new(),
             point_masses: Vec::new(),
             constraints: Vec::new(),
             reactions: Vec::new(),
@@ -506,6 +525,30 @@ impl Solver {
     /// runs last and shares no field.
     pub fn add_effect<E: Effect>(&mut self, effect: E) -> EffectId {
         self.add_boxed_effect(Box::new(effect))
+    }
+
+    /// Give the solver the press that moves the rigid tools: its stage runs
+    /// in every step before the effects' forces, and the effects read it
+    /// through [`StepContext::press`].
+    ///
+    /// # Errors
+    /// Called after set-up.
+    pub fn set_press(&mut self, press: Press) -> Result<(), FemError> {
+        self.require_not_initialized("set the press")?;
+        self.tool_loads = vec![ToolLoad::default(); press.tool_names().len()];
+        self.press = Some(press);
+        Ok(())
+    }
+
+    /// The press, if any, as of the last step.
+    pub fn press(&self) -> Option<&Press> {
+        self.press.as_ref()
+    }
+
+    /// What the effects did to each tool of the press in the last step,
+    /// summed over the effects (index: tool).
+    pub fn tool_loads(&self) -> &[ToolLoad] {
+        &self.tool_loads
     }
 
     /// Add a boxed effect.
@@ -1023,6 +1066,32 @@ impl Solver {
         }
     }
 
+    /// The press stage: move the tools to `time` (`dt > 0`), reading what the
+    /// effects did to them in the last step.
+    fn move_press(&mut self, time: f64, dt: f64) -> Result<(), FemError> {
+        if let Some(press) = &mut self.press
+            && dt > 0.0
+        {
+            let started = Instant::now();
+            press.advance(time, dt, &self.tool_loads)?;
+            self.timing.press += started.elapsed().as_secs_f64();
+        }
+        Ok(())
+    }
+
+    /// What the effects did to the press's tools in this step, summed.
+    fn gather_tool_loads(&mut self) {
+        self.tool_loads
+            .iter_mut()
+            .for_each(|l| *l = ToolLoad::default());
+        for e in &self.effects {
+            for (sum, l) in self.tool_loads.iter_mut().zip(e.tool_loads()) {
+                sum.force += l.force;
+                sum.stiffness += l.stiffness;
+            }
+        }
+    }
+
     /// Zero the accumulators, add the loads at `time` and every effect's forces.
     fn compute_forces(&mut self, time: f64, dt: f64, step: u64) -> Result<(), FemError> {
         let started = Instant::now();
@@ -1037,7 +1106,12 @@ impl Solver {
                 self.forces.m[l.node as usize][axis] += p;
             }
         }
-        let ctx = StepContext { time, dt, step };
+        let ctx = StepContext {
+            time,
+            dt,
+            step,
+            press: self.press.as_ref(),
+        };
         let mut tally = EnergyTally::default();
         let mut mark = Instant::now();
         self.timing.assembly += (mark - started).as_secs_f64();
@@ -1051,6 +1125,7 @@ impl Solver {
             tally.add(&e.energies());
         }
         self.tally = tally;
+        self.gather_tool_loads();
         let sum: f64 = self
             .forces
             .f
@@ -1284,17 +1359,22 @@ impl Solver {
         let k = self.step_constants();
         let dt = k.dt;
 
-        // 1.–2. and 4., fused in one pass over the nodes; 3. the ledger at t_n.
+        // 1. Integrate: velocities, constraints and positions, one pass.
         let sums = self.update_nodes(k);
+        // 2. Ledger: the energies at t_n.
         let ledger = self.book_energy(first, k, sums);
         self.time = k.t_next;
         self.land_at = None;
         self.step += 1;
         self.dt_prev = dt;
-
-        // 5. Forces at t_{n+1}; 6. next time step.
         self.timing.integration += started.elapsed().as_secs_f64();
+
+        // 3. Press: the tools at t_{n+1}.
+        self.move_press(self.time, dt)?;
+        // 4.–5. Forces at t_{n+1}: loads, then each effect, writers of a
+        // shared field before its readers (the blank's shells, then contact).
         self.compute_forces(self.time, dt, self.step)?;
+        // 6. Time step: the next stable step, with mass scaling.
         let mark = Instant::now();
         let (dt_next, limit) = self.next_dt()?;
         self.timing.time_step += mark.elapsed().as_secs_f64();

@@ -90,8 +90,8 @@ impl Forces {
 }
 
 /// Where the integration stands when forces are asked for.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StepContext {
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StepContext<'a> {
     /// Time `t_{n+1}` of the configuration whose forces are computed (s).
     pub time: f64,
     /// Time step `Δt_{n+1/2} = t_{n+1} - t_n` (s); 0 for the initial force
@@ -99,4 +99,8 @@ pub struct StepContext {
     pub dt: f64,
     /// Step number `n + 1` (0 for the initial force computation).
     pub step: u64,
+    /// The press, already moved to `time` by the press stage (`None`
+    /// without one): the tools' poses and velocities, the current press step
+    /// and the pairs it activates.
+    pub press: Option<&'a crate::Press>,
 }

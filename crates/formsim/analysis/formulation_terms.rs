@@ -272,7 +272,7 @@ fn run(
     while model.solver.time() < end {
         model.solver.step_toward(end).map_err(|e| e.to_string())?;
         let c = model.contact().expect("contact effect");
-        let stroke = c.press().map_or(0.0, |p| {
+        let stroke = model.press().map_or(0.0, |p| {
             p.displacement(stroke_tool.index)
                 .dot(&stroke_tool.direction)
         });

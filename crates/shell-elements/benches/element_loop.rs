@@ -30,7 +30,7 @@ struct Blank<F: ShellFormulation, M: Material = J2PlaneStress> {
     set: ShellSet<F, M>,
     state: NodalState,
     forces: Forces,
-    ctx: StepContext,
+    ctx: StepContext<'static>,
 }
 
 fn blank<F: ShellFormulation>(form: F, n: usize, parallel_min: usize) -> Blank<F> {
@@ -88,6 +88,7 @@ fn blank_of<F: ShellFormulation, M: Material>(
         time: 0.0,
         dt: 2e-5,
         step: 1,
+        press: None,
     };
     let mut b = Blank {
         set,

@@ -14,7 +14,7 @@ struct Blank {
     set: ShellSet<BelytschkoTsay, J2PlaneStress>,
     state: NodalState,
     forces: Forces,
-    ctx: StepContext,
+    ctx: StepContext<'static>,
 }
 
 impl Blank {
@@ -77,6 +77,7 @@ fn main() {
         time: 0.0,
         dt: 2e-5,
         step: 1,
+        press: None,
     };
     let mut b = Blank {
         set,

@@ -994,6 +994,7 @@ mod tests {
             time: dt,
             dt,
             step: 1,
+            press: None,
         };
         let mut k = DMatrix::<f64>::zeros(24, 24);
         for j in 0..24 {
@@ -1074,6 +1075,7 @@ mod tests {
             time: dt,
             dt,
             step: 1,
+            press: None,
         };
         set.add_forces(&ctx, &st, &mut f, &mut fem_core::FieldAccess::none())
             .unwrap();
@@ -1308,6 +1310,7 @@ mod tests {
             time: 0.0,
             dt: 1e-6,
             step: 1,
+            press: None,
         };
         let e = set
             .add_forces(

@@ -438,6 +438,7 @@ fn shell_set_accessors_read_lane_major_blocks() {
         time: 0.0,
         dt,
         step: 1,
+        press: None,
     };
     for _ in 0..200 {
         forces.clear();

@@ -13,8 +13,8 @@ pub const START: f64 = 13.0;
 /// The punch's stroke (mm).
 pub fn stroke(model: &Model) -> f64 {
     let s = model.stroke.expect("the cup has a stroke tool");
-    let c = model.contact().expect("the cup has contact");
-    c.press()
+    model
+        .press()
         .map_or(0.0, |p| p.displacement(s.index).dot(&s.direction))
 }
 

@@ -436,7 +436,7 @@ fn finish(
 fn stroke_and_force(model: &Model, symmetry: f64) -> (f64, f64) {
     match (model.stroke, model.contact()) {
         (Some(s), Some(c)) => {
-            let stroke = c
+            let stroke = model
                 .press()
                 .map_or(0.0, |p| p.displacement(s.index).dot(&s.direction));
             let force = -c.reactions()[s.index].dot(&s.direction) * symmetry;
@@ -491,7 +491,7 @@ struct PressLog {
 
 impl PressLog {
     fn update(&mut self, model: &Model, stroke: f64) {
-        let Some(press) = model.contact().and_then(|c| c.press()) else {
+        let Some(press) = model.press() else {
             return;
         };
         let k = press.current_step();

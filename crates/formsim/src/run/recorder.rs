@@ -174,7 +174,10 @@ impl<'a> Recorder<'a> {
         self.pull_sum.1 += 1;
         if let (Some(i), Some(c)) = (self.strip_holder, model.contact()) {
             self.holder_sum.0 -= c.reactions()[i].dot(&self.axes[i]);
-            self.holder_sum.1 += c.press().and_then(|p| p.applied_force(i)).unwrap_or(0.0);
+            self.holder_sum.1 += model
+                .press()
+                .and_then(|p| p.applied_force(i))
+                .unwrap_or(0.0);
         }
         Ok(())
     }

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 /// Contact's seconds: the whole effect (`total`, as the solver timed it) and
 /// its stages (contact's own [`ContactTiming`]), written to `summary.json` as
-/// one object: `{total, press, geometry, broad_phase, projection, normal,
+/// one object: `{total, geometry, broad_phase, projection, normal,
 /// friction, scatter}` (s).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ContactSeconds {
@@ -32,11 +32,13 @@ impl Serialize for ContactSeconds {
 
 /// Seconds spent over the run, per stage (wall clock).
 ///
-/// `elements + contact.total + engine + output` is the time-step loop,
+/// `press + elements + contact.total + engine + output` is the time-step loop,
 /// `wall_time_s` (to the clock readings between the stages); `final_output`
 /// comes after the loop.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
 pub struct Timing {
+    /// The press stage: moving the tools (s).
+    pub press: f64,
     /// The shells' `add_forces` (every effect but contact) (s).
     pub elements: f64,
     /// Contact (s).
@@ -72,6 +74,7 @@ impl Timing {
             _ => ContactSeconds::default(),
         };
         Self {
+            press: t.press,
             elements,
             contact,
             engine: t.engine(),
@@ -80,13 +83,14 @@ impl Timing {
         }
     }
 
-    /// The loop's stages summed: `elements + contact.total + engine + output` (s).
+    /// The loop's stages summed: `press + elements + contact.total + engine
+    /// + output` (s).
     pub fn loop_sum(&self) -> f64 {
-        self.elements + self.contact.total + self.engine + self.output
+        self.press + self.elements + self.contact.total + self.engine + self.output
     }
 
     /// One line for the terminal, in seconds and % of the loop's `wall` time,
-    /// e.g. `elements 8.1 s (25 %), contact 20.3 s (63 %: projection 11.0,
+    /// e.g. `press 0.01 s (0 %), elements 8.1 s (25 %), contact 20.3 s (63 %: projection 11.0,
     /// …), engine 2.0 s (6 %), output 1.2 s (4 %)`.
     pub fn line(&self, wall: f64) -> String {
         let pct = |s: f64| {
@@ -100,8 +104,10 @@ impl Timing {
             .map(|(name, seconds)| format!("{} {seconds:.2}", name.replace('_', " ")))
             .collect();
         format!(
-            "elements {:.2} s ({:.0} %), contact {:.2} s ({:.0} %: {}), \
+            "press {:.2} s ({:.0} %), elements {:.2} s ({:.0} %), contact {:.2} s ({:.0} %: {}), \
              engine {:.2} s ({:.0} %), output {:.2} s ({:.0} %)",
+            self.press,
+            pct(self.press),
             self.elements,
             pct(self.elements),
             c.total,

@@ -92,7 +92,7 @@ pub fn tools(model: &Model) -> BTreeMap<String, ToolSummary> {
     let Some(c) = model.contact() else {
         return BTreeMap::new();
     };
-    let step_names: Vec<String> = c.press().map_or_else(Vec::new, |p| {
+    let step_names: Vec<String> = model.press().map_or_else(Vec::new, |p| {
         p.steps().iter().map(|s| s.name.clone()).collect()
     });
     let axes = press_axes(model);
@@ -101,7 +101,9 @@ pub fn tools(model: &Model) -> BTreeMap<String, ToolSummary> {
         .zip(&model.tool_names)
         .enumerate()
         .map(|(i, (log, name))| {
-            let travel = c.press().map_or(0.0, |p| p.displacement(i).dot(&axes[i]));
+            let travel = model
+                .press()
+                .map_or(0.0, |p| p.displacement(i).dot(&axes[i]));
             (name.clone(), tool_summary(log, &step_names, travel))
         })
         .collect()
@@ -232,12 +234,13 @@ pub struct ToolRow {
 /// The press axis each tool's history is resolved along: its first direction
 /// of motion, else −z.
 pub fn press_axes(model: &Model) -> Vec<plugins_api::Vec3> {
-    let Some(c) = model.contact() else {
+    if model.contact().is_none() {
         return Vec::new();
-    };
+    }
     (0..model.tool_names.len())
         .map(|i| {
-            c.press()
+            model
+                .press()
                 .and_then(|p| p.first_direction(i))
                 .unwrap_or(-plugins_api::Vec3::z())
         })
@@ -254,8 +257,8 @@ pub fn sample(model: &Model, axes: &[plugins_api::Vec3], time: f64, stroke: f64)
                 ToolState {
                     force: f.dot(d),
                     force_total: f.norm(),
-                    prescribed: c.press().and_then(|p| p.applied_force(i)),
-                    position: c.press().map_or(0.0, |p| p.displacement(i).dot(d)),
+                    prescribed: model.press().and_then(|p| p.applied_force(i)),
+                    position: model.press().map_or(0.0, |p| p.displacement(i).dot(d)),
                 }
             })
             .collect()

@@ -78,6 +78,11 @@ impl Model {
     pub fn contact(&self) -> Option<&ContactEffect> {
         self.contact.and_then(|id| self.solver.effect(id))
     }
+
+    /// The press that moves the tools (the solver's press stage).
+    pub fn press(&self) -> Option<&Press> {
+        self.solver.press()
+    }
 }
 
 /// The blank's material and shells, added to `solver`: the material model
@@ -189,8 +194,12 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     let (contact, law, formulation) = if tools.is_empty() {
         (None, s.contact.law.clone(), s.contact.formulation.clone())
     } else {
-        let (id, law, formulation) =
-            add_contact(loaded, &mut solver, &mesh, tools, press, &tool_names)?;
+        if let Some(press) = press {
+            solver
+                .set_press(press)
+                .map_err(|e| loaded.key_error("steps", e.to_string()))?;
+        }
+        let (id, law, formulation) = add_contact(loaded, &mut solver, &mesh, tools, &tool_names)?;
         (Some(id), law, formulation)
     };
     add_boundary_and_loads(loaded, &mut solver, &mesh)?;
@@ -346,14 +355,14 @@ fn tool_motion(motion: &Motion, duration: f64) -> ToolMotion {
     }
 }
 
-/// The contact effect: one pair per entry of `[contact]`, the tools and
-/// the press; also the first pair's law and formulation (for reports).
+/// The contact effect: one pair per entry of `[contact]` and the tools (the
+/// solver's press moves them); also the first pair's law and formulation
+/// (for reports).
 fn add_contact(
     loaded: &LoadedScene,
     solver: &mut Solver,
     mesh: &Mesh,
     tools: Vec<Box<dyn ToolSurface>>,
-    press: Option<Press>,
     tool_names: &[String],
 ) -> Result<(EffectId, String, String), SceneError> {
     let s: &Scene = &loaded.scene;
@@ -372,14 +381,8 @@ fn add_contact(
         }
         pairs.push(pair);
     }
-    let effect = ContactEffect::new(
-        tools,
-        press,
-        pairs,
-        geometry,
-        vec![s.blank.thickness; n_nodes],
-    )
-    .map_err(|e| loaded.key_error("contact", e.to_string()))?;
+    let effect = ContactEffect::new(tools, pairs, geometry, vec![s.blank.thickness; n_nodes])
+        .map_err(|e| loaded.key_error("contact", e.to_string()))?;
     Ok((solver.add_effect(effect), names.0, names.1))
 }
 

@@ -243,6 +243,7 @@ mod tests {
                 time: 0.0,
                 dt: 1e-4,
                 step: 1,
+                press: None,
             };
             for _ in 0..200 {
                 forces.clear();

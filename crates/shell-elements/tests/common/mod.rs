@@ -31,6 +31,7 @@ pub fn one_step<E: ShellFormulation, M: Material>(
         time: dt,
         dt,
         step: 1,
+        press: None,
     };
     set.add_forces(&ctx, &st, &mut f, &mut fem_core::FieldAccess::none())
         .unwrap();
