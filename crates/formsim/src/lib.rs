@@ -17,6 +17,7 @@ pub mod identify;
 pub mod output;
 pub mod plot;
 pub mod point_driver;
+pub mod records;
 pub mod run;
 pub mod scene;
 pub mod study;

@@ -26,6 +26,8 @@ pub mod tools_report;
 pub mod warnings;
 pub mod write;
 
+pub use crate::records::{HistoryRow, ToolRow, ToolState};
+
 use crate::output::OutputError;
 use crate::scene::blank_mesh::FileIds;
 use crate::scene::validate::dof_from_name;
@@ -138,48 +140,6 @@ pub enum RunError {
     Output(#[from] OutputError),
 }
 
-/// One row of the histories (`energy.csv`, `punch_force.csv`).
-#[derive(Debug, Clone, Copy, Default)]
-pub struct HistoryRow {
-    /// Time (s).
-    pub time: f64,
-    /// Stroke (mm).
-    pub stroke: f64,
-    /// Punch force, full-model equivalent (N).
-    pub punch_force: f64,
-    /// Energies at this time.
-    pub energy: fem_core::EnergyLedger,
-    /// Time step (s).
-    pub dt: f64,
-}
-
-impl HistoryRow {
-    /// The row of `energy.csv`: time, stroke, step, then the energies
-    /// (internal, kinetic, hourglass, plastic, contact, friction, external
-    /// work, balance error).
-    pub fn energy_row(&self) -> [f64; 11] {
-        let e = &self.energy;
-        [
-            self.time,
-            self.stroke,
-            self.dt,
-            e.internal,
-            e.kinetic,
-            e.hourglass,
-            e.plastic,
-            e.contact,
-            e.friction,
-            e.external,
-            e.balance_error,
-        ]
-    }
-
-    /// Whether every number of the row is finite.
-    fn is_finite(&self) -> bool {
-        self.punch_force.is_finite() && self.energy_row().iter().all(|v| v.is_finite())
-    }
-}
-
 /// Everything a run produced, in memory.
 #[derive(Debug, Clone)]
 pub struct RunResult {
@@ -188,7 +148,7 @@ pub struct RunResult {
     /// Histories.
     pub history: Vec<HistoryRow>,
     /// The tools' history (`tools.csv`), sampled with `history`.
-    pub tool_history: Vec<tools_report::ToolRow>,
+    pub tool_history: Vec<ToolRow>,
     /// Final snapshot.
     pub last: Snapshot,
     /// Snapshots at the report strokes.

@@ -8,8 +8,8 @@
 use super::post::{Post, Snapshot};
 use super::warnings::INTERNAL_SHARE_MIN;
 use super::{
-    HistoryRow, RunError, Stop, finite, pulled_set, strip_holder, stroke_and_force, tools_report,
-    write,
+    HistoryRow, RunError, Stop, ToolRow, finite, pulled_set, strip_holder, stroke_and_force,
+    tools_report, write,
 };
 use crate::output::OutputError;
 use crate::scene::{LoadedScene, Model};
@@ -32,7 +32,7 @@ pub(super) struct Recorder<'a> {
     /// forces are summed while drawing.
     pub strip_holder: Option<usize>,
     pub history: Vec<HistoryRow>,
-    pub tool_history: Vec<tools_report::ToolRow>,
+    pub tool_history: Vec<ToolRow>,
     pub frames: Vec<(f64, String)>,
     pub states: Vec<(f64, Snapshot)>,
     pub ki_max: f64,

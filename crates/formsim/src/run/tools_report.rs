@@ -5,6 +5,7 @@
 //! dissipation, and the contact area and mean pressure at the end. Forces are
 //! those on the model (a quarter model carries a quarter of the press force).
 
+use crate::records::{ToolRow, ToolState};
 use crate::scene::Model;
 use contact::{Sampled, ToolStepLog};
 use serde::Serialize;
@@ -202,33 +203,6 @@ pub fn delivered_lines(tools: &BTreeMap<String, ToolSummary>) -> Vec<String> {
         }
     }
     lines
-}
-
-/// One tool's state at a history sample: force on the blank along the tool's
-/// press axis and in total (N), the prescribed force (N; NaN when the tool is
-/// not force-controlled, written as an empty cell) and the position along
-/// the axis from the initial pose (mm).
-#[derive(Debug, Clone, Copy)]
-pub struct ToolState {
-    /// Force on the blank along the press axis (N).
-    pub force: f64,
-    /// Magnitude of the force on the blank (N).
-    pub force_total: f64,
-    /// Prescribed force (N), `None` unless force-controlled now.
-    pub prescribed: Option<f64>,
-    /// Position along the press axis from the initial pose (mm).
-    pub position: f64,
-}
-
-/// One row of `tools.csv`.
-#[derive(Debug, Clone)]
-pub struct ToolRow {
-    /// Time (s).
-    pub time: f64,
-    /// Stroke (mm).
-    pub stroke: f64,
-    /// Per tool, in index order.
-    pub tools: Vec<ToolState>,
 }
 
 /// The press axis each tool's history is resolved along: its first direction

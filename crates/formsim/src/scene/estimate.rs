@@ -286,9 +286,9 @@ fn pair_count(scene: &Scene) -> f64 {
 /// row (`tools.csv`) with one state per tool.
 pub fn history_row_bytes(tools: usize) -> f64 {
     use std::mem::size_of;
-    (size_of::<crate::run::HistoryRow>()
-        + size_of::<crate::run::tools_report::ToolRow>()
-        + tools * size_of::<crate::run::tools_report::ToolState>()) as f64
+    (size_of::<crate::records::HistoryRow>()
+        + size_of::<crate::records::ToolRow>()
+        + tools * size_of::<crate::records::ToolState>()) as f64
 }
 
 /// Estimate what a run of `scene` on a blank of `mesh` needs.
