@@ -238,15 +238,13 @@ impl BlankGeometry {
     /// area-weighted sums of the element normals); it is normalised here, and
     /// a zero vector keeps the node's previous normal. Lengths must be the
     /// node count.
-    pub fn set_nodal(&mut self, area: &[f64], normal: [&[f64]; 3]) {
-        let [nx, ny, nz] = normal;
+    pub fn set_nodal(&mut self, area: &[f64], normal: &[Vec3]) {
         let n = self.area.len();
-        if area.len() != n || nx.len() != n || ny.len() != n || nz.len() != n {
+        if area.len() != n || normal.len() != n {
             return;
         }
         self.area.copy_from_slice(area);
-        for (i, o) in self.normal.iter_mut().enumerate() {
-            let v = Vec3::new(nx[i], ny[i], nz[i]);
+        for (o, v) in self.normal.iter_mut().zip(normal) {
             let len = v.norm();
             if len > 0.0 {
                 *o = v / len;

@@ -30,17 +30,17 @@ use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair, ContactTiming}
 /// and [`NodalField::FLOW_STRESS_BOTTOM`] ([`Effect::reads`]). The solver
 /// runs their writer (the blank's shells) first in every step, so the gap
 /// at `t_{n+1}` is measured with the thickness at `t_{n+1}` that the shells
-/// just computed from this step's deformation. Each step contact copies
-/// them into its own nodal arrays ([`ContactEffect::thickness`],
-/// [`ContactEffect::flow_stress`]: what the pairs read); with no effect
-/// writing them (a rigid block on springs, say) it keeps the initial
-/// thickness given to [`ContactEffect::new`] and zero flow stress.
+/// just computed from this step's deformation. The pairs borrow the fields
+/// for the step; with no effect writing them (a rigid block on springs,
+/// say) they read the initial thickness given to [`ContactEffect::new`]
+/// ([`ContactEffect::initial_thickness`]) and zero flow stress.
 ///
 /// The blank's nodal areas and normals come the same way when a writer gives
-/// them ([`NodalField::AREA`], [`NodalField::NORMAL_X`], …: the shells
-/// compute them from the element frames of their own step), so the quad
-/// geometry is computed once per step; without a writer contact computes
-/// them itself ([`BlankGeometry::update`]).
+/// them ([`NodalField::AREA`], [`NodalField::NORMAL`]: the shells compute
+/// them from the element frames of their own step), so the quad geometry is
+/// computed once per step; without a writer contact computes them itself
+/// ([`BlankGeometry::update`]). Contact keeps the areas (the time step and
+/// mass scaling read them between steps) and the unit normals.
 ///
 /// At the initial force computation (`Δt = 0`) contact adds nothing: a scene
 /// starts with its tools clear of the blank or just touching it.
@@ -55,9 +55,10 @@ pub struct ContactEffect {
     pairs: Vec<ContactPair>,
     geometry: BlankGeometry,
     needs: PointNeeds,
-    /// Nodal thickness the pairs read (mm): initial, then the shared field.
+    /// Initial nodal thickness (mm), read when no effect writes the field.
     thickness: Vec<f64>,
-    /// Top and bottom flow stress the pairs read (MPa), when a law needs it.
+    /// Zero top and bottom flow stress (MPa), read when a law needs it and
+    /// no effect writes the fields.
     flow_stress: Option<(Vec<f64>, Vec<f64>)>,
     reactions: Vec<Vec3>,
     /// What the blank did to each tool in the last step (force control reads it).
@@ -182,38 +183,11 @@ impl ContactEffect {
         Ok(())
     }
 
-    /// Nodal thickness (mm) the pairs read in the last force computation:
-    /// the shared [`NodalField::THICKNESS`] of that step, or the initial
-    /// thickness when no effect writes it.
-    pub fn thickness(&self) -> &[f64] {
+    /// The initial nodal thickness (mm) given to [`ContactEffect::new`]: what
+    /// the pairs read when no effect writes [`NodalField::THICKNESS`] (the
+    /// solver's [`fem_core::Solver::field`] holds it when one does).
+    pub fn initial_thickness(&self) -> &[f64] {
         &self.thickness
-    }
-
-    /// Top- and bottom-fibre flow stress per node (MPa) the pairs read in the
-    /// last force computation, present only when a pair's law declares
-    /// [`PointNeeds::FLOW_STRESS`].
-    pub fn flow_stress(&self) -> Option<(&[f64], &[f64])> {
-        self.flow_stress
-            .as_ref()
-            .map(|(a, b)| (a.as_slice(), b.as_slice()))
-    }
-
-    /// Copy the shared fields of this step into the arrays the pairs read
-    /// (no allocation); a field nobody writes leaves its array as it was.
-    fn take_fields(&mut self, fields: &FieldAccess<'_>) {
-        copy_field(&mut self.thickness, fields, NodalField::THICKNESS);
-        if let (Some(area), Some(nx), Some(ny), Some(nz)) = (
-            fields.read(NodalField::AREA),
-            fields.read(NodalField::NORMAL_X),
-            fields.read(NodalField::NORMAL_Y),
-            fields.read(NodalField::NORMAL_Z),
-        ) {
-            self.geometry.set_nodal(area, [nx, ny, nz]);
-        }
-        if let Some((top, bottom)) = &mut self.flow_stress {
-            copy_field(top, fields, NodalField::FLOW_STRESS_TOP);
-            copy_field(bottom, fields, NodalField::FLOW_STRESS_BOTTOM);
-        }
     }
 
     /// The tools.
@@ -268,6 +242,7 @@ impl ContactEffect {
         ctx: &StepContext<'_>,
         state: &NodalState,
         forces: &mut Forces,
+        fields: &FieldAccess<'_>,
     ) -> Result<(), FemError> {
         let t_start = Instant::now();
         if let Some(press) = ctx.press {
@@ -275,16 +250,24 @@ impl ContactEffect {
                 tool.set_pose(press.pose(i), press.velocity(i));
             }
         }
+        let flow_stress = self.flow_stress.as_ref().map(|(top, bottom)| {
+            match (
+                fields.read(NodalField::FLOW_STRESS_TOP),
+                fields.read(NodalField::FLOW_STRESS_BOTTOM),
+            ) {
+                (Some(t), Some(b)) => (t, b),
+                _ => (top.as_slice(), bottom.as_slice()),
+            }
+        });
         let view = BlankView {
             x0: &state.x0,
             x: &state.x,
             v: &state.v,
             mass: &state.mass,
-            thickness: &self.thickness,
-            flow_stress: self
-                .flow_stress
-                .as_ref()
-                .map(|(a, b)| (a.as_slice(), b.as_slice())),
+            thickness: fields
+                .read(NodalField::THICKNESS)
+                .unwrap_or(&self.thickness),
+            flow_stress,
         };
         self.geometry.update(&view, ctx.dt, self.needs);
         self.timing.geometry += t_start.elapsed().as_secs_f64();
@@ -413,27 +396,13 @@ fn step_pairs(
     }
 }
 
-fn copy_field(dst: &mut [f64], fields: &FieldAccess<'_>, field: NodalField) {
-    if let Some(src) = fields.read(field) {
-        let n = dst.len().min(src.len());
-        dst[..n].copy_from_slice(&src[..n]);
-    }
-}
-
 /// What contact reads without and with a law that needs the flow stress.
-const READS_THICKNESS: [NodalField; 5] = [
+const READS_THICKNESS: [NodalField; 3] =
+    [NodalField::THICKNESS, NodalField::AREA, NodalField::NORMAL];
+const READS_ALL: [NodalField; 5] = [
     NodalField::THICKNESS,
     NodalField::AREA,
-    NodalField::NORMAL_X,
-    NodalField::NORMAL_Y,
-    NodalField::NORMAL_Z,
-];
-const READS_ALL: [NodalField; 7] = [
-    NodalField::THICKNESS,
-    NodalField::AREA,
-    NodalField::NORMAL_X,
-    NodalField::NORMAL_Y,
-    NodalField::NORMAL_Z,
+    NodalField::NORMAL,
     NodalField::FLOW_STRESS_TOP,
     NodalField::FLOW_STRESS_BOTTOM,
 ];
@@ -460,10 +429,17 @@ impl Effect for ContactEffect {
         forces: &mut Forces,
         fields: &mut FieldAccess<'_>,
     ) -> Result<(), FemError> {
-        self.take_fields(fields);
+        // The areas also serve the time step and mass scaling, from set-up on.
+        if let (Some(area), Some(normal)) = (
+            fields.read(NodalField::AREA),
+            fields.read_vec3(NodalField::NORMAL),
+        ) {
+            self.geometry.set_nodal(area, normal);
+        }
         if ctx.dt <= 0.0 {
             return Ok(());
         }
+        let fields = &*fields;
         if self.parallel
             && rayon::current_num_threads() > 1
             && rayon::current_thread_index().is_none()
@@ -471,9 +447,9 @@ impl Effect for ContactEffect {
             // Run the whole step on a pool thread: its parallel loops then
             // start at once on that thread (the others join when they wake),
             // instead of the caller waking the pool and waiting for each loop.
-            rayon::scope(|_| self.step(ctx, state, forces))
+            rayon::scope(|_| self.step(ctx, state, forces, fields))
         } else {
-            self.step(ctx, state, forces)
+            self.step(ctx, state, forces, fields)
         }
     }
 

@@ -3,8 +3,8 @@
 //!
 //! An effect declares the fields it writes ([`Effect::writes`]) and those it
 //! reads ([`Effect::reads`]). At set-up ([`Solver::initialize`]) the solver
-//! allocates one `Vec<f64>` per node for each field that has both a writer
-//! and a reader, and orders the effects so that every writer runs before its
+//! allocates one value per node (an `f64`, or a [`Vec3`] for a vector field)
+//! for each field that has both a writer and a reader, and orders the effects so that every writer runs before its
 //! readers within a step (see [`effect_order`]). During the step each effect
 //! sees the fields through its own [`FieldAccess`]: it may write only what it
 //! declared it writes and read only what it declared it reads.
@@ -19,18 +19,20 @@
 //! [`Effect::reads`]: crate::Effect::reads
 //! [`Solver::initialize`]: crate::Solver::initialize
 
-use crate::FemError;
+use crate::{FemError, Vec3};
 
-/// The key of a nodal field of `f64` shared between effects: a name and a unit.
+/// The key of a nodal field shared between effects: a name, a unit and
+/// whether each node holds a scalar (`f64`) or a vector ([`Vec3`]).
 ///
 /// Two keys are the same field when their names are equal; keys of the same
-/// name with different units are refused at set-up. The fields formsim's
-/// effects share are the associated constants; an effect may define its own
-/// with [`NodalField::new`].
+/// name with different units or kinds are refused at set-up. The fields
+/// formsim's effects share are the associated constants; an effect may
+/// define its own with [`NodalField::new`] or [`NodalField::vector`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct NodalField {
     name: &'static str,
     unit: &'static str,
+    vector: bool,
 }
 
 impl NodalField {
@@ -49,19 +51,33 @@ impl NodalField {
     /// element frames they build anyway; read by contact, which then does not
     /// compute the blank's quad geometry a second time.
     pub const AREA: NodalField = NodalField::new("area", "mm2");
-    /// `x` component of the nodal normal as the area-weighted sum of the
-    /// unit normals of the shells around the node, `Σ A_e n_e` (mm²; its
-    /// direction is the nodal normal, its length is not used). Written and
-    /// read with [`NodalField::AREA`].
-    pub const NORMAL_X: NodalField = NodalField::new("normal-x", "mm2");
-    /// `y` component of the nodal normal sum; as [`NodalField::NORMAL_X`].
-    pub const NORMAL_Y: NodalField = NodalField::new("normal-y", "mm2");
-    /// `z` component of the nodal normal sum; as [`NodalField::NORMAL_X`].
-    pub const NORMAL_Z: NodalField = NodalField::new("normal-z", "mm2");
+    /// The nodal normal as the area-weighted sum of the unit normals of the
+    /// shells around the node, `Σ A_e n_e` (a vector, mm²; its direction is
+    /// the nodal normal, its length is not used). Written and read with
+    /// [`NodalField::AREA`].
+    pub const NORMAL: NodalField = NodalField::vector("normal", "mm2");
 
-    /// A field named `name` (kebab-case, unique) in `unit`.
+    /// A scalar field named `name` (kebab-case, unique) in `unit`.
     pub const fn new(name: &'static str, unit: &'static str) -> Self {
-        Self { name, unit }
+        Self {
+            name,
+            unit,
+            vector: false,
+        }
+    }
+
+    /// A vector field ([`Vec3`] per node) named `name` in `unit`.
+    pub const fn vector(name: &'static str, unit: &'static str) -> Self {
+        Self {
+            name,
+            unit,
+            vector: true,
+        }
+    }
+
+    /// Whether each node holds a vector ([`Vec3`]) rather than a scalar.
+    pub fn is_vector(&self) -> bool {
+        self.vector
     }
 
     /// The field's name.
@@ -82,13 +98,15 @@ impl std::fmt::Display for NodalField {
 }
 
 /// One allocated field: its key, the index of its writer, the indices of its
-/// readers and its nodal values.
+/// readers and its nodal values (`scalars` for a scalar field, `vectors`
+/// for a vector field; the other is empty).
 #[derive(Debug, Clone, PartialEq)]
 struct Slot {
     field: NodalField,
     writer: usize,
     readers: Vec<usize>,
-    values: Vec<f64>,
+    scalars: Vec<f64>,
+    vectors: Vec<Vec3>,
 }
 
 /// The shared nodal fields of a solver: those with a writer and a reader.
@@ -133,11 +151,13 @@ impl SharedFields {
                     .filter(|&r| r != w && reads(&declared[r], field))
                     .collect();
                 if !readers.is_empty() {
+                    let (n_scalar, n_vector) = if field.vector { (0, nodes) } else { (nodes, 0) };
                     slots.push(Slot {
                         field,
                         writer: w,
                         readers,
-                        values: vec![0.0; nodes],
+                        scalars: vec![0.0; n_scalar],
+                        vectors: vec![Vec3::zeros(); n_vector],
                     });
                 }
             }
@@ -153,12 +173,21 @@ impl SharedFields {
         }
     }
 
-    /// The values of `field` (`None` when it is not allocated: no writer or no reader).
+    /// The values of the scalar `field` (`None` when it is not allocated:
+    /// no writer or no reader).
     pub fn get(&self, field: NodalField) -> Option<&[f64]> {
         self.slots
             .iter()
-            .find(|s| s.field.name == field.name)
-            .map(|s| s.values.as_slice())
+            .find(|s| s.field.name == field.name && !s.field.vector)
+            .map(|s| s.scalars.as_slice())
+    }
+
+    /// The values of the vector `field`, as [`SharedFields::get`].
+    pub fn get_vec3(&self, field: NodalField) -> Option<&[Vec3]> {
+        self.slots
+            .iter()
+            .find(|s| s.field.name == field.name && s.field.vector)
+            .map(|s| s.vectors.as_slice())
     }
 
     /// The allocated fields, in order of their writers.
@@ -180,7 +209,7 @@ fn writer_of(declared: &[Declared<'_>], field: NodalField, but: usize) -> Option
     (0..but).find(|&k| writes(&declared[k], field))
 }
 
-/// Refuse one field name declared with two units.
+/// Refuse one field name declared with two units, or as a scalar and a vector.
 fn check_units(declared: &[Declared<'_>]) -> Result<(), FemError> {
     let all = || declared.iter().flat_map(|d| d.writes.iter().chain(d.reads));
     for a in all() {
@@ -188,6 +217,12 @@ fn check_units(declared: &[Declared<'_>]) -> Result<(), FemError> {
             return Err(FemError::InvalidSetup(format!(
                 "field `{}` is declared in two units, {} and {}",
                 a.name, a.unit, b.unit
+            )));
+        }
+        if all().any(|b| b.name == a.name && b.vector != a.vector) {
+            return Err(FemError::InvalidSetup(format!(
+                "field `{}` is declared both as a scalar and as a vector",
+                a.name
             )));
         }
     }
@@ -239,6 +274,11 @@ fn cycle_error(declared: &[Declared<'_>], placed: &[bool]) -> FemError {
     ))
 }
 
+/// What [`FieldAccess::write_each`] hands out: the scalar fields' values,
+/// then the vector fields', each `None` when not written or not read.
+pub type Writable<'a, const N: usize, const M: usize> =
+    ([Option<&'a mut [f64]>; N], [Option<&'a mut [Vec3]>; M]);
+
 /// One effect's view of the shared fields during a step.
 ///
 /// Built by the solver for each effect ([`SharedFields::access`]); an effect
@@ -268,35 +308,57 @@ impl FieldAccess<'_> {
             .any(|s| s.writer == self.effect && s.field.name == field.name)
     }
 
-    /// The values of `field` to write (one per node), when this effect
-    /// declared it writes it and another effect reads it; `None` otherwise.
+    /// The values of the scalar `field` to write (one per node), when this
+    /// effect declared it writes it and another effect reads it; `None`
+    /// otherwise.
     pub fn write(&mut self, field: NodalField) -> Option<&mut [f64]> {
-        let [values] = self.write_each([field]);
+        let ([values], []) = self.write_each([field], []);
         values
     }
 
-    /// [`FieldAccess::write`] for several fields at once (distinct names).
-    pub fn write_each<const N: usize>(
+    /// [`FieldAccess::write`] for several scalar fields and vector fields at
+    /// once (distinct names): the scalars' values, then the vectors'.
+    pub fn write_each<const N: usize, const M: usize>(
         &mut self,
-        fields: [NodalField; N],
-    ) -> [Option<&mut [f64]>; N] {
-        let mut out = [const { None }; N];
+        scalars: [NodalField; N],
+        vectors: [NodalField; M],
+    ) -> Writable<'_, N, M> {
+        let mut out_s = [const { None }; N];
+        let mut out_v = [const { None }; M];
         for slot in self.slots.iter_mut().filter(|s| s.writer == self.effect) {
-            if let Some(k) = fields.iter().position(|f| f.name == slot.field.name) {
-                out[k] = Some(slot.values.as_mut_slice());
+            let name = slot.field.name;
+            if slot.field.vector {
+                if let Some(k) = vectors.iter().position(|f| f.name == name) {
+                    out_v[k] = Some(slot.vectors.as_mut_slice());
+                }
+            } else if let Some(k) = scalars.iter().position(|f| f.name == name) {
+                out_s[k] = Some(slot.scalars.as_mut_slice());
             }
         }
-        out
+        (out_s, out_v)
     }
 
-    /// The values of `field` (one per node) as its writer left them in this
-    /// step, when this effect declared it reads it and another effect writes
-    /// it; `None` otherwise.
-    pub fn read(&self, field: NodalField) -> Option<&[f64]> {
+    /// The slot of `field` this effect reads, if allocated.
+    fn readable(&self, field: NodalField) -> Option<&Slot> {
         self.slots
             .iter()
             .find(|s| s.field.name == field.name && s.readers.contains(&self.effect))
-            .map(|s| s.values.as_slice())
+    }
+
+    /// The values of the scalar `field` (one per node) as its writer left
+    /// them in this step, when this effect declared it reads it and another
+    /// effect writes it; `None` otherwise.
+    pub fn read(&self, field: NodalField) -> Option<&[f64]> {
+        self.readable(field)
+            .filter(|s| !s.field.vector)
+            .map(|s| s.scalars.as_slice())
+    }
+
+    /// The values of the vector `field`, as [`FieldAccess::read`].
+    pub fn read_vec3(&self, field: NodalField) -> Option<&[Vec3]> {
+        self.readable(field)
+            .filter(|s| s.field.vector)
+            .map(|s| s.vectors.as_slice())
     }
 }
 
@@ -364,5 +426,31 @@ mod tests {
         assert!(f.access(2).read(A).is_none());
         assert_eq!(f.get(A), Some(&[1.0, 2.0][..]));
         assert!(FieldAccess::none().read(A).is_none());
+    }
+
+    /// A vector field holds a `Vec3` per node, written and read as vectors
+    /// only; one name cannot be a scalar for one effect and a vector for another.
+    #[test]
+    fn vector_fields_hold_vectors_and_kinds_must_agree() {
+        const V: NodalField = NodalField::vector("v", "mm");
+        let e = [d("w", &[A], &[]), d("r", &[], &[A])];
+        let _ = SharedFields::new(1, &e).unwrap();
+        let e = [d("w", &[A, V], &[]), d("r", &[], &[V, A])];
+        let mut f = SharedFields::new(2, &e).unwrap();
+        {
+            let mut w = f.access(0);
+            let ([a], [v]) = w.write_each([A], [V]);
+            a.unwrap().fill(3.0);
+            v.unwrap()[1] = Vec3::new(1.0, 2.0, 3.0);
+        }
+        let r = f.access(1);
+        assert_eq!(r.read_vec3(V).unwrap()[1], Vec3::new(1.0, 2.0, 3.0));
+        assert!(r.read(V).is_none(), "a vector field is not read as scalars");
+        assert!(r.read_vec3(A).is_none());
+        assert_eq!(r.read(A), Some(&[3.0, 3.0][..]));
+        let v_scalar = [NodalField::new("v", "mm")];
+        let e = [d("w", &[V], &[]), d("r", &[], &v_scalar)];
+        let msg = SharedFields::new(2, &e).unwrap_err().to_string();
+        assert!(msg.contains("both as a scalar and as a vector"), "{msg}");
     }
 }

@@ -847,6 +847,11 @@ impl Solver {
         self.fields.get(field)
     }
 
+    /// The shared vector field `field`, as [`Solver::field`].
+    pub fn field_vec3(&self, field: NodalField) -> Option<&[Vec3]> {
+        self.fields.get_vec3(field)
+    }
+
     /// The order in which the effects compute their forces (indices in order
     /// of addition, see [`Solver::effect_name`]); fixed at set-up.
     pub fn effect_order(&self) -> &[usize] {

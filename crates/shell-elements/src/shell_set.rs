@@ -32,15 +32,22 @@ use crate::section::Section;
 /// Default number of elements from which the element loop runs in parallel.
 pub const DEFAULT_PARALLEL_MIN: usize = 512;
 
-/// The shared nodal fields a [`ShellSet`] writes (each only when another effect reads it).
-const WRITES: [NodalField; 7] = [
+/// The shared scalar nodal fields a [`ShellSet`] writes (each only when
+/// another effect reads it).
+const WRITES_SCALAR: [NodalField; 4] = [
     NodalField::THICKNESS,
     NodalField::FLOW_STRESS_TOP,
     NodalField::FLOW_STRESS_BOTTOM,
     NodalField::AREA,
-    NodalField::NORMAL_X,
-    NodalField::NORMAL_Y,
-    NodalField::NORMAL_Z,
+];
+
+/// Every shared nodal field a [`ShellSet`] writes: the scalars and the normal.
+const WRITES: [NodalField; 5] = [
+    NodalField::THICKNESS,
+    NodalField::FLOW_STRESS_TOP,
+    NodalField::FLOW_STRESS_BOTTOM,
+    NodalField::AREA,
+    NodalField::NORMAL,
 ];
 
 /// Shells of formulation `E` and material `M` over a set of quads.
@@ -98,41 +105,31 @@ fn v3(p: &fem_core::Vec3) -> V3 {
 }
 
 /// The nodal areas and area-weighted normals the shells write when another
-/// effect reads them ([`NodalField::AREA`], [`NodalField::NORMAL_X`], …),
+/// effect reads them ([`NodalField::AREA`], [`NodalField::NORMAL`]),
 /// summed over the elements in the serial scatter.
 struct NodalFrames<'a> {
     area: &'a mut [f64],
-    normal: [&'a mut [f64]; 3],
+    normal: &'a mut [fem_core::Vec3],
 }
 
 impl<'a> NodalFrames<'a> {
-    /// The four fields zeroed, when all four are written.
-    fn new(
-        area: Option<&'a mut [f64]>,
-        nx: Option<&'a mut [f64]>,
-        ny: Option<&'a mut [f64]>,
-        nz: Option<&'a mut [f64]>,
-    ) -> Option<Self> {
-        let (area, nx, ny, nz) = (area?, nx?, ny?, nz?);
-        for f in [&mut *area, &mut *nx, &mut *ny, &mut *nz] {
-            f.fill(0.0);
-        }
-        Some(Self {
-            area,
-            normal: [nx, ny, nz],
-        })
+    /// The two fields zeroed, when both are written.
+    fn new(area: Option<&'a mut [f64]>, normal: Option<&'a mut [fem_core::Vec3]>) -> Option<Self> {
+        let (area, normal) = (area?, normal?);
+        area.fill(0.0);
+        normal.fill(fem_core::Vec3::zeros());
+        Some(Self { area, normal })
     }
 
     /// Element of nodes `q`, projected area `a` (mm²) and unit normal `n`:
     /// a quarter of `a` to each node's area, `a n` to its normal sum.
     #[inline(always)]
     fn add(&mut self, q: &[u32; 4], a: f64, n: [f64; 3]) {
+        let an = fem_core::Vec3::new(n[0] * a, n[1] * a, n[2] * a);
         for &i in q {
             let i = i as usize;
             self.area[i] += 0.25 * a;
-            for c in 0..3 {
-                self.normal[c][i] += n[c] * a;
-            }
+            self.normal[i] += an;
         }
     }
 }
@@ -654,8 +651,9 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             energy: [0.0; 4],
         };
         let (ds, c) = (&self.density_scale, self.wave_speed);
-        let [thickness, top, bottom, area, nx, ny, nz] = fields.write_each(WRITES);
-        let mut frames = NodalFrames::new(area, nx, ny, nz);
+        let ([thickness, top, bottom, area], [normal]) =
+            fields.write_each(WRITES_SCALAR, [NodalField::NORMAL]);
+        let mut frames = NodalFrames::new(area, normal);
         let nb = self.conn.len() / 4;
         let (conn_b, conn_r) = self.conn.as_chunks::<4>();
         let mut bad = None;
