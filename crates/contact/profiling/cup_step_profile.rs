@@ -1,6 +1,6 @@
 //! Profile of one explicit step of the NUMISHEET'93 quarter square cup on a
 //! 50×50 BT blank (2,601 nodes; three pairs: punch, die, blankholder), set up
-//! by hand, as the former cup smoke test did, with fixed-step mass scaling at 1e-6 s.
+//! by hand, with fixed-step mass scaling at 1e-6 s.
 //! Runs 2 ms of simulated time (1 ms clamp, 1 ms draw) and prints the wall time
 //! per step, the time spent in the contact effect per step and the number of
 //! tool projections per step. As the machine may be shared, it also prints

@@ -102,7 +102,7 @@ fn slip_force(law: &str, params: Params, formulation: &str, mu: f64) -> (f64, f6
 }
 
 /// Block on a plane, Amontons–Coulomb μ = 0.144: slip starts at `T = μ N`
-/// (docs/benchmarks.md §3; tolerance 1 %, the issue's).
+/// (docs/benchmarks.md §3; tolerance 1 %).
 #[test]
 fn block_on_plane_slips_at_mu_n() {
     for formulation in ["convective", "jaumann", "lagrangian", "updated-lagrangian"] {

@@ -125,7 +125,7 @@ fn tension_ratio(formulation: &str, mu: f64) -> f64 {
 }
 
 /// Euler–Eytelwein: `T_pull/T_hold = e^{μθ}`, θ = π/2, μ = 0.144 (docs/benchmarks.md
-/// §3; issue 5's tolerance 2 %), for the convective and Jaumann formulations.
+/// §3; tolerance 2 %), for the convective and Jaumann formulations.
 #[test]
 fn capstan_matches_euler_eytelwein() {
     let mu = 0.144;

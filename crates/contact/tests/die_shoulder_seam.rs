@@ -1,4 +1,4 @@
-//! Hard case of issue 5: a blank point sliding over the die's flat face and across
+//! Hard case: a blank point sliding over the die's flat face and across
 //! the seam into the shoulder radius (exact NURBS square-cup die, docs/benchmarks.md §1)
 //! keeps a continuous friction traction.
 

@@ -286,7 +286,7 @@ fn lift_off_run(law: &str, params: Params, formulation: &str, steps: usize) -> b
     clamped
 }
 
-/// Hard case of issue 5: lift-off and re-contact under WVS (ν = 0.8,
+/// Hard case: lift-off and re-contact under WVS (ν = 0.8,
 /// friction-math §7 square-cup values) give no traction above `τ_c` (return
 /// mapping bound of friction-math §2, relative 1e-12), for every formulation.
 #[test]
@@ -300,7 +300,7 @@ fn wvs_lift_off_and_recontact_stay_within_tau_c() {
     }
 }
 
-/// Hard case of issue 5: WH with a steep negative slope (μ = 0.3 − 0.5 ω,
+/// Hard case: WH with a steep negative slope (μ = 0.3 − 0.5 ω,
 /// clamp μ_min = 0.05) reaches its clamp within the run, without NaN and
 /// without a traction above `τ_c`.
 #[test]

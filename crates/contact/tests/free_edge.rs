@@ -4,8 +4,8 @@
 //! facing up, its free edge the line x = 10.
 //!
 //! - beyond the edge and below the plane, farther than half the thickness
-//!   from the edge line: no contact, no force (before the rule the first
-//!   column read as penetrated by 1 mm and was pushed up);
+//!   from the edge line: no contact, no force (without the rule the first
+//!   column would read as penetrated by 1 mm and be pushed up);
 //! - beyond the edge, above the plane, within half the thickness of the edge
 //!   line: the node is pushed along `(x − p)/|x − p|` with the force of the
 //!   same gap on the face (same node, same penalty stiffness);

@@ -381,8 +381,8 @@ fn add_missing_all(mesh: &mut Mesh) {
 
 // ----- Gmsh 4.1 ASCII .msh -------------------------------------------------
 //
-// Read by hand: the `mshio` crate (0.4.2, ASCII and binary) was tried for
-// issue 21 and panics on malformed headers (`4.1 0 99999999999999999999999`:
+// Read by hand: the `mshio` crate (0.4.2, ASCII and binary) panics on
+// malformed headers (`4.1 0 99999999999999999999999`:
 // an unwrap; binary `4.1 1 3`: unimplemented!; `$Nodes` with numNodes 0: an
 // overflow in debug builds), and does not read `$PhysicalNames`.
 

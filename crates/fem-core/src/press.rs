@@ -1026,8 +1026,8 @@ mod tests {
 
     /// Force control delivers its force, in the mean, to a support that
     /// pushes the tool back at a steady speed (momentum balance: the mean
-    /// delivered force is `F − c ṡ − m Δṡ/T`); the old 500 N·s/mm dashpot
-    /// adds `c v` = 10 kN to the prescribed 4.9 kN. Relative damping quiets
+    /// delivered force is `F − c ṡ − m Δṡ/T`); a 500 N·s/mm dashpot
+    /// would add `c v` = 10 kN to the prescribed 4.9 kN. Relative damping quiets
     /// the bounce without biasing the mean: 0.5 % of `F`. Undamped, the
     /// bounce excited by the sudden start persists (amplitude ≈ 5 kN at
     /// ω = √(k/m)), and its momentum `m Δṡ / T` alone moves a window's mean

@@ -208,7 +208,7 @@ fn oscillator_variable(steps_per_period: f64) -> f64 {
 // An undamped linear spring chain (no loads): central difference conserves
 // ½ v_{n-1/2}·M v_{n+1/2} + ½ xᵀK x exactly at constant Δt (Hughes, The Finite Element
 // Method, §9.3); the ledger uses that kinetic form, so the balance error is round-off.
-// Tolerance (issue 4 brief): balance error < 1e-6 relative over 5000 steps.
+// Tolerance: balance error < 1e-6 relative over 5000 steps.
 #[test]
 fn undamped_spring_chain_conserves_energy() {
     let (mut s, _) = chain(10, K, M, SolverSettings::default());

@@ -1,5 +1,5 @@
-//! Where the kinematic formulations differ on a forming scene (issue 16,
-//! item 4; docs/s-rail.md, "Why the formulations agree").
+//! Where the kinematic formulations differ on a forming scene
+//! (docs/s-rail.md, "Why the formulations agree").
 //!
 //! Runs the scene once per formulation (convective, jaumann, lagrangian,
 //! updated-lagrangian), every contact pair recording its friction stage

@@ -1,4 +1,4 @@
-//! Effects on demand, measured (issue 18, item 4): the cost of one whole
+//! Effects on demand, measured: the cost of one whole
 //! explicit step of the square cup in mid-draw for each effect a scene may
 //! ask for, as a ratio to the scene as it is (AC + convective,
 //! Belytschko–Tsay, 5 points), all measured in the same run.

@@ -441,7 +441,7 @@ mod tests {
     }
 
     /// Blank lines (also of spaces) and comments (also indented) are skipped
-    /// and the lines counted across them, as the hand-written reader did;
+    /// and the lines counted across them;
     /// blanks around fields and names are dropped.
     #[test]
     fn blank_and_comment_lines_are_skipped_and_counted() {
@@ -466,9 +466,8 @@ mod tests {
         assert_eq!(h.times, parse(GOOD, "h.csv").unwrap().times);
     }
 
-    /// New with the `csv` crate: a quoted field reads as its text (the
-    /// hand-written reader refused `"0.1"` as not a number); a quoted comma
-    /// stays in its field.
+    /// A quoted field reads as its text (`"0.1"` as the number 0.1); a
+    /// quoted comma stays in its field.
     #[test]
     fn quoted_fields_read_as_their_text() {
         let text = "\"t\",p,du_x,du_y,du_z,n_x,n_y,n_z\n\"0.1\",10,0,0,0,0,0,1\n";

@@ -262,9 +262,8 @@ mod tests {
         read_points(&path)
     }
 
-    /// New with the `csv` crate: a quoted coordinate reads as its number (the
-    /// hand-written reader refused `"2"` as not a number), also in a `\r\n`
-    /// file.
+    /// A quoted coordinate reads as its number (`"2"` as 2), also in a
+    /// `\r\n` file.
     #[test]
     fn quoted_coordinates_read_as_numbers() {
         let p = points("id,\"x\",y,z\r\n\"a, b\",1,\"2\",3\r\n").unwrap();

@@ -103,8 +103,7 @@ fn compare_rejects_a_bad_case_before_running() {
 }
 
 /// An unknown law among valid ones stops the comparison before any row runs:
-/// the error names the row and the law, and nothing is written (before, the
-/// valid rows ran first and the unknown law was only a failed row at the end).
+/// the error names the row and the law, and nothing is written.
 #[test]
 fn compare_rejects_an_unknown_law_before_running_any_row() {
     let dir = tempfile::tempdir().unwrap();

@@ -1,5 +1,5 @@
 //! Every file that the repository's documents, comments, CLI strings and
-//! scenes refer to exists in the repository (issue 21: a clone alone explains
+//! scenes refer to exists in the repository (a clone alone explains
 //! everything it references).
 //!
 //! Scanned: `README.md`, `docs/**/*.md`, `crates/**/*.{rs,md,toml}`,

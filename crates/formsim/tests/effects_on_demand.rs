@@ -1,4 +1,4 @@
-//! Effects on demand (issue 18, item 4, the tests): a scene computes only
+//! Effects on demand (the tests): a scene computes only
 //! what its laws, formulations and outputs ask for. Counted, not timed, on
 //! the square cup with a coarse 10 × 10 mesh stepped 3 ms into the draw
 //! (the die and the holder in contact):

@@ -1,4 +1,4 @@
-//! Fuzzed inputs (issue 19): property-based tests over what a user hands
+//! Fuzzed inputs: property-based tests over what a user hands
 //! formsim — scene overrides (`--set KEY=VALUE`), blank mesh files (`.inp`,
 //! `.msh`), tool mesh files (STL, OBJ), point histories (`friction-point`'s
 //! CSV) and friction-law parameters. Each input must load, or be refused with
@@ -414,7 +414,7 @@ fn fuzz_law_parameters() {
 }
 
 /// Run the binary with `args`; it must exit within 20 s (a FIFO or
-/// /dev/zero read as a file hung forever or grew to gigabytes), non-zero,
+/// /dev/zero read as a file would hang forever or grow to gigabytes), non-zero,
 /// with one error line containing `needle`.
 fn refused_at_once(args: &[&std::ffi::OsStr], needle: &str) {
     use std::process::{Command, Stdio};

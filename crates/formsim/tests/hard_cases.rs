@@ -1,4 +1,4 @@
-//! Hard cases (issue 19, item 1): small scenes in `scenes/hard/` that stress
+//! Hard cases: small scenes in `scenes/hard/` that stress
 //! one thing each (μ = 1, lift-off at vanishing pressure, a law's clamp, a
 //! 10 m/s impact, the time step near its limit). Every case is checked twice:
 //!
@@ -293,10 +293,9 @@ fn stick(name: &str, sets: &[&str]) -> Stick {
 /// (While the normal load ramps up from zero, `τ_c ≈ 0` at first touch and
 /// the nodes slip a little with the plate's own motion: not counted.)
 ///
-/// The scene runs at the default step. Before the engine combined the
-/// shells' and the stick springs' limits on the nodes they share it needed
-/// `safety_factor = 0.6`, and chattered at the default (see `dt_limit_*`
-/// and docs/hard-cases.md).
+/// The scene runs at the default step: the engine combines the shells' and
+/// the stick springs' limits on the nodes they share (see `dt_limit_*` and
+/// docs/hard-cases.md).
 ///
 /// Bounds: balance ≤ 1 %; penetration ≤ 1 % of t (as sliding); kinetic
 /// energy ≤ the external work (nothing else can feed it).
@@ -369,9 +368,8 @@ fn dt_limit_at_105_of_the_combined_limit_is_stopped() {
 }
 
 /// dt-limit at the default step (safety factor 0.9 of the engine's limit,
-/// which now combines the shells and the contact springs): the block
-/// sticks. Before the limits were combined this step was 1.18 times the
-/// combined limit and the block chattered and walked 0.2 mm.
+/// which combines the shells and the contact springs): the block
+/// sticks.
 #[test]
 fn dt_limit_default_step_sticks() {
     sticks_under_half_mu_n(
@@ -531,13 +529,11 @@ fn impact_at_10_m_per_s() {
 /// half the thickness (5 % allowance for the penalty's own compression)
 /// touches the sheet, some node does wrap over the edge, and the sheet never
 /// pushes the strip with more than three times the 48 N load (measured: 95 N,
-/// twice the load, as the foil flaps off the edge; the nodes read as
-/// penetrated beyond the edge before the rule kicked it with 1.5 kN); and
+/// twice the load, as the foil flaps off the edge); and
 /// the stepped-run checks hold.
 ///
 /// Bounds: balance error ≤ 1 % (the run's own warning bound; measured
-/// 1.3e-5 at the default step, 1.7 % before the shells read their rates at
-/// the step's midpoint, docs/shells.md); kinetic
+/// 1.3e-5 at the default step); kinetic
 /// energy ≤ ½ M (2 × 1000 mm/s)² + 48 N × the deepest sag below the plane
 /// (the drag's rigid motion twice over plus all the load can put into the
 /// overhang); penetration ≤ 5 % of t (the static penalty compression under
@@ -606,9 +602,8 @@ fn free_edge_slide_off_an_open_sheet() {
 /// mm/s)² + 48 N × the deepest drop of a node below its start (the drag's
 /// rigid motion twice over plus all the load can put in; measured 0.71 mJ,
 /// 1.7 % of the external work: the undamped foil rings on the ridge).
-/// Before the shells read their rates at the step's
-/// midpoint (docs/shells.md) the vibrating foil ratcheted strain energy
-/// from nothing: balance error 0.41, internal energy 25.6 mJ.
+/// The shells read their rates at the step's midpoint (docs/shells.md),
+/// so the vibrating foil does not ratchet strain energy from nothing.
 #[test]
 fn sharp_crease_slide() {
     let name = "hard/sharp-crease";
@@ -867,10 +862,9 @@ fn plugin_law_with_extreme_values() {
 /// Bounds: balance error ≤ 1 %; penetration ≤ 1 % of t (as the sticking
 /// block); kinetic energy ≤ ½ I ω_max² × 1.01 with I = Σ (m_i r_i² + J_i)
 /// of the plate's lumped nodal masses and rotary inertias (the nodes turn
-/// with the plane, about z too; nothing else feeds it). Before the contact read the tool's velocity at the step's midpoint
-/// (`contact::stages::normal`), the stick springs drifted each point
-/// outward by ½Δt²ω²r a step: the corner slipped at 1.64 ms with
-/// |t| = τ_c = 0.64 MPa, 32 times the traction the spin needs.
+/// with the plane, about z too; nothing else feeds it). The contact reads the tool's velocity at the step's midpoint
+/// (`contact::stages::normal`), so the stick springs do not drift each point
+/// outward by ½Δt²ω²r a step.
 #[test]
 fn tool_spinning_under_a_sticking_plate() {
     let name = "hard/tool-spin";

@@ -146,9 +146,9 @@ fn shipped_measurement_files_read() {
 }
 
 /// The smallest budget `identify` accepts for one fitted value (3) runs to
-/// its limit and reports what it found. It panicked inside argmin's
-/// Nelder–Mead, which asks for the first simplex again and unwraps the
-/// answer; a point already evaluated is now read whatever the limit.
+/// its limit and reports what it found: argmin's Nelder–Mead asks for the
+/// first simplex again and unwraps the answer, so a point already evaluated
+/// is read whatever the limit.
 #[test]
 fn identify_at_the_smallest_evaluation_budget_reports_instead_of_panicking() {
     let dir = tempfile::tempdir().unwrap();

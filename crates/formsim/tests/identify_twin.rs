@@ -127,7 +127,7 @@ fn options(
 }
 
 /// Noise-free draw-in at μ = 0.12; Nelder–Mead from 0.2 on the thesis's
-/// objective. Tolerance: 1 % (the issue's).
+/// objective. Tolerance: 1 %.
 #[test]
 fn twin_ac_mu_recovered_within_one_percent_from_noise_free_draw_in() {
     let dir = tempfile::tempdir().unwrap();

@@ -1,5 +1,5 @@
-//! User materials from dynamic plugins, end to end (issue 20 item 3;
-//! docs/materials.md): the example `plugins/j2-voce` through `formsim plugin
+//! User materials from dynamic plugins, end to end
+//! (docs/materials.md): the example `plugins/j2-voce` through `formsim plugin
 //! check` and in the square cup, the fixture `plugins/test-broken-material`
 //! failing the check and stopping a run, and the scene's checks of
 //! `blank.material.plugin`.

@@ -312,7 +312,7 @@ fn element_map_png_of_10x10_mesh_is_a_valid_image() {
     // 800×700 px with text and 100 coloured quads compresses to far more than 1 kB.
     assert!(bytes.len() > 1024, "PNG only {} bytes", bytes.len());
     assert_eq!(png_size(&bytes), (800, 700));
-    // Budget from the brief: < 1 s (release build).
+    // Budget: < 1 s (release build).
     eprintln!("element_map_png 10x10: {elapsed:?}, {} bytes", bytes.len());
 }
 

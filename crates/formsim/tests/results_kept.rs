@@ -1,4 +1,4 @@
-//! Results are never lost (issue 31, item 2): a run that blows up, is
+//! Results are never lost: a run that blows up, is
 //! interrupted or cannot write a frame still writes `summary.json` with its
 //! status and cause, and the histories up to that moment, all finite.
 

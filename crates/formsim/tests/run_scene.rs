@@ -8,7 +8,7 @@ use formsim::run::RunResult;
 use formsim::scene;
 
 /// Block on a plane (docs/benchmarks.md §3): the friction force while sliding is
-/// `μ N` = 0.2 × 100 N; issue 5's tolerance 1 %.
+/// `μ N` = 0.2 × 100 N; tolerance 1 %.
 #[test]
 fn block_on_plane_slides_at_mu_n() {
     let (_dir, r) = run_scene("block-on-plane", &[]);
@@ -24,7 +24,7 @@ fn block_on_plane_slides_at_mu_n() {
 }
 
 /// The block's reference reads μ from the active law: with `mu = 0.3` the
-/// analytic slip force is 30 N and the block slides at it (1 %, issue 14).
+/// analytic slip force is 30 N and the block slides at it (1 %).
 #[test]
 fn block_reference_follows_the_contact_law() {
     let (_dir, r) = run_scene("block-on-plane", &["contact.params.ac.mu=0.3"]);
@@ -54,12 +54,12 @@ fn block_reference_follows_the_contact_law() {
     );
 }
 
-/// Strip draw (issue 14): a strip pulled between a force-controlled holder
+/// Strip draw: a strip pulled between a force-controlled holder
 /// (F = 1000 N) and a die that rises at a steady 20 mm/s, lifting strip and
 /// holder. Coulomb friction on both faces: the draw force is `2μF` (1 %),
 /// and the holder delivers `F` in the mean (0.5 %), over the averaging
-/// window and over the whole draw step. Put back the old default dashpot
-/// (500 N·s/mm) and the holder delivers `F + c v` ≈ 11 kN: the test fails.
+/// window and over the whole draw step. With a dashpot of
+/// 500 N·s/mm the holder would deliver `F + c v` ≈ 11 kN: the test fails.
 #[test]
 fn strip_draw_delivers_2_mu_f() {
     let check = |r: &RunResult| -> Result<(), String> {
@@ -98,9 +98,9 @@ fn strip_draw_delivers_2_mu_f() {
     assert!(e.contains("holder delivers"), "{e}");
 }
 
-/// The square cup on a 10 × 10 quarter mesh drawn 5 mm: the files of issue 5
-/// item 4 exist and read back, summary.json carries every required key with
-/// finite values, and the energy balance closes within 2 % (issue 5).
+/// The square cup on a 10 × 10 quarter mesh drawn 5 mm: every output
+/// file exists and reads back, summary.json carries every required key with
+/// finite values, and the energy balance closes within 2 %.
 #[test]
 fn square_cup_coarse_writes_every_output() {
     let (dir, r) = run_scene(
@@ -237,7 +237,7 @@ fn square_cup_coarse_writes_every_output() {
     ] {
         assert!(text.contains(field), "frame lacks {field}");
     }
-    // What each tool and pair did (issue 14): the holder's per-step forces,
+    // What each tool and pair did: the holder's per-step forces,
     // the pairs' dissipation, the resolved settings, tools.csv.
     let holder = &json["tools"]["blankholder"]["steps"]["draw"];
     for key in ["mean", "min", "max"] {
@@ -279,13 +279,13 @@ fn square_cup_coarse_writes_every_output() {
     }
 }
 
-/// Hard case (issue 5): the blank wraps 90° over the punch profile radius at the
+/// Hard case: the blank wraps 90° over the punch profile radius at the
 /// largest mass-scaled time step formsim's cup scenes use (1e-6 s, twice the
 /// default) on a coarse 25 × 25 quarter mesh drawn 20 mm in 6 ms. The wall
 /// must turn down into the wall (an element on OX within 15° of vertical: the
 /// 2 mm punch–die clearance and the 3 mm elements leave it a few degrees off;
 /// 82° measured), every energy stays finite, and the balance error stays
-/// below 2 % (issue 5).
+/// below 2 %.
 #[test]
 fn wrap_90_over_punch_radius_at_largest_mass_scaled_step_stays_stable() {
     let sets: Vec<String> = [
@@ -341,8 +341,7 @@ fn wrap_90_over_punch_radius_at_largest_mass_scaled_step_stays_stable() {
 
 /// Levanov reads the blank's flow stress (friction-math §3): the shells hand
 /// it to contact inside every step, the first included (shared fields), so
-/// the law never sees σ_y = 0 when the holder closes on the blank (a
-/// regression: the first step used to fail).
+/// the law never sees σ_y = 0 when the holder closes on the blank.
 #[test]
 fn levanov_cup_reads_the_flow_stress_from_the_first_step() {
     let (_dir, r) = run_scene(

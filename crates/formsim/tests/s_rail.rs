@@ -2,7 +2,7 @@
 //! mesh: the single-action press (the die closes onto blank and holder, the
 //! holder pushes up with 10 kN under force control, the die draws over the
 //! fixed punch) runs, balances its energy, the holder delivers its force, and
-//! summary.json carries the sections I–E and D–J and every key of issue 16.
+//! summary.json carries the sections I–E and D–J and the keys listed below.
 
 mod common;
 

@@ -222,7 +222,7 @@ fn coarse_mesh_over_small_radius_warns() {
     assert_eq!(scene::validate::warnings(&fi).len(), 1);
 }
 
-// ----- guards (issue 14) ------------------------------------------------------
+// ----- guards -----------------------------------------------------------------
 
 /// `formsim scene check SCENE --set …`: exit code, stdout, stderr, wall time.
 fn check_cli(scene: &Path, sets: &[&str]) -> (Option<i32>, String, String, f64) {
@@ -426,7 +426,7 @@ fn mesh_files_without_shells_or_with_bad_elements_are_refused_at_check() {
         &[],
         &["blank.mesh.path: mesh.inp: no shell elements"],
     );
-    // Zero area: was blamed on `solver`.
+    // Zero area: named at the mesh file, not blamed on `solver`.
     std::fs::write(
         &mesh,
         STRIP
@@ -488,8 +488,8 @@ fn generated_meshes_with_zero_area_are_refused() {
 
 /// Every setting that can move a result is visible at `scene check`: with
 /// `--resolved` every key prints with its resolved value, defaults included
-/// (the holder's dashpot, now 0; the hourglass coefficient) and overrides
-/// applied (issue 14).
+/// (the holder's dashpot, 0; the hourglass coefficient) and overrides
+/// applied.
 #[test]
 fn scene_check_resolved_prints_every_setting_with_its_default() {
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_formsim"))
@@ -514,8 +514,7 @@ fn scene_check_resolved_prints_every_setting_with_its_default() {
 }
 
 /// A force motion takes `force` or `force_curve`, never both; a curve's
-/// compressions must increase; a scene with a gas-spring curve builds
-/// (issue 14, gas springs).
+/// compressions must increase; a scene with a gas-spring curve builds.
 #[test]
 fn force_motion_takes_force_or_a_curve() {
     let sets = vec!["steps[2].motions[0].force_curve=[[0.0, 4900.0], [2.0, 6000.0]]".to_string()];
@@ -608,8 +607,8 @@ fn element_and_material_resolve_through_the_registry() {
 }
 
 /// A run estimated at more than 24 hours is refused up front, naming the
-/// key that sets the step (`solver.mass_scaling_dt=1e-15` was "ok … 87384
-/// days") or, with the estimated stable step, the press step that sets the
+/// key that sets the step (`solver.mass_scaling_dt=1e-15`) or, with the
+/// estimated stable step, the press step that sets the
 /// end (a 1e6 s step); `--allow-long` lets the estimate through.
 #[test]
 fn absurd_run_times_are_refused_unless_allowed() {
@@ -656,8 +655,8 @@ fn estimate_counts_the_fixed_step() {
 }
 
 /// A value far beyond any sheet or metal is named at its key, not as the
-/// infinite mass or step it makes downstream (`blank.thickness=1e300` was
-/// reported as "node 0: lumped rotational inertia = inf").
+/// infinite mass or step it makes downstream (`blank.thickness=1e300`, not
+/// "node 0: lumped rotational inertia = inf").
 #[test]
 fn absurd_physical_values_name_their_key() {
     for (set, needle) in [

@@ -21,8 +21,8 @@ fn warns_only(name: &str, r: &RunResult, expected: &[&str]) {
 
 /// Strip drawn between a force-controlled holder and a rising die
 /// (closed form: draw force `2 μ F`). Its internal energy is 0.2 mJ against
-/// 225 mJ of work, so kinetic/internal was 1.7e20 while the kinetic energy
-/// was 1 % of the work: the quasi-static measure is the work's share
+/// 225 mJ of work, so kinetic/internal reaches 1.7e20 while the kinetic energy
+/// is 1 % of the work: the quasi-static measure is the work's share
 /// (bound 0.05), and kinetic/internal is left out where the internal energy
 /// is below 1 % of the work. In the `lift` step the die carries the holder
 /// up from rest to 20 mm/s: the holder delivers +21 % of its force, and the
@@ -48,7 +48,7 @@ fn strip_draw_runs_clean_and_its_lift_is_the_holders_acceleration() {
     let delivered = lift.delivered_error.unwrap();
     let held = lift.held_error.unwrap();
     let inertia = lift.force_inertia.unwrap();
-    // Before: the +21 % delivered error alone fired the warning.
+    // The +21 % delivered error alone fires no warning (checked above).
     assert!(delivered > 0.1, "lift delivered {delivered}");
     // Direction −z, the holder carried up: momentum along −z falls.
     assert!(inertia < -100.0, "lift inertia {inertia} N");
@@ -56,8 +56,7 @@ fn strip_draw_runs_clean_and_its_lift_is_the_holders_acceleration() {
     let draw = &s.tools["holder"].steps["draw"];
     assert!(draw.held_error.unwrap().abs() < 0.01);
 
-    // `formsim run` prints the closed-form check (it was only in
-    // summary.json) and no warning.
+    // `formsim run` prints the closed-form check and no warning.
     let dir = tempfile::tempdir().unwrap();
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_formsim"))
         .args(["run", "scenes/strip-draw.toml", "--out"])
@@ -80,7 +79,7 @@ fn strip_draw_runs_clean_and_its_lift_is_the_holders_acceleration() {
 }
 
 /// The block on a plane and the capstan (closed forms `μN` and `e^{μθ}`):
-/// no warning; their kinetic/internal ratios (11.3 for the block) were
+/// no warning; their kinetic/internal ratios (11.3 for the block) are
 /// ratios over an elastic energy of 3e-4 mJ against 5 mJ of friction work.
 #[test]
 fn block_and_capstan_run_clean() {
@@ -94,11 +93,9 @@ fn block_and_capstan_run_clean() {
 
 /// The forming benchmarks as shipped, full size: the square cup, the
 /// aluminium cup and the S-rail are quasi-static (kinetic energy below 5 %
-/// of the work while forming) with mass scaling under its bound. Before the
-/// stick stiffness default went from 1e5 to 1e4 MPa/mm the cup warned
-/// (K/I 0.052), the aluminium cup added 1106 % of its mass and the S-rail
-/// warned (K/I 0.072). The S-rail's 5 mm elements over its 5 mm shoulders
-/// warn, truly (docs/s-rail.md; `s-rail-fine.toml` resolves them).
+/// of the work while forming) with mass scaling under its bound, at the
+/// default stick stiffness (1e4 MPa/mm). The S-rail's 5 mm elements over
+/// its 5 mm shoulders warn, truly (docs/s-rail.md; `s-rail-fine.toml` resolves them).
 #[test]
 fn forming_benchmarks_run_clean() {
     let cases: [(&str, &[&str]); 3] = [

@@ -231,8 +231,7 @@ fn bad_study_options_are_named() {
 
 /// A quantity the scene does not report (a misspelt key, a section or
 /// report stroke it does not have) is refused while planning, naming it and
-/// what the scene reports, and nothing runs (no output folder). Before, the
-/// reference ran first and failed on it.
+/// what the scene reports, and nothing runs (no output folder).
 #[test]
 fn a_quantity_the_scene_does_not_report_stops_the_study_before_any_run() {
     let dir = tempfile::tempdir().unwrap();

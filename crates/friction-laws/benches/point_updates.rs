@@ -1,5 +1,5 @@
 //! Point updates per second per core for every built-in law × formulation
-//! (issue: aim AC + convective ≥ 20 M/s, no pairing below 5 M/s).
+//! (aim: AC + convective ≥ 20 M/s, no pairing below 5 M/s).
 //!
 //! Each iteration integrates one explicit step at a batch of contact points
 //! through `PointIntegrator::step_batch` (one virtual call per batch,

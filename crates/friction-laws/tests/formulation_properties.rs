@@ -780,7 +780,7 @@ fn cylinder_normal(r: f64, a: f64, two_patches: bool) -> Vec3 {
 /// path over a cylinder (R = 0.05 mm, crossing the seam at mid-path), normals from
 /// one patch or from two patches (the second with reversed u); spinning deforming
 /// blank. Traction histories identical to 1e-12 relative for every formulation
-/// (the brief asks `convective` and `jaumann`; the others hold too).
+/// (required of `convective` and `jaumann`; the others hold too).
 #[test]
 fn seam_independence_on_cylinder() {
     let (r, steps) = (0.05, 400);
@@ -858,8 +858,7 @@ fn three_level_orders(values: &[f64]) -> Vec<f64> {
 /// order of the table is 1 ± 0.3, asserted on every triple. In the unresolved
 /// regime the rate-based ω at N = 100 must also be as close to convective's as
 /// the formulations are in the limit: asserted `|ω_f(100)/ω_C(100) - 1|` below a
-/// tenth of convective's own discretisation error `|ω_C(100) - ω_C(3200)|/ω_C(3200)`
-/// (the old trial-based `d` was 27× too small there).
+/// tenth of convective's own discretisation error `|ω_C(100) - ω_C(3200)|/ω_C(3200)`.
 #[test]
 fn convergence_orders_as_dt_goes_to_zero() {
     println!(

@@ -563,8 +563,8 @@ fn panicking_child() {
 }
 
 /// A plugin that panics at every call does not flood standard error: the
-/// plugin's panic hook stays silent for the panics its shims catch (before,
-/// each of the 10 000 panics printed its message). The calls run in a child
+/// plugin's panic hook stays silent for the panics its shims catch (all
+/// 10 000 of them here). The calls run in a child
 /// process (this test binary, filtered to `panicking_child`), whose whole
 /// standard error is counted.
 #[test]

@@ -1,4 +1,4 @@
-//! Cost of the shell element loop per element per cycle (issue 4: BT with 5
+//! Cost of the shell element loop per element per cycle (BT with 5
 //! points in plastic flow, aim ≤ 0.25 µs single core) and the fully
 //! integrated shell; plus the 1- vs 2-thread element loop on a 2,500- and a
 //! 10,000-element blank.

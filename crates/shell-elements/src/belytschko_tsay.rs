@@ -12,11 +12,11 @@
 //!   Belytschko–Wong–Chiang element), which makes the element pass the
 //!   bending patch test on distorted meshes.
 //!
-//! Warped elements (issue 4; `docs/shells.md`): the nodes lie at heights
+//! Warped elements (`docs/shells.md`): the nodes lie at heights
 //! `ẑ_I = (h·ẑ/4) h_I` off the mean plane, so a rigid rotation `ω̂` about the
 //! in-plane axes moves them in-plane by `(ω̂y ẑ_I, −ω̂x ẑ_I)`. The centre B is
 //! orthogonal to `h` and does not see it, but the membrane hourglass rates
-//! did (`γ·ẑ = ½ h·ẑ`). Always on: the element's rigid rotation about its
+//! do (`γ·ẑ = ½ h·ẑ`). Always on: the element's rigid rotation about its
 //! in-plane axes, `ω̄x = Σ B2_I v̂z_I`, `ω̄y = −Σ B1_I v̂z_I`, is removed from
 //! the in-plane velocities (after Belytschko & Leviathan 1994; see
 //! `formulation::remove_warp_rotation`), which here reduces to
@@ -32,9 +32,9 @@
 //! adding `κ_xx += c ∂v̂x/∂y`, `κ_yy += c ∂v̂y/∂x`,
 //! `2κ_xy += c (d_xx + d_yy)`. Rigid motions still give no strain (the two
 //! terms cancel for a rotation about the normal); a homogeneous deformation
-//! of the body no longer bends the section (unit test); and the nodal
+//! of the body does not bend the section (unit test); and the nodal
 //! rotation about the element normal, which the drilling penalty alone holds
-//! only weakly, now bends warped elements as the fibres' tilt demands, which
+//! only weakly, bends warped elements as the fibres' tilt demands, which
 //! is what keeps the twisted beam from going soft with a small drilling
 //! coefficient (+30 % without the correction).
 //!

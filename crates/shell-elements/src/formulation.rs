@@ -583,9 +583,9 @@ pub(crate) fn warp_rotation_forces(z: &[f64; 4], b1: &[f64; 4], b2: &[f64; 4], f
 /// the nodes' local coordinates), and the penalty acts on the rotation about
 /// them relative to the surface's spin about them:
 /// `r_I = ω̂z_I − Ω − c (ŷ_I (ω̂x_I − ω̄x) + x̂_I (ω̂y_I − ω̄y))`, zero for every
-/// rigid motion. Against the plain `ω̂z_I − Ω` it no longer resists the
+/// rigid motion. Unlike the plain `ω̂z_I − Ω` it does not resist the
 /// bending rotations' share `c (ŷ_I ω̂x_I + x̂_I ω̂y_I)` along `e3`, which
-/// scales with t against a bending stiffness ∝ t³ and locked thin warped
+/// scales with t against a bending stiffness ∝ t³ and locks thin warped
 /// shells (thin twisted beam). Its conjugate loads, which the caller adds:
 /// moments `−c ŷ_I m_I`, `−c x̂_I m_I` about x and y at node I and normal
 /// forces `c (S_y B2_J − S_x B1_J)`, `S_x = Σ x̂_I m_I`, `S_y = Σ ŷ_I m_I`,

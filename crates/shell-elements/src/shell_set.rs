@@ -1192,7 +1192,7 @@ mod tests {
         (worst, share)
     }
 
-    /// Energy balance with the drilling mode excited (issue 4 requirement
+    /// Energy balance with the drilling mode excited (requirement
     /// < 0.5 %, here held to 1e-3) at the largest drilling coefficient: the
     /// penalty's work is booked as internal energy, so the ledger must
     /// balance at every step while the penalty holds a large share of the

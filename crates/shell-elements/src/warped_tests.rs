@@ -1,4 +1,4 @@
-//! Unit tests of the warped-element kinematics of both formulations (issue 4): the
+//! Unit tests of the warped-element kinematics of both formulations: the
 //! removal of the rigid rotation about the in-plane axes with its transpose on the
 //! forces (`formulation::remove_warp_rotation`, `warp_rotation_forces`) and the
 //! warping correction (tilted fibres and twisted metric). Element-level, one explicit

@@ -227,25 +227,20 @@ fn pinched_hemisphere<F: ShellFormulation>(form: F, n: usize, load_factor: f64) 
 
 /// The references are linear solutions (MacNeal & Harder 1985); the solver
 /// is geometrically nonlinear (co-rotational) and at the full loads the roof
-/// is measurably stiffer (FI 16×16: w = 0.256, −15 %; the hemisphere at its
-/// full load: 0.0910 and 0.0920, −1.5 % and −0.4 %; measured before the
-/// drilling penalty). Both benchmarks are
+/// is measurably stiffer. Both benchmarks are
 /// therefore run in the linear range, at 1/1000 of the load, and the
 /// displacement is divided by that factor.
 const LINEAR_RANGE: f64 = 1e-3;
 
 // Mesh studies below: linear range, the set-ups above, default elements
-// (drilling γ = 1e-3). Before the elements had a drilling stiffness (γ = 0)
-// the roof did not converge: FI 8×8 −2.4 %, 16×16 +0.7 %, 32×32 +6.4 %
-// (growing); BT 8×8 +26.5 %, 16×16 +39.2 %; and the BT hemisphere was
-// +9.9 % at 16×16, still creeping. γ study in docs/shells.md.
+// (drilling γ = 1e-3). γ study in docs/shells.md.
 
 /// Scordelis–Lo roof, Belytschko–Tsay (default: hourglass r = 0.05,
 /// drilling γ = 1e-3), 32×32 on the quarter. Mesh study (w, error vs
 /// 0.3024): 8×8 0.31629 (+4.6 %), 16×16 0.30610 (+1.2 %), 32×32 0.30361
 /// (+0.4 %), 64×64 0.30299 (+0.2 %): converges from above. Source: MacNeal &
 /// Harder (1985), reference w = 0.3024 at the mid-span free edge; tolerance
-/// 3 % (issue 4).
+/// 3 %.
 #[test]
 fn scordelis_lo_roof_midspan_edge_deflection_belytschko_tsay() {
     let w = scordelis_lo(BelytschkoTsay::default(), 32, LINEAR_RANGE);
@@ -255,7 +250,7 @@ fn scordelis_lo_roof_midspan_edge_deflection_belytschko_tsay() {
 /// Scordelis–Lo roof, fully integrated shell (drilling γ = 1e-3), 32×32 on
 /// the quarter. Mesh study: 8×8 0.29439 (−2.7 %), 16×16 0.29966 (−0.9 %),
 /// 32×32 0.30142 (−0.3 %), 64×64 0.30216 (−0.1 %): converges from below.
-/// Source: MacNeal & Harder (1985), w = 0.3024; tolerance 3 % (issue 4).
+/// Source: MacNeal & Harder (1985), w = 0.3024; tolerance 3 %.
 #[test]
 fn scordelis_lo_roof_midspan_edge_deflection_fully_integrated() {
     let w = scordelis_lo(FullyIntegrated::default(), 32, LINEAR_RANGE);
@@ -265,8 +260,7 @@ fn scordelis_lo_roof_midspan_edge_deflection_fully_integrated() {
 /// Pinched hemisphere with an 18° hole, Belytschko–Tsay (default), 16×16 on
 /// the quarter. Mesh study (u at both loads): 8×8 0.09427 (+2.0 %), 16×16
 /// 0.09398 (+1.7 %), 32×32 0.09379 (+1.5 %, 87,000 steps: too long for CI).
-/// Source: MacNeal & Harder (1985), u = 0.0924 at both loads; tolerance 3 %
-/// (issue 4).
+/// Source: MacNeal & Harder (1985), u = 0.0924 at both loads; tolerance 3 %.
 #[test]
 fn pinched_hemisphere_radial_displacement_belytschko_tsay() {
     let (ux, uy) = pinched_hemisphere(BelytschkoTsay::default(), 16, LINEAR_RANGE);
@@ -281,7 +275,7 @@ fn pinched_hemisphere_radial_displacement_belytschko_tsay() {
 /// 0.09284 (+0.5 %), 32×32 0.09327 (+0.9 %); BT and FI approach each other
 /// at ≈ +1 %, where the finer-mesh solutions of this problem in the
 /// literature lie (0.0924 is MacNeal & Harder's value). Source: MacNeal &
-/// Harder (1985), u = 0.0924 at both loads; tolerance 3 % (issue 4).
+/// Harder (1985), u = 0.0924 at both loads; tolerance 3 %.
 #[test]
 fn pinched_hemisphere_radial_displacement_fully_integrated() {
     let (ux, uy) = pinched_hemisphere(FullyIntegrated::default(), 16, LINEAR_RANGE);

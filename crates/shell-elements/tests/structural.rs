@@ -18,7 +18,7 @@ fn all_dofs() -> Dofs {
 /// Elastic plate vibration: a steel cantilever plate 100 × 20 × 1 mm (20 × 4
 /// elements) released with a bending velocity field vz = 500 (x/L)² mm/s,
 /// free vibration for about 1.5 periods of its first mode, no damping.
-/// Requirement (issue 4): energy balance error below 0.5 % at every step.
+/// Requirement: energy balance error below 0.5 % at every step.
 fn plate_vibration_energy_balance<F: ShellFormulation>(form: F) -> f64 {
     let mesh = rectangle(100.0, 20.0, 20, 4).unwrap();
     let mat = elastic(206_000.0, 0.3, 7.85e-9);
@@ -177,7 +177,7 @@ fn cantilever_end_moment_rolls_into_half_circle_fully_integrated() {
 /// Uniaxial tension of a strip (one element 1 × 1 × 1 mm, symmetry on two
 /// edges, the third pulled by a smooth-step displacement to ε = 0.2955,
 /// i.e. ln-strain 0.259 = n): the NUMISHEET'93 mild steel of docs/benchmarks.md §1,
-/// Swift σ_y = 565.32 (ε_p + 0.007117)^0.2589. Checks (issue 4, 1 %):
+/// Swift σ_y = 565.32 (ε_p + 0.007117)^0.2589. Checks (1 %):
 /// true stress σ_xx = K (ε0 + ε_p)^n with ε_p = ln(L/L0) − σ/E taken from
 /// the geometry, up to ε = n; thickness strain ln(t/t0) = −ε_p/2 − ν σ/E
 /// (plastic incompressibility), and width strain the same.

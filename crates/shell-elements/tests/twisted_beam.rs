@@ -23,7 +23,7 @@
 //! (Check of the set-up: Euler–Bernoulli with the rotating section,
 //! u = P ∫(L−x)² [cos²φ/EI_weak + sin²φ/EI_strong] dx = 5.426e-3 for the in-plane load.)
 //!
-//! Tolerance (issue 4): 3 % on the tip displacement. Issue 4's fix (`docs/shells.md`,
+//! Tolerance: 3 % on the tip displacement. Warped-element kinematics (`docs/shells.md`,
 //! "Warped elements"): both elements remove a warped element's rigid rotation about its
 //! in-plane axes from the in-plane velocities (the rigid-rotation checks below), and
 //! the warping correction (option) is first-order kinematics on the twisted surface:
@@ -46,10 +46,6 @@
 //! | 0.0032 | 4×24 | out-of-plane | −0.91 % | −0.90 % | −0.47 % | −0.45 % |
 //! | 0.0032 | 8×48 | out-of-plane | — | — | — | −0.19 % |
 //!
-//! Before the fix (this file on main): FI −72.7 / −38.8 / +0.75 % (in-plane, t = 0.32)
-//! and locked thin (2.7e-7 against 5.256e-3), BT +11.0 / +25.7 / +30.6 % and locked
-//! thin (6.6e-6), and the earlier warping correction changed nothing (≤ 0.05 %).
-//!
 //! What sets the rest:
 //! * Without the warping correction the answer is set by the drilling penalty, not by
 //!   the mesh: on the faceted twisted surface the nodal rotation about an element's
@@ -59,7 +55,7 @@
 //!   +29.7 / +3.1 / +0.14 % for γ = 1e-4 / 1e-3 (default) / 1e-2 / 1e-1 (4×24: FI +230
 //!   / +30.5 / +2.6 / −0.26 %). With γ = 1e-3 the runs are settled: relaxing five times
 //!   longer moves them by ≤ 0.08 % (`twisted_beam_relaxation_study`). With the
-//!   correction the answer no longer depends on γ: BT + warp in-plane 2×12 +0.14 /
+//!   correction the answer does not depend on γ: BT + warp in-plane 2×12 +0.14 /
 //!   +0.12 / +0.08 / −0.19 %, FI + warp −1.33 / −1.39 / −1.43 / −1.53 % for the same γ.
 //! * Out-of-plane, 2×12: the load runs along the root's width, so the root, where the
 //!   moment is largest, bends in its plane, and two elements across the width are too
@@ -134,7 +130,7 @@ struct Run {
 /// every case runs at 1/1000 of the benchmark load and divides back.
 const LINEAR_RANGE: f64 = 1e-3;
 
-/// Tolerance on the tip displacement (issue 4).
+/// Tolerance on the tip displacement.
 const TOL: f64 = 0.03;
 
 /// The twisted beam with `nw` elements across the width and `nl` along the length,
@@ -342,12 +338,11 @@ fn fi(warping_correction: bool) -> FullyIntegrated {
     }
 }
 
-// ----- the benchmark (acceptance tests of the warped-element fix) ----------------------
+// ----- the benchmark (acceptance tests of the warped-element kinematics) ---------------
 
 /// MacNeal & Harder (1985) standard mesh 2×12, t = 0.32, in-plane load, fully
 /// integrated shell (default options, no warping correction): 5.424e-3 within 3 %.
-/// Measured: 6.921e-3 (+27.6 %; −72.7 % before the warped-element projection, when
-/// rigid rotations strained the element). Without the warping correction the
+/// Measured: 6.921e-3 (+27.6 %). Without the warping correction the
 /// faceted twisted beam is drilling-soft: +27.6 / +30.5 / +31.8 % at 2×12 / 4×24 /
 /// 8×48, +1.6 % with γ = 1e-2 (`twisted_beam_penalty_study`); with the correction
 /// −1.39 % (`twisted_beam_study`).
@@ -357,8 +352,8 @@ fn twisted_beam_in_plane_2x12_fully_integrated() {
     assert_case("FI", fi(false), (2, 12), Load::InPlane);
 }
 
-/// Same, out-of-plane load: 1.754e-3 within 3 %. Measured: 2.065e-3 (+17.8 %; −56.2 %
-/// before the projection). With the warping correction −8.3 % at 2×12 (−2.6 / −0.8 %
+/// Same, out-of-plane load: 1.754e-3 within 3 %. Measured: 2.065e-3 (+17.8 %).
+/// With the warping correction −8.3 % at 2×12 (−2.6 / −0.8 %
 /// at 4×24 / 8×48): the root, where the moment is largest, bends in its plane, and a
 /// 2-element-wide bilinear membrane locks in in-plane bending (straight strip, same
 /// mesh: −26 %).
@@ -370,8 +365,7 @@ fn twisted_beam_out_of_plane_2x12_fully_integrated() {
 
 /// MacNeal & Harder (1985) standard mesh 2×12, t = 0.32, in-plane load,
 /// Belytschko–Tsay with the warping correction: 5.424e-3 within 3 % (and converged).
-/// Measured: 5.430e-3 (+0.12 %; +11.0 % before the projection and the new correction;
-/// without the correction now +29.7 %, drilling-soft).
+/// Measured: 5.430e-3 (+0.12 %; without the correction +29.7 %, drilling-soft).
 #[test]
 fn twisted_beam_in_plane_2x12_belytschko_tsay_warping_correction() {
     assert_case("BT+warp", bt(true), (2, 12), Load::InPlane);
@@ -413,7 +407,7 @@ fn twisted_beam_out_of_plane_4x24_fully_integrated_warping_correction() {
 
 /// Thin beam (t = 0.0032, load 1e-6), standard mesh 2×12, in-plane load,
 /// Belytschko–Tsay with the warping correction: 5.256e-3 within 3 % (and converged).
-/// Before issue 4 this case locked (6.6e-6). Measured: 5.215e-3 (−0.78 %), about 40 s
+/// Measured: 5.215e-3 (−0.78 %), about 40 s
 /// in release (1.3 million steps).
 #[test]
 fn twisted_beam_thin_in_plane_2x12_belytschko_tsay_warping_correction() {
@@ -649,14 +643,13 @@ fn rigid_rotation_of_flat_element_is_strain_free() {
 }
 
 /// A rigid rotation of a warped element (z_h = c a b = 0.018 mm, the 2×12 twisted
-/// beam's) must not strain it (tolerance 1e-12 per radian). Failed before issue 4's
-/// fix for rotations about the local in-plane axes: the projected-plane kinematics
-/// read the in-plane
+/// beam's) must not strain it (tolerance 1e-12 per radian). For rotations about the
+/// local in-plane axes the projected-plane kinematics alone would read the in-plane
 /// nodal velocities of the rotation, `v̂x = ω̂y ẑ_I`, `v̂y = −ω̂x ẑ_I` (ẑ_I = ±z_h), as
 /// membrane strain rates; with the 2×2 B-matrix, `Σ ∂N_I/∂x ẑ_I = z_h η/a` and
 /// `Σ ∂N_I/∂y ẑ_I = z_h ξ/b` are not zero off the centre, so `d_xx = ω̂y c b η`,
-/// `d_yy = −ω̂x c a ξ` at the Gauss points (measured: σ/E′ = 0.038 per radian about x).
-/// The element's rigid rotation about its in-plane axes is now removed from the
+/// `d_yy = −ω̂x c a ξ` at the Gauss points (σ/E′ = 0.038 per radian about x).
+/// The element's rigid rotation about its in-plane axes is therefore removed from the
 /// in-plane velocities first (measured: σ/E′ ≤ 8.7e-17, f/(E t) ≤ 3.4e-17 per radian).
 #[test]
 fn rigid_rotation_of_warped_element_is_strain_free_fully_integrated() {
@@ -669,9 +662,9 @@ fn rigid_rotation_of_warped_element_is_strain_free_fully_integrated() {
 
 /// The same for Belytschko–Tsay (with and without the warping correction): the centre
 /// B-matrix is orthogonal to ẑ ∝ h, so no stress arises, but the membrane hourglass
-/// rates `q_x = γ·v̂x`, `q_y = γ·v̂y` are not (Σ γ_I ẑ_I = 2 z_h), so the hourglass
-/// control resisted rigid rotations (measured before issue 4's fix: f/(E t) = 2.7e-4
-/// per radian; now 0 to 2.6e-20).
+/// rates `q_x = γ·v̂x`, `q_y = γ·v̂y` are not (Σ γ_I ẑ_I = 2 z_h), so without the
+/// removal the hourglass control would resist rigid rotations (measured with it:
+/// f/(E t) = 0 to 2.6e-20 per radian).
 #[test]
 fn rigid_rotation_of_warped_element_is_force_free_belytschko_tsay() {
     for warping_correction in [false, true] {

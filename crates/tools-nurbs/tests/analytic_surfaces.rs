@@ -2,7 +2,7 @@
 //!
 //! Source: classical differential geometry (do Carmo, *Differential Geometry of
 //! Curves and Surfaces*, §3-2/3-3: principal curvatures of the sphere, the
-//! cylinder and the torus of revolution). Tolerance (issue 3, "Done when"):
+//! cylinder and the torus of revolution). Tolerance:
 //! 1e-9 relative — distances relative to the shape's radius, normals
 //! absolute, curvatures relative to 1/radius.
 

@@ -26,8 +26,8 @@ fn close(a: &Vec3, b: &Vec3) -> bool {
 }
 
 /// A point beyond the edge x = 10 and below the plane is outside the tool,
-/// at its distance from the edge line (it used to read as penetrated by
-/// its height below the plane's normal side: −0.5 here).
+/// at its distance from the edge line (without the sharp-edge rule it would
+/// read as penetrated by its height below the plane's normal side: −0.5 here).
 #[test]
 fn beyond_the_edge_below_the_plane_is_outside_at_the_edge_distance() {
     for hint in [

@@ -127,7 +127,7 @@ fn sane(p: &Projection, x: &Vec3, reach: f64) -> bool {
         && p.k1 >= p.k2
 }
 
-/// Issue 3 "Done when": 10^6 random points within 20 mm of the square-cup
+/// 10^6 random points within 20 mm of the square-cup
 /// punch and die (quarter model, what the scene uses) project without failure;
 /// a sample of 2000 is checked against an independent brute-force search
 /// (dense sampling + derivative-free pattern search) to 1e-8 mm, and warm
@@ -323,7 +323,7 @@ fn square(z: f64, x0: f64) -> PatchDef {
     ])
 }
 
-/// Bad input (issue 3 "Bad input"): each error names the patch and the field.
+/// Bad input: each error names the patch and the field.
 #[test]
 fn bad_patches_and_points_give_errors_naming_patch_and_field() {
     let ok = square(0.0, 0.0);

@@ -1,8 +1,8 @@
 //! Regression: a warm start whose hint lies a rounding error inside a patch edge
 //! (as a hint saved from an edge answer comes back) must still leave the patch
-//! when the closest point lies beyond that edge. Found by contact's die-shoulder
-//! seam test: a blank node walking off the die face onto the shoulder kept the
-//! face's edge point (distance 0.3955 instead of 0.385) and lost contact.
+//! when the closest point lies beyond that edge. Contact's die-shoulder seam
+//! test's case: a blank node walking off the die face onto the shoulder must not keep
+//! the face's edge point (distance 0.3955 instead of 0.385) and lose contact.
 
 use plugins_api::{ToolSurface, Vec3};
 use tools_nurbs::builders::square_cup::benchmark_quarter_die;
@@ -37,9 +37,9 @@ fn warm_start_from_an_edge_hint_crosses_the_seam() {
 /// Regression: a warm Newton whose path crosses a knot where the
 /// parametrisation is only C⁰ (the punch bottom's pieces meet along the
 /// corner diagonals with a jump in `S_u`) must not stop on the knot short
-/// of the closest point. Found by the flat-region test: from a far hint the
-/// line search shrank the step to nothing at the kink and Newton reported
-/// a point 0.17 mm farther than the foot. Points over the punch bottom (a
+/// of the closest point. The flat-region test's case: from a far hint the
+/// line search must not shrink the step to nothing at the kink, leaving
+/// Newton at a point 0.17 mm farther than the foot. Points over the punch bottom (a
 /// plane), warm-started from hints anywhere on that patch, with the planar
 /// shortcut off: the answer is the perpendicular foot (1e-9 mm).
 #[test]

@@ -19,7 +19,7 @@ pub struct Context {
     pub version: String,
     /// A fingerprint of the running executable ([`build_fingerprint`]): a
     /// rebuilt formsim may compute other results under the same version
-    /// (empty in journals written before it was recorded).
+    /// (empty in journals that do not record it).
     #[serde(default)]
     pub build: String,
     /// The scene file's text.

@@ -1,4 +1,4 @@
-//! `summary.json`: the figures of one run (issue 5's keys; scene units).
+//! `summary.json`: the figures of one run (scene units).
 
 use super::post::{SectionSummary, Snapshot};
 use super::tools_report::{self, PairSummary, ToolSummary};

@@ -58,11 +58,10 @@ pub fn allow_long_runs(allow: bool) {
 }
 
 /// Wall time of one element in one increment (µs), everything included
-/// (shells, contact, output), Belytschko–Tsay. Measured 2026-11-25 after the
-/// contact work of issue 15 with `formsim run scenes/square-cup.toml` (2
-/// threads, the host otherwise idle): 30,200 increments × 2,500 elements in
-/// 15.2 s, `element_cycles_per_s` = 4.954e6 (before that work: 0.44 µs,
-/// 2.264e6 on a loaded host).
+/// (shells, contact, output), Belytschko–Tsay. Measured with
+/// `formsim run scenes/square-cup.toml` (2 threads, the host otherwise
+/// idle): 30,200 increments × 2,500 elements in 15.2 s,
+/// `element_cycles_per_s` = 4.954e6.
 pub const MICROSECONDS_PER_ELEMENT_CYCLE: f64 = 0.20;
 
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;

@@ -22,10 +22,9 @@ inventory::submit! {
         summary: "Hill'48 plane-stress anisotropy from r_values = [r0, r45, r90], rolling direction along global x, the rolling direction's hardening; youngs_modulus (MPa), poissons_ratio, density (tonne/mm³), hardening",
         anisotropic: true,
         // Measured on the square cup (`scenes/square-cup-hill.toml` against
-        // `scenes/square-cup.toml`, 2 threads, one after the other,
-        // 2026-11-25, after issue 15): 2.357e6 against 4.954e6 element
-        // cycles/s (the return runs lane by lane, about 9× J2's lane kernel;
-        // contact is shared; 1.6 before).
+        // `scenes/square-cup.toml`, 2 threads, one after the other): 2.357e6
+        // against 4.954e6 element cycles/s (the return runs lane by lane,
+        // about 9× J2's lane kernel; contact is shared).
         relative_cost: 2.1,
         build,
     }

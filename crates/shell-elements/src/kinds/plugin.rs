@@ -85,7 +85,7 @@ inventory::submit! {
         anisotropic: false,
         // Depends on the plugin's own cost. Measured for the example
         // j2-voce on the square cup (`scenes/square-cup-plugin.toml` against
-        // `scenes/square-cup.toml`, 2 threads, in turn, 2026-11-27): wall
+        // `scenes/square-cup.toml`, 2 threads, in turn): wall
         // 30.9 s against 15.9 s (median of 3; docs/materials.md).
         relative_cost: 2.0,
         build,

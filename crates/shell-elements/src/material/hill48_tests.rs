@@ -210,7 +210,7 @@ fn plastic_steps_end_on_the_yield_surface_with_non_negative_dissipation() {
 /// stress lies on its surface to 1e-12 (the
 /// series of `Hardening::eval_from`).
 ///
-/// The brief asked 1e-10; J2's return is converged only to
+/// Not 1e-10: J2's return is converged only to
 /// `|σ_vm/σ_y − 1| ≤ 5e-10` (`RETURN_CLOSE`'s documentation; 1.3e-10
 /// measured by its own test), and the differences measured here reach
 /// 1.5e-10 (stress) and 2e-10 (thickness strain, dissipation): the
