@@ -1,6 +1,6 @@
 //! # contact: blank nodes against rigid tools, with friction
 //!
-//! Place in the pipeline: step 3 of an explicit step (docs/architecture.md §3). For every
+//! Place in the pipeline: stage 5 of an explicit step (docs/architecture.md §3). For every
 //! contact pair (a rigid [`ToolSurface`](plugins_api::ToolSurface) against the
 //! blank), this crate projects the blank nodes on the tool (warm-started from the
 //! previous step), measures the gap of the blank face on the tool's side (the

@@ -9,17 +9,18 @@
 /// solver's step, timed there (`fem_core::StepTiming::press`).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ContactTiming {
-    /// The blank's nodal geometry update (areas, normals, gradients the laws read) (s).
+    /// Placing the tools and updating the blank's nodal geometry (areas,
+    /// normals, gradients the laws read) (stage 5a) (s).
     pub geometry: f64,
-    /// Candidate selection: bounding-box margin and far-node skipping (pair step 1a, `stages::broad_phase`) (s).
+    /// Candidate selection: bounding-box margin and far-node skipping (stage 5b, `stages::broad_phase`) (s).
     pub broad_phase: f64,
-    /// Projecting the candidates on the tool (pair step 1b, `stages::narrow_phase`) (s).
+    /// Projecting the candidates on the tool (stage 5c, `stages::narrow_phase`) (s).
     pub projection: f64,
-    /// Gap, penalty pressure, gathering the touching points (pair step 1c, `stages::normal`) (s).
+    /// Gap, penalty pressure, gathering the touching points (stage 5d, `stages::normal`) (s).
     pub normal: f64,
-    /// The friction law's batch return mapping (pair step 2, `stages::friction`) (s).
+    /// The friction law's batch return mapping (stage 5e, `stages::friction`) (s).
     pub friction: f64,
-    /// Scattering forces, reactions and energies (pair step 3, `stages::scatter`) (s).
+    /// Scattering forces, reactions and energies (stage 5f, `stages::scatter`) (s).
     pub scatter: f64,
 }
 

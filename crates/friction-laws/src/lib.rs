@@ -1,6 +1,6 @@
 //! # friction-laws: formsim's built-in friction laws and kinematic formulations
 //!
-//! Place in the pipeline: step 3 of an explicit step (contact) calls a
+//! Place in the pipeline: stage 5 of an explicit step (contact) calls a
 //! [`plugins_api::PointIntegrator`] per batch of contact points; this crate
 //! supplies the built-in ones. It owns the four isotropic laws of
 //! docs/friction-math.md §3 ([`laws`]: `ac`, `wvs`, `wh`, `levanov`), the four

@@ -1,7 +1,8 @@
 //! # plugins-api: the stable contract between formsim's engine and its friction models
 //!
-//! Place in the pipeline: step 3 of an explicit step (contact) asks, for every
-//! contact point, for a friction traction. This crate owns *how that question is
+//! Place in the pipeline: stage 5 of an explicit step (contact,
+//! docs/architecture.md §3) asks, for every contact point, for a friction
+//! traction. This crate owns *how that question is
 //! asked*: the [`FrictionLaw`] and [`KinematicFormulation`] traits
 //! (docs/friction-math.md §2–§4), the point data a component may declare it needs
 //! ([`PointNeeds`], §6), parameter schemas ([`ParamSpec`]), the one shared

@@ -1,6 +1,6 @@
 //! The rigid-tool contract: closest-point projection with curvature, pose and velocity.
 //!
-//! Contact (step 3 of an explicit step) asks a tool, for each candidate blank
+//! Contact (stage 5 of an explicit step) asks a tool, for each candidate blank
 //! point, where the closest point of the tool surface is, on which side the
 //! point lies, and how the surface curves there (the formulations of
 //! friction-math §4 read the normal's rotation). The tool's geometry is fixed

@@ -1,6 +1,6 @@
 //! # shell-elements: Belytschko–Tsay family shells and plane-stress J2 plasticity
 //!
-//! Place in the pipeline: step 2 of an explicit step (docs/architecture.md §3) — from the
+//! Place in the pipeline: stage 4 of an explicit step (docs/architecture.md §3) — from the
 //! nodal velocities to stresses (plane-stress J2 with Swift or tabulated
 //! hardening at each through-thickness point), then to nodal forces and
 //! moments, hourglass forces, the stable time step and the element energies.

@@ -1,6 +1,6 @@
 //! # tools-nurbs: rigid tools for contact — exact NURBS surfaces, faceted meshes, closest-point projection, builders
 //!
-//! Place in the pipeline: step 3 of an explicit step (contact) asks every
+//! Place in the pipeline: stage 5 of an explicit step (contact) asks every
 //! candidate blank node for its closest point on each tool, with the signed
 //! distance, the oriented normal and the curvature tensor `K = ∇_s n`; this
 //! crate answers through `plugins_api::ToolSurface`. It owns the tool

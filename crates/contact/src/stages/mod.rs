@@ -1,15 +1,18 @@
-//! The contact step of one pair as a pipeline of five named stages.
+//! The contact step of one pair as a pipeline of five named stages: 5b–5f of
+//! stage 5 (contact forces) of the explicit step (docs/architecture.md §3),
+//! after 5a, where [`crate::ContactEffect`] places the tools and updates the
+//! blank's nodal geometry.
 //!
 //! [`crate::ContactPair::step`] runs them in this order, timing each into the
 //! pair's [`crate::ContactTiming`]:
 //!
 //! | stage | module | reads | writes |
 //! |---|---|---|---|
-//! | 1a broad phase | [`broad_phase`] | node positions, thickness, the tool's box, [`LastProjection`] | [`Candidates::points`]; opens points beyond the box margin |
-//! | 1b narrow phase | [`narrow_phase`] | the candidates, [`LastProjection::hint`] | [`Candidates::near`] (one projection per candidate) |
-//! | 1c normal | [`normal`] | the projections, nodal geometry, velocities, masses | [`LastProjection`], the [`Batch`] of touching points (pressure, slip increment, kinematics); opens the rest |
-//! | 2 friction | [`friction`] | the [`Batch`] and the points' friction history | the batch's new states and outputs |
-//! | 3 scatter | [`scatter`] | the [`Batch`] | nodal forces, the tool's reaction, energies, the per-point results and history |
+//! | 5b broad phase | [`broad_phase`] | node positions, thickness, the tool's box, [`LastProjection`] | [`Candidates::points`]; opens points beyond the box margin |
+//! | 5c narrow phase | [`narrow_phase`] | the candidates, [`LastProjection::hint`] | [`Candidates::near`] (one projection per candidate) |
+//! | 5d normal | [`normal`] | the projections, nodal geometry, velocities, masses | [`LastProjection`], the [`Batch`] of touching points (pressure, slip increment, kinematics); opens the rest |
+//! | 5e friction | [`friction`] | the [`Batch`] and the points' friction history | the batch's new states and outputs |
+//! | 5f scatter | [`scatter`] | the [`Batch`] | nodal forces, the tool's reaction, energies, the per-point results and history |
 //!
 //! Every stage writes each point's answer into that point's own slot and
 //! every sum (forces, reactions, energies) is taken in pair-point order by
@@ -178,9 +181,9 @@ impl LastProjection {
 /// The step's candidates (scratch, reused from step to step).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Candidates {
-    /// Pair points to project, in pair-point order (1a).
+    /// Pair points to project, in pair-point order (5b).
     pub points: Vec<u32>,
-    /// Their projections, same order (1b).
+    /// Their projections, same order (5c).
     pub near: Vec<Near>,
 }
 
