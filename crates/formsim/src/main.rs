@@ -832,102 +832,17 @@ fn run(args: &RunArgs) -> Outcome {
         }
         Err(e) => return Err(e.to_string().into()),
     };
+    // `{:#}` leaves the warnings out (`-q`: the log has them).
     let s = &result.summary;
+    let text = if cli_io::quiet() {
+        format!("{s:#}")
+    } else {
+        format!("{s}")
+    };
+    say!("{}", text.trim_end());
     say!(
-        "{}: {} + {}, {} {} shells, {} increments in {:.1} s ({:.3e} element cycles/s, {} threads)",
-        s.scene,
-        s.law,
-        s.formulation,
-        s.elements,
-        s.element,
-        s.increments,
-        s.wall_time_s,
-        s.element_cycles_per_s,
-        s.threads
-    );
-    if !s.description.is_empty() {
-        say!("  {}", s.description);
-    }
-    say!(
-        "  time: {}; after the loop {:.2} s (final snapshot, frames index) + {:.2} s (writing the files)",
-        s.timing.line(s.wall_time_s),
-        s.timing.final_output,
-        result.write_s
-    );
-    say!(
-        "  energy (mJ): internal {:.1}, plastic {:.1}, friction {:.1}, kinetic {:.2}, hourglass {:.2}, external work {:.1}; balance error {:.2e}; max while forming: kinetic/external work {:.3}{}, kinetic/internal {:.3}",
-        s.energy.internal,
-        s.energy.plastic,
-        s.energy.friction,
-        s.energy.kinetic,
-        s.energy.hourglass,
-        s.energy.external_work,
-        s.energy.balance_error_rel,
-        s.kinetic_to_work_max,
-        if s.regime == "dynamic" {
-            " (dynamic scene: not checked)"
-        } else {
-            ""
-        },
-        s.kinetic_to_internal_max
-    );
-    if s.stroke != 0.0 {
-        say!(
-            "  stroke {:.2} mm, punch force max {:.1} kN, thinning max {:.1} %, friction/internal {:.3}, friction share {:.3}",
-            s.stroke,
-            1e-3 * s.punch_force_max,
-            100.0 * s.thinning_max,
-            s.friction_to_internal,
-            s.friction_energy_share
-        );
-    }
-    for (name, sec) in &s.sections {
-        say!(
-            "  {name}: major max {:.4}, minor min {:.4}, thinning max {:.1} %{}",
-            sec.major_max,
-            sec.minor_min,
-            100.0 * sec.thinning_max,
-            sec.minor_at_punch_edge
-                .map_or(String::new(), |m| format!(", minor at punch edge {m:.4}"))
-        );
-    }
-    for line in formsim::run::tools_report::delivered_lines(&s.tools) {
-        say!("  {line}");
-    }
-    if let Some(c) = &s.capstan {
-        say!(
-            "  capstan: T_pull/T_hold = {:.4}, e^(mu theta) = {:.4} ({:+.2} %)",
-            c.tension_ratio,
-            c.analytic,
-            100.0 * (c.tension_ratio / c.analytic - 1.0)
-        );
-    }
-    if let Some(b) = &s.block {
-        say!(
-            "  block: slip force {:.3} N, mu N = {:.3} N ({:+.2} %)",
-            b.slip_force,
-            b.analytic,
-            100.0 * (b.slip_force / b.analytic - 1.0)
-        );
-    }
-    if let Some(t) = &s.strip {
-        say!(
-            "  strip: draw force {:.2} N, 2 mu F = {:.2} N ({:+.2} %; F = {:.1} N prescribed, {:.1} N delivered, mu = {})",
-            t.draw_force,
-            t.analytic,
-            100.0 * (t.draw_force / t.analytic - 1.0),
-            t.holder_prescribed,
-            t.holder_force,
-            t.mu
-        );
-    }
-    if !cli_io::quiet() {
-        for w in &s.warnings {
-            say!("  warning: {w}");
-        }
-    }
-    say!(
-        "  results: {}/summary.json, sections/, energy.csv, punch_force.csv, tools.csv, blank.pvd (ParaView), plots/*.png",
+        "  results ({:.2} s to write): {}/summary.json, sections/, energy.csv, punch_force.csv, tools.csv, blank.pvd (ParaView), plots/*.png",
+        result.write_s,
         out.display()
     );
     Ok(ExitCode::SUCCESS)

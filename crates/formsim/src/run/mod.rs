@@ -21,6 +21,7 @@ pub mod probe;
 mod recorder;
 pub mod reference;
 pub mod summary;
+mod summary_text;
 pub mod timing;
 pub mod tools_report;
 pub mod warnings;

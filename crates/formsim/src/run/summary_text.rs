@@ -1,0 +1,135 @@
+//! What `formsim run` prints at the end: [`Summary`] as text, one headline
+//! per line (the run, where its time went, the energy balance, the forming
+//! figures, the sections, the tools, the closed-form checks), then its
+//! warnings. Every figure is one of `summary.json`'s.
+
+use super::summary::Summary;
+use super::tools_report::delivered_lines;
+use std::fmt;
+
+/// `100 (a / b − 1)`: a figure's deviation from its reference (%).
+fn percent_off(a: f64, b: f64) -> f64 {
+    100.0 * (a / b - 1.0)
+}
+
+impl fmt::Display for Summary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = self;
+        writeln!(
+            f,
+            "{}: {} + {}, {} {} shells, {} increments in {:.1} s ({:.3e} element cycles/s, {} threads)",
+            s.scene,
+            s.law,
+            s.formulation,
+            s.elements,
+            s.element,
+            s.increments,
+            s.wall_time_s,
+            s.element_cycles_per_s,
+            s.threads
+        )?;
+        if !s.description.is_empty() {
+            writeln!(f, "  {}", s.description)?;
+        }
+        writeln!(
+            f,
+            "  time: {}; after the loop {:.2} s (final snapshot, frames index)",
+            s.timing.line(s.wall_time_s),
+            s.timing.final_output,
+        )?;
+        self.fmt_energy(f)?;
+        if s.stroke != 0.0 {
+            writeln!(
+                f,
+                "  stroke {:.2} mm, punch force max {:.1} kN, thinning max {:.1} %, friction/internal {:.3}, friction share {:.3}",
+                s.stroke,
+                1e-3 * s.punch_force_max,
+                100.0 * s.thinning_max,
+                s.friction_to_internal,
+                s.friction_energy_share
+            )?;
+        }
+        for (name, sec) in &s.sections {
+            writeln!(
+                f,
+                "  {name}: major max {:.4}, minor min {:.4}, thinning max {:.1} %{}",
+                sec.major_max,
+                sec.minor_min,
+                100.0 * sec.thinning_max,
+                sec.minor_at_punch_edge
+                    .map_or(String::new(), |m| format!(", minor at punch edge {m:.4}"))
+            )?;
+        }
+        for line in delivered_lines(&s.tools) {
+            writeln!(f, "  {line}")?;
+        }
+        self.fmt_checks(f)?;
+        if f.alternate() {
+            return Ok(());
+        }
+        for w in &s.warnings {
+            writeln!(f, "  warning: {w}")?;
+        }
+        Ok(())
+    }
+}
+
+impl Summary {
+    /// The energy line: the ledger at the end and the quasi-static measure.
+    fn fmt_energy(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (s, e) = (self, &self.energy);
+        writeln!(
+            f,
+            "  energy (mJ): internal {:.1}, plastic {:.1}, friction {:.1}, kinetic {:.2}, hourglass {:.2}, external work {:.1}; balance error {:.2e}; max while forming: kinetic/external work {:.3}{}, kinetic/internal {:.3}",
+            e.internal,
+            e.plastic,
+            e.friction,
+            e.kinetic,
+            e.hourglass,
+            e.external_work,
+            e.balance_error_rel,
+            s.kinetic_to_work_max,
+            if s.regime == "dynamic" {
+                " (dynamic scene: not checked)"
+            } else {
+                ""
+            },
+            s.kinetic_to_internal_max
+        )
+    }
+
+    /// The closed-form checks of the scenes that have one.
+    fn fmt_checks(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(c) = &self.capstan {
+            writeln!(
+                f,
+                "  capstan: T_pull/T_hold = {:.4}, e^(mu theta) = {:.4} ({:+.2} %)",
+                c.tension_ratio,
+                c.analytic,
+                percent_off(c.tension_ratio, c.analytic)
+            )?;
+        }
+        if let Some(b) = &self.block {
+            writeln!(
+                f,
+                "  block: slip force {:.3} N, mu N = {:.3} N ({:+.2} %)",
+                b.slip_force,
+                b.analytic,
+                percent_off(b.slip_force, b.analytic)
+            )?;
+        }
+        if let Some(t) = &self.strip {
+            writeln!(
+                f,
+                "  strip: draw force {:.2} N, 2 mu F = {:.2} N ({:+.2} %; F = {:.1} N prescribed, {:.1} N delivered, mu = {})",
+                t.draw_force,
+                t.analytic,
+                percent_off(t.draw_force, t.analytic),
+                t.holder_prescribed,
+                t.holder_force,
+                t.mu
+            )?;
+        }
+        Ok(())
+    }
+}
