@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use friction_laws::builtin::{self, BuiltinFormulation, FORMULATION_NAMES};
+use friction_laws::builtin::{self, BuiltinFormulation, FORMULATION_NAMES, Formulation};
 use plugins_api::loader::PluginLibrary;
 use plugins_api::{FrictionError, ParamSpec, Params, PointIntegrator, TangentMode};
 
@@ -16,7 +16,9 @@ pub enum LawSource {
     Plugin(PathBuf),
 }
 
-/// A point integrator for `source` with `params`, paired with `formulation`.
+/// A point integrator for `source` with `params`, paired with the
+/// formulation `formulation` (built in or registered) with
+/// `formulation_params`.
 ///
 /// # Errors
 /// Unknown law/formulation, parameter errors, plugin loading errors.
@@ -24,14 +26,21 @@ pub fn point_integrator(
     source: &LawSource,
     params: &Params,
     formulation: &str,
+    formulation_params: &Params,
     tangent: TangentMode,
 ) -> Result<Box<dyn PointIntegrator>, FrictionError> {
+    // The formulation first, so that a typo there is reported even when the
+    // law is also wrong.
+    let formulation = Formulation::resolve(formulation, formulation_params)?;
     match source {
-        LawSource::Named(name) => builtin::integrator(name, params, formulation, tangent),
+        LawSource::Named(name) => builtin::integrator_with(name, params, formulation, tangent),
         LawSource::Plugin(path) => {
-            BuiltinFormulation::from_name(formulation)?;
             let library = PluginLibrary::open(path)?;
-            builtin::with_law(library.build(params)?, formulation, tangent)
+            Ok(builtin::with_law_in(
+                library.build(params)?,
+                formulation,
+                tangent,
+            ))
         }
     }
 }

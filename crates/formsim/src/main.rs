@@ -482,8 +482,11 @@ fn laws(args: &LawsArgs) -> Outcome {
                 "formulation {}: {}\n    reads: {}",
                 f.name,
                 f.summary,
-                (f.build)().needs()
+                formulation_needs(f)
             );
+            if !f.params.is_empty() {
+                print_schema(f.params)?;
+            }
             return Ok(ExitCode::SUCCESS);
         }
         let known: Vec<&str> = laws
@@ -519,10 +522,20 @@ fn laws(args: &LawsArgs) -> Outcome {
             "  {:<20} {}  [reads: {}]",
             f.name,
             f.summary,
-            (f.build)().needs()
+            formulation_needs(f)
         );
+        if !f.params.is_empty() {
+            print_schema(f.params)?;
+        }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// What a registered formulation reads, built with its defaults (or a
+/// value inside the range of a required parameter).
+fn formulation_needs(f: &registry::FormulationEntry) -> String {
+    (f.build)(&defaults_or_benchmark(f.name, f.params))
+        .map_or_else(|e| format!("(not built: {e})"), |f| f.needs().to_string())
 }
 
 /// Resolved parameter values for listing purposes.
@@ -623,7 +636,13 @@ fn friction_point(args: &FrictionPointArgs) -> Outcome {
         (None, None) => return Err(Failure::Message("give --law NAME or --plugin PATH".into())),
     };
     let integrator =
-        components::point_integrator(&source, &params, &args.formulation, TangentMode::None)
+        components::point_integrator(
+            &source,
+            &params,
+            &args.formulation,
+            &Params::new(),
+            TangentMode::None,
+        )
             .map_err(|e| e.to_string())?;
     let hist = history::read(&args.history).map_err(|e| e.to_string())?;
     let file = args.history.display().to_string();

@@ -1,22 +1,40 @@
 //! Registration of the built-in laws and formulations in the `plugins-api`
-//! registry, in one place with the function that keeps it linked.
+//! registry, generated from the one list of built-ins
+//! ([`crate::builtin`]'s `builtins!`), with the function that keeps it linked.
 
 use plugins_api::registry::{FormulationEntry, LawEntry};
+use plugins_api::{FrictionError, KinematicFormulation};
 
-use crate::formulations::{convective, jaumann, lagrangian, updated_lagrangian};
+use crate::builtin::builtins;
+use crate::formulations::{
+    Convective, Jaumann, Lagrangian, UpdatedLagrangian, convective, jaumann, lagrangian,
+    updated_lagrangian,
+};
 use crate::laws::{Ac, Levanov, Wh, Wvs};
 
-inventory::submit! { LawEntry { description: Ac::DESCRIPTION, build: Ac::build } }
-inventory::submit! { LawEntry { description: Wvs::DESCRIPTION, build: Wvs::build } }
-inventory::submit! { LawEntry { description: Wh::DESCRIPTION, build: Wh::build } }
-inventory::submit! { LawEntry { description: Levanov::DESCRIPTION, build: Levanov::build } }
-
-inventory::submit! { FormulationEntry { name: convective::NAME, summary: convective::SUMMARY, build: convective::build } }
-inventory::submit! { FormulationEntry { name: jaumann::NAME, summary: jaumann::SUMMARY, build: jaumann::build } }
-inventory::submit! { FormulationEntry { name: lagrangian::NAME, summary: lagrangian::SUMMARY, build: lagrangian::build } }
-inventory::submit! {
-    FormulationEntry { name: updated_lagrangian::NAME, summary: updated_lagrangian::SUMMARY, build: updated_lagrangian::build }
+/// The registry's builder of a built-in formulation (they take no parameters).
+fn build_formulation<F: KinematicFormulation + Default + 'static>(
+    _values: &[f64],
+) -> Result<Box<dyn KinematicFormulation>, FrictionError> {
+    Ok(Box::new(F::default()))
 }
+
+/// One registry entry per built-in law and formulation.
+macro_rules! registrations {
+    (laws: [$($law:ident),+], formulations: [$($form:ident in $module:ident),+ $(,)?]) => {
+        $(inventory::submit! { LawEntry { description: $law::DESCRIPTION, build: $law::build } })+
+        $(inventory::submit! {
+            FormulationEntry {
+                name: $module::NAME,
+                summary: $module::SUMMARY,
+                params: &[],
+                build: build_formulation::<$form>,
+            }
+        })+
+    };
+}
+
+builtins!(registrations);
 
 /// Referenced by [`crate::ensure_linked`] so that this object file, and with it
 /// the submissions above, is linked into every binary that uses the crate.

@@ -190,7 +190,11 @@ impl Params {
                 return Err(FrictionError::UnknownParameter {
                     component: component.to_string(),
                     name: key.clone(),
-                    known: specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", "),
+                    known: if specs.is_empty() {
+                        "none, it takes no parameters".to_string()
+                    } else {
+                        specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", ")
+                    },
                 });
             }
         }

@@ -1,11 +1,13 @@
-//! Link-time registry of laws and formulations (`inventory`), looked up by name.
+//! Link-time registry of laws and formulations (`inventory`), looked up by
+//! name. Each declares its parameters ([`ParamSpec`]: name, unit, default,
+//! range, one line of doc) and is built from values resolved against them.
 //!
 //! A crate registers a component with `inventory::submit!`. The linker drops an
 //! unreferenced crate's registrations, so every crate that registers components
 //! exposes an `ensure_linked()` that its users call once (formsim's CLI does).
 
 use crate::law::LawDescription;
-use crate::{FrictionError, FrictionLaw, KinematicFormulation, Params};
+use crate::{FrictionError, FrictionLaw, KinematicFormulation, ParamSpec, Params};
 
 /// Builds a law from its parameter values, in the order of its schema.
 pub type LawBuilder = fn(&[f64]) -> Result<Box<dyn FrictionLaw>, FrictionError>;
@@ -19,6 +21,10 @@ pub struct LawEntry {
     pub build: LawBuilder,
 }
 
+/// Builds a formulation from its parameter values, in the order of its schema.
+pub type FormulationBuilder =
+    fn(&[f64]) -> Result<Box<dyn KinematicFormulation>, FrictionError>;
+
 /// A registered kinematic formulation.
 #[derive(Debug)]
 pub struct FormulationEntry {
@@ -26,8 +32,25 @@ pub struct FormulationEntry {
     pub name: &'static str,
     /// One-line summary.
     pub summary: &'static str,
-    /// Builder.
-    pub build: fn() -> Box<dyn KinematicFormulation>,
+    /// Its parameters (a scene's `[contact.params.NAME]`); the built-in
+    /// formulations have none.
+    pub params: &'static [ParamSpec],
+    /// Builder from resolved parameter values.
+    pub build: FormulationBuilder,
+}
+
+impl FormulationEntry {
+    /// Resolve `params` against the schema and build the formulation.
+    ///
+    /// # Errors
+    /// Parameter errors naming the parameter, its unit and range; builder errors.
+    pub fn instantiate(
+        &self,
+        params: &Params,
+    ) -> Result<Box<dyn KinematicFormulation>, FrictionError> {
+        let values = params.resolve(self.name, self.params)?;
+        (self.build)(&values)
+    }
 }
 
 inventory::collect!(LawEntry);
@@ -106,10 +129,13 @@ pub fn build_law(name: &str, params: &Params) -> Result<Box<dyn FrictionLaw>, Fr
     law(name)?.instantiate(params)
 }
 
-/// Build the formulation `name`.
+/// Build the formulation `name` with `params` (defaults for the rest).
 ///
 /// # Errors
-/// Unknown formulation.
-pub fn build_formulation(name: &str) -> Result<Box<dyn KinematicFormulation>, FrictionError> {
-    Ok((formulation(name)?.build)())
+/// Unknown formulation; parameter errors.
+pub fn build_formulation(
+    name: &str,
+    params: &Params,
+) -> Result<Box<dyn KinematicFormulation>, FrictionError> {
+    formulation(name)?.instantiate(params)
 }

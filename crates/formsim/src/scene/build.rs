@@ -441,10 +441,29 @@ fn contact_pair(
         }
         ContactPair::frictionless(&spec, geometry, &mesh.nodes)
     } else {
-        let integrator = point_integrator(&source, &params, &formulation, TangentMode::None)
+        let mut formulation_params = Params::new();
+        if let Some(table) = s.contact.params.get(&formulation) {
+            for (name, v) in table {
+                formulation_params.set(name, *v);
+            }
+        }
+        let integrator = point_integrator(
+            &source,
+            &params,
+            &formulation,
+            &formulation_params,
+            TangentMode::None,
+        )
             .map_err(|e| {
                 let message = e.to_string();
-                let at = law_error_key(s, entry, &key, &params_key, &message);
+                // A parameter error of the formulation names it as `NAME`.
+                let formulation_param = !formulation_params.0.is_empty()
+                    && message.contains(&format!("for `{formulation}`"));
+                let at = if formulation_param {
+                    format!("contact.params.{formulation}")
+                } else {
+                    law_error_key(s, entry, &key, &params_key, &message)
+                };
                 loaded.key_error(&at, message)
             })?;
         ContactPair::new(&spec, integrator, geometry, &mesh.nodes)

@@ -67,11 +67,6 @@ fn rotating_tool(t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
     rotate_minimal(&(r * kin.n_old), &kin.n_new, &(r * t_old))
 }
 
-/// Build the formulation (registry factory).
-#[must_use]
-pub fn build() -> Box<dyn KinematicFormulation> {
-    Box::new(Convective)
-}
 
 #[cfg(test)]
 mod tests {
@@ -141,7 +136,7 @@ mod tests {
     #[test]
     fn needs_tool_rotation_and_uses_backward_euler() {
         assert_eq!(Convective.needs(), PointNeeds::TOOL_ROTATION);
-        assert_eq!(build().name(), NAME);
+        assert_eq!(Convective.name(), NAME);
         let k = kin();
         let t_old = tangent_history(&k);
         let t_star = Convective.transport(&t_old, &k);

@@ -58,11 +58,6 @@ impl KinematicFormulation for Jaumann {
     }
 }
 
-/// Build the formulation (registry factory).
-#[must_use]
-pub fn build() -> Box<dyn KinematicFormulation> {
-    Box::new(Jaumann)
-}
 
 #[cfg(test)]
 mod tests {
@@ -266,6 +261,6 @@ mod tests {
             );
         }
         assert_eq!(Jaumann.needs(), PointNeeds::SPIN);
-        assert_eq!(build().name(), NAME);
+        assert_eq!(Jaumann.name(), NAME);
     }
 }

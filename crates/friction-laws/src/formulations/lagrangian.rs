@@ -60,11 +60,6 @@ impl KinematicFormulation for Lagrangian {
     }
 }
 
-/// Build the formulation (registry factory).
-#[must_use]
-pub fn build() -> Box<dyn KinematicFormulation> {
-    Box::new(Lagrangian)
-}
 
 #[cfg(test)]
 mod tests {
@@ -197,7 +192,7 @@ mod tests {
         assert!(t_star.iter().all(|v| v.is_nan()));
         assert_eq!(Lagrangian.slip_direction(&inputs(&k, t_star, e1)), None);
         assert_eq!(Lagrangian.needs(), PointNeeds::DEFORMATION_GRADIENT);
-        assert_eq!(build().name(), NAME);
+        assert_eq!(Lagrangian.name(), NAME);
     }
 
     /// `forward_direction`: an end traction parallel to `t*` (any magnitude or

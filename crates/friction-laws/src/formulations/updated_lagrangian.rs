@@ -69,11 +69,6 @@ impl KinematicFormulation for UpdatedLagrangian {
     }
 }
 
-/// Build the formulation (registry factory).
-#[must_use]
-pub fn build() -> Box<dyn KinematicFormulation> {
-    Box::new(UpdatedLagrangian)
-}
 
 #[cfg(test)]
 mod tests {
@@ -156,7 +151,7 @@ mod tests {
             None
         );
         assert_eq!(UpdatedLagrangian.needs(), PointNeeds::VELOCITY_GRADIENT);
-        assert_eq!(build().name(), NAME);
+        assert_eq!(UpdatedLagrangian.name(), NAME);
     }
 
     /// Orthonormal tangent basis `(e1, e2)` of the unit normal `n`.
