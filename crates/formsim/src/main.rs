@@ -635,15 +635,14 @@ fn friction_point(args: &FrictionPointArgs) -> Outcome {
         (None, Some(path)) => LawSource::Plugin(path.clone()),
         (None, None) => return Err(Failure::Message("give --law NAME or --plugin PATH".into())),
     };
-    let integrator =
-        components::point_integrator(
-            &source,
-            &params,
-            &args.formulation,
-            &Params::new(),
-            TangentMode::None,
-        )
-            .map_err(|e| e.to_string())?;
+    let integrator = components::point_integrator(
+        &source,
+        &params,
+        &args.formulation,
+        &Params::new(),
+        TangentMode::None,
+    )
+    .map_err(|e| e.to_string())?;
     let hist = history::read(&args.history).map_err(|e| e.to_string())?;
     let file = args.history.display().to_string();
     let (records, summary) = point_driver::run(integrator.as_ref(), &hist, &file).map_err(|e| {

@@ -22,8 +22,7 @@ pub struct LawEntry {
 }
 
 /// Builds a formulation from its parameter values, in the order of its schema.
-pub type FormulationBuilder =
-    fn(&[f64]) -> Result<Box<dyn KinematicFormulation>, FrictionError>;
+pub type FormulationBuilder = fn(&[f64]) -> Result<Box<dyn KinematicFormulation>, FrictionError>;
 
 /// A registered kinematic formulation.
 #[derive(Debug)]

@@ -454,18 +454,18 @@ fn contact_pair(
             &formulation_params,
             TangentMode::None,
         )
-            .map_err(|e| {
-                let message = e.to_string();
-                // A parameter error of the formulation names it as `NAME`.
-                let formulation_param = !formulation_params.0.is_empty()
-                    && message.contains(&format!("for `{formulation}`"));
-                let at = if formulation_param {
-                    format!("contact.params.{formulation}")
-                } else {
-                    law_error_key(s, entry, &key, &params_key, &message)
-                };
-                loaded.key_error(&at, message)
-            })?;
+        .map_err(|e| {
+            let message = e.to_string();
+            // A parameter error of the formulation names it as `NAME`.
+            let formulation_param =
+                !formulation_params.0.is_empty() && message.contains(&format!("`{formulation}`"));
+            let at = if formulation_param {
+                format!("contact.params.{formulation}")
+            } else {
+                law_error_key(s, entry, &key, &params_key, &message)
+            };
+            loaded.key_error(&at, message)
+        })?;
         ContactPair::new(&spec, integrator, geometry, &mesh.nodes)
     };
     let pair = pair.map_err(|e| loaded.key_error(&key, e.to_string()))?;

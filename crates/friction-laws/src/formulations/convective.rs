@@ -67,7 +67,6 @@ fn rotating_tool(t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
     rotate_minimal(&(r * kin.n_old), &kin.n_new, &(r * t_old))
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

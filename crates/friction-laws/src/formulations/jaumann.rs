@@ -58,7 +58,6 @@ impl KinematicFormulation for Jaumann {
     }
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -60,7 +60,6 @@ impl KinematicFormulation for Lagrangian {
     }
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

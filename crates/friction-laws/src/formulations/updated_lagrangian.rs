@@ -69,7 +69,6 @@ impl KinematicFormulation for UpdatedLagrangian {
     }
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,235 @@
+//! One new component of each registered kind, added in this file alone and
+//! run from a scene: a friction law, a kinematic formulation (with a
+//! declared parameter), a tool kind and a material. Nothing else in the
+//! workspace names them; `inventory` registers them at link time and the
+//! scene resolves every one through its registry.
+//!
+//! Reference: the block on a plane (`scenes/block-on-plane.toml`,
+//! docs/benchmarks.md §3) slides at the friction force `μ N`; with the law
+//! below at μ = 0.3 and N = 100 N that is 30 N, within 1 % (the tolerance of
+//! the shipped block's own test).
+
+use fem_core::Solver;
+use friction_laws::formulations::Convective;
+use plugins_api::law::LawDescription;
+use plugins_api::registry::{FormulationEntry, LawEntry};
+use plugins_api::{
+    CriticalShear, DirectionInputs, FrictionError, FrictionLaw, KinematicFormulation, ParamSpec,
+    PointNeeds, ShearInputs, StepKinematics, Vec3,
+};
+use shell_elements::kinds::{MaterialKind, MaterialRequest, Shells, add_shells};
+use shell_elements::{J2PlaneStress, ShellError};
+use tools_nurbs::builders::primitives;
+use tools_nurbs::kinds::{Request, ToolKind};
+use tools_nurbs::{NurbsError, Tool};
+
+// ----- a friction law: Amontons–Coulomb under another name -------------------
+
+/// `τ_c = μ p`.
+struct TestCoulomb {
+    mu: f64,
+}
+
+impl FrictionLaw for TestCoulomb {
+    fn name(&self) -> &str {
+        "test-coulomb"
+    }
+    fn stick_stiffness(&self) -> f64 {
+        1e4
+    }
+    fn critical_shear(&self, x: &ShearInputs) -> CriticalShear {
+        CriticalShear {
+            tau: self.mu * x.p,
+            dtau_dp: self.mu,
+            ..CriticalShear::default()
+        }
+    }
+}
+
+const LAW_PARAMS: &[ParamSpec] = &[ParamSpec::required(
+    "mu",
+    "-",
+    0.0,
+    2.0,
+    "friction coefficient",
+)];
+
+fn build_law(values: &[f64]) -> Result<Box<dyn FrictionLaw>, FrictionError> {
+    Ok(Box::new(TestCoulomb { mu: values[0] }))
+}
+
+inventory::submit! {
+    LawEntry {
+        description: LawDescription {
+            name: "test-coulomb",
+            summary: "tau_c = mu p (a test's law)",
+            params: LAW_PARAMS,
+        },
+        build: build_law,
+    }
+}
+
+// ----- a formulation: convective, history scaled by a declared parameter -------
+
+/// The convective transport scaled by `keep` (1 keeps the history whole).
+struct TestKeep {
+    keep: f64,
+}
+
+impl KinematicFormulation for TestKeep {
+    fn name(&self) -> &str {
+        "test-keep"
+    }
+    fn needs(&self) -> PointNeeds {
+        Convective.needs()
+    }
+    fn transport(&self, t_old: &Vec3, kin: &StepKinematics) -> Vec3 {
+        Convective.transport(t_old, kin) * self.keep
+    }
+    fn slip_direction(&self, x: &DirectionInputs<'_>) -> Option<Vec3> {
+        Convective.slip_direction(x)
+    }
+    fn backward_euler(&self) -> bool {
+        true
+    }
+}
+
+const FORMULATION_PARAMS: &[ParamSpec] = &[ParamSpec::optional(
+    "keep",
+    "-",
+    1.0,
+    0.0,
+    1.0,
+    "share of the history traction carried into the step",
+)];
+
+fn build_formulation(values: &[f64]) -> Result<Box<dyn KinematicFormulation>, FrictionError> {
+    Ok(Box::new(TestKeep { keep: values[0] }))
+}
+
+inventory::submit! {
+    FormulationEntry {
+        name: "test-keep",
+        summary: "convective with the history scaled by keep (a test's formulation)",
+        params: FORMULATION_PARAMS,
+        build: build_formulation,
+    }
+}
+
+// ----- a tool kind: a square plane of one size key -----------------------------
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SquareKeys {
+    side: f64,
+}
+
+fn build_square(r: Request<'_>) -> Result<Tool, NurbsError> {
+    let (name, place) = (r.name, r.place);
+    let k: SquareKeys = r.params()?;
+    Ok(Tool::Nurbs(primitives::plane(
+        name, k.side, k.side, &place,
+    )?))
+}
+
+inventory::submit! {
+    ToolKind {
+        name: "test-square",
+        summary: "a square plane: side (mm) (a test's tool kind)",
+        default_facing: tools_nurbs::builders::Facing::Up,
+        build: build_square,
+    }
+}
+
+// ----- a material: J2 under another name ----------------------------------------
+
+fn build_material(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+    let m = J2PlaneStress::new(r.young, r.poisson, r.density, r.hardening_of("test-j2")?)?;
+    add_shells(&r.shells, m, "test-j2", solver)
+}
+
+inventory::submit! {
+    MaterialKind {
+        name: "test-j2",
+        summary: "plane-stress J2 under another name (a test's material)",
+        anisotropic: false,
+        relative_cost: 1.0,
+        build: build_material,
+    }
+}
+
+// ----- the scene -------------------------------------------------------------------
+
+/// `scenes/block-on-plane.toml` with its plane tool of the test's kind,
+/// written into `dir`.
+fn block_scene(dir: &std::path::Path) -> std::path::PathBuf {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let text = std::fs::read_to_string(root.join("scenes/block-on-plane.toml")).unwrap();
+    let plane = "kind = \"plane\"\nlength = 100.0\nwidth = 100.0";
+    assert!(text.contains(plane), "the block's plane tool changed");
+    let text = text.replace(plane, "kind = \"test-square\"\nside = 100.0");
+    std::fs::create_dir_all(dir).unwrap();
+    let scene = dir.join("block.toml");
+    std::fs::write(&scene, text).unwrap();
+    scene
+}
+
+/// The formulation's declared parameter is read from the scene and checked
+/// against its range, with the error at its key.
+#[test]
+fn a_registered_formulation_checks_its_declared_parameter() {
+    let dir = std::env::temp_dir().join(format!("formsim-keep-{}", std::process::id()));
+    let scene = block_scene(&dir);
+    let sets = [
+        "contact.formulation=\"test-keep\"".to_string(),
+        "contact.params.test-keep.keep=2.0".to_string(),
+    ];
+    let loaded = formsim::scene::load(&scene, &sets).unwrap_or_else(|e| panic!("{e}"));
+    let e = formsim::scene::build(&loaded)
+        .err()
+        .expect("keep = 2 is out of range");
+    let _ = std::fs::remove_dir_all(&dir);
+    let m = e.to_string();
+    assert!(
+        m.contains("contact.params.test-keep") && m.contains("keep"),
+        "{m}"
+    );
+}
+
+/// The block on a plane with every component swapped for the ones above.
+#[test]
+fn block_on_plane_with_a_new_component_of_each_kind_slides_at_mu_n() {
+    let dir = std::env::temp_dir().join(format!("formsim-components-{}", std::process::id()));
+    let scene = block_scene(&dir);
+    let sets: Vec<String> = [
+        "contact.law=\"test-coulomb\"",
+        "contact.params.test-coulomb.mu=0.3",
+        "contact.formulation=\"test-keep\"",
+        "contact.params.test-keep.keep=1.0",
+        "blank.material.model=\"test-j2\"",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let loaded = formsim::scene::load(&scene, &sets).unwrap_or_else(|e| panic!("{e}"));
+    let r = formsim::run::run(
+        &loaded,
+        &formsim::run::RunOptions {
+            out: dir.join("out"),
+            progress: formsim::run::Progress::Hidden,
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    let s = &r.summary;
+    assert_eq!(s.law, "test-coulomb");
+    assert_eq!(s.formulation, "test-keep");
+    let b = s.block.as_ref().expect("the block's check");
+    assert!((b.analytic - 30.0).abs() < 1e-9, "mu N = {} N", b.analytic);
+    assert!(
+        (b.slip_force / b.analytic - 1.0).abs() < 0.01,
+        "slip force {} N against mu N = {} N",
+        b.slip_force,
+        b.analytic
+    );
+}
