@@ -185,9 +185,9 @@ fn a_registered_formulation_checks_its_declared_parameter() {
         "contact.params.test-keep.keep=2.0".to_string(),
     ];
     let loaded = formsim::scene::load(&scene, &sets).unwrap_or_else(|e| panic!("{e}"));
-    let e = formsim::scene::build(&loaded)
-        .err()
-        .expect("keep = 2 is out of range");
+    let Err(e) = formsim::scene::build(&loaded) else {
+        panic!("keep = 2 is out of range, and the model was built");
+    };
     let _ = std::fs::remove_dir_all(&dir);
     let m = e.to_string();
     assert!(
