@@ -1,6 +1,6 @@
 //! One new component of each registered kind, added in this file alone and
-//! run from a scene: a friction law, a kinematic formulation (with a
-//! declared parameter), a tool kind and a material. Nothing else in the
+//! run from a scene: a friction law, a kinematic formulation and a material
+//! (each with declared parameters) and a tool kind. Nothing else in the
 //! workspace names them; `inventory` registers them at link time and the
 //! scene resolves every one through its registry.
 //!
@@ -18,7 +18,7 @@ use plugins_api::{
     PointNeeds, ShearInputs, StepKinematics, Vec3,
 };
 use shell_elements::kinds::{MaterialKind, MaterialRequest, Shells, add_shells};
-use shell_elements::{J2PlaneStress, ShellError};
+use shell_elements::{Hardening, J2PlaneStress, ShellError};
 use tools_nurbs::builders::primitives;
 use tools_nurbs::kinds::{Request, ToolKind};
 use tools_nurbs::{NurbsError, Tool};
@@ -141,18 +141,29 @@ inventory::submit! {
     }
 }
 
-// ----- a material: J2 under another name ----------------------------------------
+// ----- a material: perfectly plastic J2 with a key of its own ---------------------
+
+const MATERIAL_PARAMS: &[ParamSpec] = &[ParamSpec::required(
+    "yield_stress",
+    "MPa",
+    1.0,
+    1e4,
+    "the constant flow stress",
+)];
 
 fn build_material(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
-    let m = J2PlaneStress::new(r.young, r.poisson, r.density, r.hardening_of("test-j2")?)?;
-    add_shells(&r.shells, m, "test-j2", solver)
+    let perfect = Hardening::swift(r.params[0], 1.0, 0.0)?;
+    let m = J2PlaneStress::new(r.young, r.poisson, r.density, perfect)?;
+    add_shells(&r.shells, m, "test-perfect", solver)
 }
 
 inventory::submit! {
     MaterialKind {
-        name: "test-j2",
-        summary: "plane-stress J2 under another name (a test's material)",
+        name: "test-perfect",
+        summary: "perfectly plastic plane-stress J2: yield_stress (MPa) (a test's material)",
         anisotropic: false,
+        hardening: false,
+        params: MATERIAL_PARAMS,
         relative_cost: 1.0,
         build: build_material,
     }
@@ -168,10 +179,43 @@ fn block_scene(dir: &std::path::Path) -> std::path::PathBuf {
     let plane = "kind = \"plane\"\nlength = 100.0\nwidth = 100.0";
     assert!(text.contains(plane), "the block's plane tool changed");
     let text = text.replace(plane, "kind = \"test-square\"\nside = 100.0");
+    let elastic = "hardening = { kind = \"elastic\" }";
+    assert!(text.contains(elastic), "the block's material changed");
+    let text = text.replace(
+        elastic,
+        "model = \"test-perfect\"\nparameters = { yield_stress = 250.0 }",
+    );
     std::fs::create_dir_all(dir).unwrap();
     let scene = dir.join("block.toml");
     std::fs::write(&scene, text).unwrap();
     scene
+}
+
+/// The material's declared key is required and checked against its range
+/// when the scene is read, at its key.
+#[test]
+fn a_registered_material_checks_its_declared_key() {
+    let dir = std::env::temp_dir().join(format!("formsim-yield-{}", std::process::id()));
+    let scene = block_scene(&dir);
+    for (set, says) in [
+        (
+            "blank.material.parameters={}",
+            "missing parameter `yield_stress` (MPa)",
+        ),
+        (
+            "blank.material.parameters.yield_stress=-1.0",
+            "`yield_stress` = -1 MPa of `test-perfect` is out of range",
+        ),
+        ("blank.material.parameters.k=1.0", "unknown parameter `k`"),
+    ] {
+        let e = formsim::scene::load(&scene, &[set.to_string()]).expect_err(set);
+        let m = e.to_string();
+        assert!(
+            m.contains("blank.material.parameters") && m.contains(says),
+            "{set}: {m}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The formulation's declared parameter is read from the scene and checked
@@ -206,7 +250,6 @@ fn block_on_plane_with_a_new_component_of_each_kind_slides_at_mu_n() {
         "contact.params.test-coulomb.mu=0.3",
         "contact.formulation=\"test-keep\"",
         "contact.params.test-keep.keep=1.0",
-        "blank.material.model=\"test-j2\"",
     ]
     .iter()
     .map(|s| s.to_string())

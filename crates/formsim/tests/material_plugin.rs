@@ -186,7 +186,7 @@ fn plugin_material_keys_are_checked_by_the_scene() {
         (
             &cup,
             vec!["blank.material.parameters={ q = 1.0 }"],
-            "blank.material.parameters: only read with model = \"plugin\"",
+            "blank.material.parameters: unknown parameter `q` for `j2`; known: none, it takes no parameters",
         ),
     ];
     for (file, sets, says) in cases {

@@ -116,6 +116,13 @@ fn add_shells(
         ),
         None => None,
     };
+    let own = if kind.name == "plugin" {
+        Vec::new()
+    } else {
+        plugins_api::Params(m.parameters.clone())
+            .resolve(kind.name, kind.params)
+            .map_err(|e| loaded.key_error("blank.material.parameters", e.to_string()))?
+    };
     let b = &s.blank;
     let request = MaterialRequest {
         young: m.youngs_modulus,
@@ -124,6 +131,7 @@ fn add_shells(
         hardening,
         r_values: m.r_values,
         rolling_angle,
+        params: &own,
         plugin: plugin_path.as_deref().map(|path| kinds::PluginSource {
             path,
             params: &plugin_params,

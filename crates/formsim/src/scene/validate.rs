@@ -267,7 +267,8 @@ fn material(loaded: &LoadedScene) -> Result<(), SceneError> {
         );
     }
     let model = super::schema::material_model(s);
-    match shell_elements::kinds::material(&model) {
+    let kind = shell_elements::kinds::material(&model);
+    match kind {
         None => {
             return keys.err(
                 "blank.material.model",
@@ -290,17 +291,23 @@ fn material(loaded: &LoadedScene) -> Result<(), SceneError> {
         Some(_) => {}
     }
     let plugin = model == "plugin";
+    let reads_hardening = kind.is_some_and(|k| k.hardening);
     match &m.hardening {
         Some(_) if plugin => keys.err(
             "blank.material.hardening",
             "not read by a plugin material: its hardening is in blank.material.parameters".into(),
         )?,
-        None if !plugin => keys.err(
+        Some(_) if !reads_hardening => keys.err(
+            "blank.material.hardening",
+            format!("not read by the \"{model}\" model (its keys: blank.material.parameters)"),
+        )?,
+        None if reads_hardening => keys.err(
             "blank.material.hardening",
             format!("missing: the \"{model}\" model needs a hardening curve"),
         )?,
         Some(h) => hardening(&keys, h)?,
-        None => material_plugin(loaded)?,
+        None if plugin => material_plugin(loaded)?,
+        None => {}
     }
     if !plugin && m.plugin.is_some() {
         keys.err(
@@ -308,11 +315,11 @@ fn material(loaded: &LoadedScene) -> Result<(), SceneError> {
             format!("only read with model = \"plugin\" (the model is \"{model}\")"),
         )?;
     }
-    if !plugin && !m.parameters.is_empty() {
-        keys.err(
-            "blank.material.parameters",
-            format!("only read with model = \"plugin\" (the model is \"{model}\")"),
-        )?;
+    if let Some(k) = kind.filter(|_| !plugin) {
+        // The model's own keys, against its declared specs.
+        if let Err(e) = plugins_api::Params(m.parameters.clone()).resolve(k.name, k.params) {
+            return keys.err("blank.material.parameters", e.to_string());
+        }
     }
     if let Some(r) = &m.r_values {
         for ((i, v), name) in r.iter().enumerate().zip(["r0", "r45", "r90"]) {

@@ -20,6 +20,8 @@ inventory::submit! {
     MaterialKind {
         name: "hill48",
         summary: "Hill'48 plane-stress anisotropy from r_values = [r0, r45, r90], rolling direction along global x, the rolling direction's hardening; youngs_modulus (MPa), poissons_ratio, density (tonne/mm³), hardening",
+        hardening: true,
+        params: &[],
         anisotropic: true,
         // Measured on the square cup (`scenes/square-cup-hill.toml` against
         // `scenes/square-cup.toml`, 2 threads, one after the other): 2.357e6

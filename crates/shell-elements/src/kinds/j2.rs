@@ -18,6 +18,8 @@ inventory::submit! {
     MaterialKind {
         name: "j2",
         summary: "isotropic plane-stress J2 (von Mises) plasticity, radial return; youngs_modulus (MPa), poissons_ratio, density (tonne/mm³), hardening",
+        hardening: true,
+        params: &[],
         anisotropic: false,
         relative_cost: 1.0,
         build,

@@ -34,6 +34,13 @@ pub struct MaterialKind {
     pub summary: &'static str,
     /// Whether it reads `blank.material.r_values` (and needs them).
     pub anisotropic: bool,
+    /// Whether it reads `[blank.material.hardening]` (and needs it).
+    pub hardening: bool,
+    /// Its own keys, given in `blank.material.parameters` and resolved
+    /// against these specs (name, unit, default, range, doc) before the
+    /// builder runs; the built-in models have none (the `plugin` model's
+    /// keys are the library's own schema).
+    pub params: &'static [plugins_api::ParamSpec],
     /// A whole run's cost per element cycle relative to `j2`'s, for the
     /// run-time estimate (measured; the material's file says where).
     pub relative_cost: f64,
@@ -75,6 +82,9 @@ pub struct MaterialRequest<'a> {
     /// Angle from the elements' first axis to the rolling direction (rad),
     /// when the scene gives r-values.
     pub rolling_angle: Option<f64>,
+    /// The values of the kind's own keys ([`MaterialKind::params`]), in the
+    /// order of its specs.
+    pub params: &'a [f64],
     /// The user material's library and parameters (`plugin` model).
     pub plugin: Option<PluginSource<'a>>,
     /// The shells.

@@ -83,6 +83,8 @@ inventory::submit! {
         name: "plugin",
         summary: "a user material from a shared library (C-ABI table formsim_material_plugin_v1): plugin (path, relative to the scene), parameters = { … } (the plugin's schema: formsim plugin check PATH); youngs_modulus (MPa), poissons_ratio, density (tonne/mm³) must agree with the plugin's",
         anisotropic: false,
+        hardening: false,
+        params: &[],
         // Depends on the plugin's own cost. Measured for the example
         // j2-voce on the square cup (`scenes/square-cup-plugin.toml` against
         // `scenes/square-cup.toml`, 2 threads, in turn): wall
