@@ -19,7 +19,7 @@ pub mod out_dir;
 pub mod post;
 pub mod probe;
 mod recorder;
-pub mod reference;
+pub mod reference_checks;
 pub mod summary;
 mod summary_text;
 pub mod timing;

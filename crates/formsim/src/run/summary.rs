@@ -290,7 +290,7 @@ impl Summary {
         let mut notes = Vec::new();
         let mu = match (scene.scene.kind, i.capstan) {
             (SceneKind::Capstan | SceneKind::BlockOnPlane | SceneKind::StripDraw, Some(_)) => {
-                super::reference::coulomb_mu(i.loaded)
+                super::reference_checks::coulomb_mu(i.loaded)
                     .map_err(|why| notes.push(format!("no analytic reference: {why}")))
                     .ok()
             }
