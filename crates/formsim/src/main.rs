@@ -333,6 +333,7 @@ fn to_params(list: &[(String, f64)]) -> Params {
 fn main() -> ExitCode {
     friction_laws::ensure_linked();
     shell_elements::kinds::ensure_linked();
+    formsim::run::reference_checks::ensure_linked();
     let cli = Cli::parse();
     cli_io::init_logs(cli.verbose, cli.quiet);
     formsim::scene::estimate::allow_long_runs(cli.allow_long);
@@ -729,7 +730,7 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
         say!("  warning     {w}");
     }
     say!(
-        "  scene       {} ({:?}): {}",
+        "  scene       {} ({}): {}",
         s.scene.name,
         s.scene.kind,
         s.scene.description
