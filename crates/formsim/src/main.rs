@@ -70,7 +70,7 @@ enum Command {
     Sensitivity(SensitivityArgs),
     /// What accuracy costs in time: vary scene values around a reference, tabulate errors and CPU time.
     Study(StudyArgs),
-    /// Every registered component: friction laws, formulations, materials, shell elements, tool kinds.
+    /// Every registered component: friction laws, formulations, materials, shell elements, tool kinds, scene kinds.
     Components,
 }
 
@@ -453,6 +453,13 @@ fn components_list() -> Outcome {
     say!("Tool kinds (tools.NAME.kind; `formsim tools kinds` for their facing):");
     for k in tools_nurbs::kinds::all() {
         say!("  {:<20} {}", k.name, k.summary);
+    }
+    say!("Scene kinds (scene.kind): the presets, then the reference checks:");
+    for p in formsim::scene::kind::PRESETS {
+        say!("  {:<20} {}", p.name, p.summary);
+    }
+    for c in formsim::scene::kind::reference_checks() {
+        say!("  {:<20} {}", c.name, c.summary);
     }
     Ok(ExitCode::SUCCESS)
 }
