@@ -70,7 +70,7 @@ enum Command {
     Sensitivity(SensitivityArgs),
     /// What accuracy costs in time: vary scene values around a reference, tabulate errors and CPU time.
     Study(StudyArgs),
-    /// Every registered component: friction laws, formulations, materials, shell elements, tool kinds.
+    /// Every registered component: friction laws, formulations, materials, shell elements, tool kinds, scene kinds.
     Components,
 }
 
@@ -333,6 +333,7 @@ fn to_params(list: &[(String, f64)]) -> Params {
 fn main() -> ExitCode {
     friction_laws::ensure_linked();
     shell_elements::kinds::ensure_linked();
+    formsim::run::reference_checks::ensure_linked();
     let cli = Cli::parse();
     cli_io::init_logs(cli.verbose, cli.quiet);
     formsim::scene::estimate::allow_long_runs(cli.allow_long);
@@ -452,6 +453,13 @@ fn components_list() -> Outcome {
     say!("Tool kinds (tools.NAME.kind; `formsim tools kinds` for their facing):");
     for k in tools_nurbs::kinds::all() {
         say!("  {:<20} {}", k.name, k.summary);
+    }
+    say!("Scene kinds (scene.kind): the presets, then the reference checks:");
+    for p in formsim::scene::kind::PRESETS {
+        say!("  {:<20} {}", p.name, p.summary);
+    }
+    for c in formsim::scene::kind::reference_checks() {
+        say!("  {:<20} {}", c.name, c.summary);
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -747,7 +755,7 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
         say!("  warning     {w}");
     }
     say!(
-        "  scene       {} ({:?}): {}",
+        "  scene       {} ({}): {}",
         s.scene.name,
         s.scene.kind,
         s.scene.description

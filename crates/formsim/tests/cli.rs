@@ -534,6 +534,7 @@ fn components_lists_every_registry() {
         ("Materials", "  hill48 "),
         ("Shell elements", "  fully-integrated "),
         ("Tool kinds", "  s-rail-die "),
+        ("Scene kinds", "  strip-draw "),
     ] {
         assert!(out.contains(head) && out.contains(member), "{out}");
     }

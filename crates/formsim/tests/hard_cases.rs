@@ -230,12 +230,12 @@ fn high_friction_slides_at_mu_n() {
     let name = "hard/high-friction-slide";
     let (wall, _) = completes(name, &[]);
     let (_d, r) = run_scene(name, &[]);
-    let b = r.summary.block.expect("block result");
+    let b = r.summary.figures("block").expect("block result");
     assert!((b.analytic - 100.0).abs() < 1e-9, "{}", b.analytic);
     assert!(
-        (b.slip_force / b.analytic - 1.0).abs() < 0.01,
+        (b.value / b.analytic - 1.0).abs() < 0.01,
         "slip force {} N vs mu N = {} N",
-        b.slip_force,
+        b.value,
         b.analytic
     );
     let f = stepped(name, &[], |_| {});
@@ -681,7 +681,7 @@ fn hemming_wrap_180_over_1mm() {
     let name = "hard/hemming";
     let r = completed_run(name, &[]);
     let wall = r.summary.wall_time_s;
-    let c = r.summary.capstan.expect("capstan result");
+    let c = r.summary.figures("capstan").expect("capstan result");
     let lower = (0.1 * std::f64::consts::PI).exp();
     assert!((c.analytic / lower - 1.0).abs() < 1e-12, "{}", c.analytic);
     let sigma = 565.32 * (0.007117f64 + 0.1 / 2.1).powf(0.2589);
@@ -690,12 +690,12 @@ fn hemming_wrap_180_over_1mm() {
     eprintln!(
         "hemming: T_pull/T_hold {:.4}, friction alone {lower:.4}, with a full plastic bend {upper:.4} \
          (2 M_p w / R = {bend:.3} N)",
-        c.tension_ratio
+        c.value
     );
     assert!(
-        c.tension_ratio > 0.99 * lower && c.tension_ratio < 1.01 * upper,
+        c.value > 0.99 * lower && c.value < 1.01 * upper,
         "T_pull/T_hold {} outside [{lower}, {upper}]",
-        c.tension_ratio
+        c.value
     );
     assert!(r.summary.energy.plastic > 0.0, "the bend stayed elastic");
     let f = stepped(name, &[], |_| {});

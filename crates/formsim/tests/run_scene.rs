@@ -11,16 +11,24 @@ use formsim::scene;
 /// `μ N` = 0.2 × 100 N; tolerance 1 %.
 #[test]
 fn block_on_plane_slides_at_mu_n() {
-    let (_dir, r) = run_scene("block-on-plane", &[]);
-    let b = r.summary.block.expect("block result");
+    let (dir, r) = run_scene("block-on-plane", &[]);
+    let b = r.summary.figures("block").expect("block result");
     assert!((b.analytic - 20.0).abs() < 1e-12);
     assert!(
-        (b.slip_force - b.analytic).abs() < 0.01 * b.analytic,
+        (b.value - b.analytic).abs() < 0.01 * b.analytic,
         "slip force {} N vs mu N = {} N",
-        b.slip_force,
+        b.value,
         b.analytic
     );
     assert!(r.summary.energy.friction > 0.0);
+    // summary.json has them as `block{slip_force, analytic}`, nothing else.
+    let text = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(
+        json["block"],
+        serde_json::json!({"slip_force": b.value, "analytic": b.analytic})
+    );
+    assert!(json.get("capstan").is_none() && json.get("strip").is_none());
 }
 
 /// The block's reference reads μ from the active law: with `mu = 0.3` the
@@ -28,13 +36,9 @@ fn block_on_plane_slides_at_mu_n() {
 #[test]
 fn block_reference_follows_the_contact_law() {
     let (_dir, r) = run_scene("block-on-plane", &["contact.params.ac.mu=0.3"]);
-    let b = r.summary.block.expect("block result");
+    let b = r.summary.figures("block").expect("block result");
     assert!((b.analytic - 30.0).abs() < 1e-12, "{}", b.analytic);
-    assert!(
-        (b.slip_force / b.analytic - 1.0).abs() < 0.01,
-        "{}",
-        b.slip_force
-    );
+    assert!((b.value / b.analytic - 1.0).abs() < 0.01, "{}", b.value);
     // A law that is not Coulomb has no analytic reference, and says so.
     let (_dir, r) = run_scene(
         "block-on-plane",
@@ -43,7 +47,7 @@ fn block_reference_follows_the_contact_law() {
             "contact.params.wvs={alpha=0.03, beta=0.144, nu=0.8}",
         ],
     );
-    assert!(r.summary.block.is_none());
+    assert!(r.summary.reference.is_none());
     assert!(
         r.summary
             .warnings
@@ -63,27 +67,29 @@ fn block_reference_follows_the_contact_law() {
 #[test]
 fn strip_draw_delivers_2_mu_f() {
     let check = |r: &RunResult| -> Result<(), String> {
-        let s = r.summary.strip.ok_or("no strip result")?;
+        let s = r.summary.figures("strip").ok_or("no strip result")?;
+        let get = |name| s.get(name).ok_or(format!("no {name}"));
+        let (holder_force, holder_prescribed) = (get("holder_force")?, get("holder_prescribed")?);
         let draw = &r.summary.tools["holder"].steps["draw"];
         let step_error = draw.delivered_error.ok_or("no delivered force")?;
-        if (s.holder_force / s.holder_prescribed - 1.0).abs() > 5e-3 || step_error.abs() > 5e-3 {
+        if (holder_force / holder_prescribed - 1.0).abs() > 5e-3 || step_error.abs() > 5e-3 {
             return Err(format!(
                 "holder delivers {} N (draw step {:+.3} %), prescribed {} N",
-                s.holder_force,
+                holder_force,
                 100.0 * step_error,
-                s.holder_prescribed
+                holder_prescribed
             ));
         }
-        if (s.draw_force / s.analytic - 1.0).abs() > 1e-2 {
+        if (s.value / s.analytic - 1.0).abs() > 1e-2 {
             return Err(format!(
                 "draw force {} N vs 2 mu F = {} N",
-                s.draw_force, s.analytic
+                s.value, s.analytic
             ));
         }
         Ok(())
     };
     let (_dir, r) = run_scene("strip-draw", &[]);
-    assert!((r.summary.strip.unwrap().analytic - 300.0).abs() < 1e-9);
+    assert!((r.summary.figures("strip").unwrap().analytic - 300.0).abs() < 1e-9);
     check(&r).unwrap();
     let (_dir, old) = run_scene(
         "strip-draw",

@@ -19,7 +19,7 @@ pub mod out_dir;
 pub mod post;
 pub mod probe;
 mod recorder;
-pub mod reference;
+pub mod reference_checks;
 pub mod summary;
 mod summary_text;
 pub mod timing;
@@ -31,7 +31,6 @@ pub use crate::records::{HistoryRow, ToolRow, ToolState};
 
 use crate::output::OutputError;
 use crate::scene::blank_mesh::FileIds;
-use crate::scene::validate::dof_from_name;
 use crate::scene::{LoadedScene, Model, SceneError};
 use post::Snapshot;
 use recorder::Recorder;
@@ -166,6 +165,7 @@ pub struct RunResult {
 /// [`RunError::Interrupted`] for a run that stopped early (after writing what
 /// was computed so far); output errors.
 pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunError> {
+    reference_checks::ensure_linked();
     let scene = &loaded.scene;
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| OutputError::Io {
@@ -352,11 +352,10 @@ fn finish(
         kw_max: rec.kw_max,
         setup_warnings: setup.warnings,
         hg_max: rec.hg_max,
-        capstan: (rec.pull_sum.1 > 0).then(|| rec.pull_sum.0 / rec.pull_sum.1 as f64),
-        holder: (rec.pull_sum.1 > 0 && rec.strip_holder.is_some()).then(|| {
-            let n = rec.pull_sum.1 as f64;
-            (rec.holder_sum.0 / n, rec.holder_sum.1 / n)
-        }),
+        reference: rec
+            .reference
+            .as_ref()
+            .map(|(check, s)| (*check, s.as_ref())),
         clamp_seen: rec.clamp_seen,
         stop: stop.as_ref(),
         dt0: setup.report.dt_initial,
@@ -405,30 +404,6 @@ fn stroke_and_force(model: &Model, symmetry: f64) -> (f64, f64) {
         }
         _ => (0.0, 0.0),
     }
-}
-
-/// The node set, DOF axis and averaging start of the pulled end of a
-/// capstan, block or strip scene.
-fn pulled_set(loaded: &LoadedScene) -> Option<(String, usize, f64)> {
-    let kind = loaded.scene.scene.kind;
-    loaded
-        .scene
-        .output
-        .pulled_ends()
-        .find(|e| e.kind == kind)
-        .map(|e| {
-            (
-                e.pull_set.to_string(),
-                dof_from_name(e.pull_dof).map_or(0, |d| d.axis()),
-                e.average_from,
-            )
-        })
-}
-
-/// The index of a strip-draw scene's holder.
-fn strip_holder(loaded: &LoadedScene, model: &Model) -> Option<usize> {
-    let strip = loaded.scene.output.strip.as_ref()?;
-    model.tool_names.iter().position(|n| *n == strip.holder)
 }
 
 fn progress_bar() -> Option<indicatif::ProgressBar> {

@@ -3,9 +3,10 @@
 //! with a state at every report stroke. `study` and `identify` check their
 //! quantity names, sections and strokes against it before running anything.
 
+use super::RunError;
 use super::post::Post;
+use super::reference_checks::{Figures, Sampler};
 use super::summary::{Inputs, Summary};
-use super::{RunError, pulled_set};
 use crate::identify::observe::lookup;
 use crate::scene::LoadedScene;
 
@@ -39,8 +40,11 @@ pub fn probe(loaded: &LoadedScene) -> Result<Probe, RunError> {
         .iter()
         .map(|r| (*r, last.clone()))
         .collect();
-    // A scene with a pulled end reports its closed form once it pulls.
-    let pulled = pulled_set(loaded).map(|_| 0.0);
+    // A reference check reports its figures once it has sampled: taken as
+    // sampled, with nothing in its means.
+    let check = crate::scene::kind::reference_check(&loaded.scene.scene.kind);
+    let sampler = check.and_then(|c| (c.start)(loaded, &model));
+    let sampled = sampler.as_deref().map(Sampled);
     let summary = Summary::new(Inputs {
         loaded,
         model: &model,
@@ -53,8 +57,7 @@ pub fn probe(loaded: &LoadedScene) -> Result<Probe, RunError> {
         kw_max: 0.0,
         setup_warnings: Vec::new(),
         hg_max: 0.0,
-        capstan: pulled,
-        holder: pulled.map(|_| (0.0, 0.0)),
+        reference: check.zip(sampled.as_ref().map(|s| s as &dyn Sampler)),
         clamp_seen: false,
         stop: None,
         dt0: setup.dt_initial,
@@ -67,6 +70,27 @@ pub fn probe(loaded: &LoadedScene) -> Result<Probe, RunError> {
         sections: o.sections.iter().map(|s| s.name.clone()).collect(),
         strokes: o.report_strokes.clone(),
     })
+}
+
+/// A check's sampler taken as having sampled (the probe's).
+struct Sampled<'a>(&'a dyn Sampler);
+
+impl Sampler for Sampled<'_> {
+    fn sample(
+        &mut self,
+        _: &LoadedScene,
+        _: &crate::scene::Model,
+    ) -> Result<(), crate::scene::SceneError> {
+        Ok(())
+    }
+
+    fn sampled(&self) -> bool {
+        true
+    }
+
+    fn figures(&self, mu: f64) -> Option<Figures> {
+        self.0.figures(mu)
+    }
 }
 
 impl Probe {

@@ -1,17 +1,16 @@
 //! What the run loop records between steps: histories on their schedule,
-//! snapshots at the report strokes, VTK frames, and the running maxima and
-//! sums `summary.json` needs. Before it keeps the state (a history sample, a
-//! report stroke, a frame) it checks that every value of the model is
-//! finite ([`super::finite::scan`]): a non-finite value stops the run, and
-//! no kept sample holds one.
+//! snapshots at the report strokes, VTK frames, the running maxima
+//! `summary.json` needs and what the scene's reference check samples
+//! ([`super::reference_checks`]). Before it keeps the state (a history
+//! sample, a report stroke, a frame) it checks that every value of the
+//! model is finite ([`super::finite::scan`]): a non-finite value stops the
+//! run, and no kept sample holds one.
 
 use super::post::{Post, Snapshot};
 use super::warnings::INTERNAL_SHARE_MIN;
-use super::{
-    HistoryRow, RunError, Stop, ToolRow, finite, pulled_set, strip_holder, stroke_and_force,
-    tools_report, write,
-};
+use super::{HistoryRow, Stop, ToolRow, finite, stroke_and_force, tools_report, write};
 use crate::output::OutputError;
+use crate::scene::kind::{ReferenceCheck, Sampler};
 use crate::scene::{LoadedScene, Model};
 use fem_core::EnergyLedger;
 use std::path::{Path, PathBuf};
@@ -27,10 +26,8 @@ pub(super) struct Recorder<'a> {
     next_frame: f64,
     axes: Vec<plugins_api::Vec3>,
     strokes: Vec<f64>,
-    pull: Option<(String, usize, f64)>,
-    /// The strip's holder (its tool index), whose delivered and prescribed
-    /// forces are summed while drawing.
-    pub strip_holder: Option<usize>,
+    /// The scene's reference check and what it samples.
+    pub reference: Option<(&'static ReferenceCheck, Box<dyn Sampler>)>,
     pub history: Vec<HistoryRow>,
     pub tool_history: Vec<ToolRow>,
     pub frames: Vec<(f64, String)>,
@@ -39,8 +36,6 @@ pub(super) struct Recorder<'a> {
     pub kw_max: f64,
     pub hg_max: f64,
     pub force_max: f64,
-    pub pull_sum: (f64, usize),
-    pub holder_sum: (f64, f64),
     pub clamp_seen: bool,
     /// The loop's seconds outside `Solver::step` (sampling, snapshots,
     /// frames, progress).
@@ -70,8 +65,8 @@ impl<'a> Recorder<'a> {
             next_frame: 0.0,
             axes: tools_report::press_axes(model),
             strokes,
-            pull: pulled_set(loaded),
-            strip_holder: strip_holder(loaded, model),
+            reference: crate::scene::kind::reference_check(&loaded.scene.scene.kind)
+                .and_then(|check| Some((check, (check.start)(loaded, model)?))),
             history: Vec::with_capacity(o.history_points + 2),
             tool_history: Vec::with_capacity(o.history_points + 2),
             frames: Vec::new(),
@@ -80,8 +75,6 @@ impl<'a> Recorder<'a> {
             kw_max: 0.0,
             hg_max: 0.0,
             force_max: 0.0,
-            pull_sum: (0.0, 0),
-            holder_sum: (0.0, 0.0),
             clamp_seen: false,
             output_s: 0.0,
         }
@@ -113,7 +106,9 @@ impl<'a> Recorder<'a> {
         if let Some(c) = model.contact() {
             self.clamp_seen |= c.pairs().iter().any(|p| p.clamped);
         }
-        self.pulled(model, time).map_err(Stop::failed)?;
+        if let Some((_, sampler)) = &mut self.reference {
+            sampler.sample(self.loaded, model).map_err(Stop::failed)?;
+        }
         let sample = time >= self.next_sample || time >= end;
         let state_due = self.strokes.first().is_some_and(|&r| stroke >= r - 1e-4);
         let frame_due = o.frames > 0 && (time >= self.next_frame || time >= end);
@@ -155,30 +150,5 @@ impl<'a> Recorder<'a> {
             self.next_frame += self.frame_every;
         }
         Ok((stroke, force, e))
-    }
-
-    /// The pulled set's reaction and the strip holder's forces, summed from
-    /// the time the pull starts.
-    fn pulled(&mut self, model: &Model, time: f64) -> Result<(), RunError> {
-        let Some((set, dof, from)) = &self.pull else {
-            return Ok(());
-        };
-        if time < *from {
-            return Ok(());
-        }
-        let (f, _) = model
-            .solver
-            .reaction(set)
-            .map_err(|e| self.loaded.key_error("output", e.to_string()))?;
-        self.pull_sum.0 += f[*dof].abs();
-        self.pull_sum.1 += 1;
-        if let (Some(i), Some(c)) = (self.strip_holder, model.contact()) {
-            self.holder_sum.0 -= c.reactions()[i].dot(&self.axes[i]);
-            self.holder_sum.1 += model
-                .press()
-                .and_then(|p| p.applied_force(i))
-                .unwrap_or(0.0);
-        }
-        Ok(())
     }
 }

@@ -1,9 +1,10 @@
 //! `summary.json`: the figures of one run (scene units).
 
 use super::post::{SectionSummary, Snapshot};
+use super::reference_checks::{ReferenceCheck, Sampler};
 use super::tools_report::{self, PairSummary, ToolSummary};
 use super::warnings::{self, Figures};
-use crate::scene::schema::{Regime, SceneKind};
+use crate::scene::schema::Regime;
 use crate::scene::{LoadedScene, Model};
 use fem_core::SetupReport;
 use serde::Serialize;
@@ -83,40 +84,6 @@ pub fn friction_to_internal(e: &fem_core::EnergyLedger) -> f64 {
     } else {
         0.0
     }
-}
-
-/// Capstan result: `T_pull / T_hold` against `e^{μθ}`.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct CapstanSummary {
-    /// Measured steady tension ratio (-).
-    pub tension_ratio: f64,
-    /// `e^{μθ}` (-).
-    pub analytic: f64,
-}
-
-/// Block on a plane: mean friction force while sliding against `μ N`.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct BlockSummary {
-    /// Measured slip force (N).
-    pub slip_force: f64,
-    /// `μ N` (N).
-    pub analytic: f64,
-}
-
-/// Strip drawn between a force-controlled holder and a die: the mean draw
-/// force against `2μF`, and the force the holder delivered against `F`.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct StripSummary {
-    /// Mean draw force while drawing (N).
-    pub draw_force: f64,
-    /// `2 μ F` with `F` the mean prescribed holder force (N).
-    pub analytic: f64,
-    /// Mean force the holder delivered to the strip while drawing (N).
-    pub holder_force: f64,
-    /// Mean force prescribed to the holder while drawing (N).
-    pub holder_prescribed: f64,
-    /// μ of the active contact law.
-    pub mu: f64,
 }
 
 /// A user material in `summary.json`.
@@ -200,15 +167,10 @@ pub struct Summary {
     pub draw_in: BTreeMap<String, f64>,
     /// States at the report strokes (keys: the stroke in mm).
     pub states: BTreeMap<String, StateSummary>,
-    /// Capstan result.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub capstan: Option<CapstanSummary>,
-    /// Block-on-plane result.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub block: Option<BlockSummary>,
-    /// Strip-draw result.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub strip: Option<StripSummary>,
+    /// The figures of the scene's reference check (`capstan`, `block`,
+    /// `strip`: [`super::reference_checks`]), as `"KEY": {…}`.
+    #[serde(flatten)]
+    pub reference: Option<super::reference_checks::Reference>,
     /// What each tool did (forces on the model, per press step).
     pub tools: BTreeMap<String, ToolSummary>,
     /// What each contact pair did.
@@ -256,10 +218,8 @@ pub struct Inputs<'a> {
     pub setup_warnings: Vec<String>,
     /// Largest hourglass/internal while forming.
     pub hg_max: f64,
-    /// Mean pulled-end reaction for capstan/block/strip (N).
-    pub capstan: Option<f64>,
-    /// Strip: the holder's mean delivered and prescribed force (N).
-    pub holder: Option<(f64, f64)>,
+    /// The scene's reference check and what it sampled.
+    pub reference: Option<(&'static ReferenceCheck, &'a dyn Sampler)>,
     /// Whether a clamp was active.
     pub clamp_seen: bool,
     /// Why the run stopped early.
@@ -288,40 +248,18 @@ impl Summary {
         let increments = i.model.solver.steps();
         let (_, added_percent) = i.model.solver.added_mass();
         let mut notes = Vec::new();
-        let mu = match (scene.scene.kind, i.capstan) {
-            (SceneKind::Capstan | SceneKind::BlockOnPlane | SceneKind::StripDraw, Some(_)) => {
-                super::reference::coulomb_mu(i.loaded)
+        // μ is read from the law once the check has sampled something; a
+        // law without a Coulomb coefficient gives no figures, and a note.
+        let reference = i
+            .reference
+            .filter(|(_, sampler)| sampler.sampled())
+            .and_then(|(check, sampler)| {
+                let mu = super::reference_checks::coulomb_mu(i.loaded)
                     .map_err(|why| notes.push(format!("no analytic reference: {why}")))
-                    .ok()
-            }
-            _ => None,
-        };
-        let capstan = match (scene.scene.kind, &scene.output.capstan, i.capstan, mu) {
-            (SceneKind::Capstan, Some(c), Some(pull), Some(mu)) => Some(CapstanSummary {
-                tension_ratio: pull / c.hold_force,
-                analytic: (mu * c.angle_deg.to_radians()).exp(),
-            }),
-            _ => None,
-        };
-        let block = match (scene.scene.kind, &scene.output.block, i.capstan, mu) {
-            (SceneKind::BlockOnPlane, Some(b), Some(f), Some(mu)) => Some(BlockSummary {
-                slip_force: f,
-                analytic: mu * b.normal_force,
-            }),
-            _ => None,
-        };
-        let strip = match (scene.scene.kind, i.capstan, i.holder, mu) {
-            (SceneKind::StripDraw, Some(f), Some((delivered, prescribed)), Some(mu)) => {
-                Some(StripSummary {
-                    draw_force: f,
-                    analytic: 2.0 * mu * prescribed,
-                    holder_force: delivered,
-                    holder_prescribed: prescribed,
-                    mu,
-                })
-            }
-            _ => None,
-        };
+                    .ok()?;
+                let figures = sampler.figures(mu)?;
+                Some(super::reference_checks::Reference { check, figures })
+            });
         let tools = tools_report::tools(i.model);
         let mut warnings = i.setup_warnings.clone();
         warnings.extend(warnings::check(
@@ -387,9 +325,7 @@ impl Summary {
                 .iter()
                 .map(|(r, s)| (stroke_key(*r), StateSummary::from(s)))
                 .collect(),
-            capstan,
-            block,
-            strip,
+            reference,
             tools,
             pairs: tools_report::pairs(i.model),
             friction_clamp_active: i.clamp_seen,
@@ -399,6 +335,17 @@ impl Summary {
             status: i.stop.map_or(super::Status::Completed, |s| s.status),
             cause: i.stop.map(|s| s.cause.clone()),
         }
+    }
+}
+
+impl Summary {
+    /// The figures of the reference check whose `summary.json` key is `key`
+    /// (`capstan`, `block`, `strip`), if the run has them.
+    pub fn figures(&self, key: &str) -> Option<&super::reference_checks::Figures> {
+        self.reference
+            .as_ref()
+            .filter(|r| r.check.key == key)
+            .map(|r| &r.figures)
     }
 }
 

@@ -7,11 +7,6 @@ use super::summary::Summary;
 use super::tools_report::delivered_lines;
 use std::fmt;
 
-/// `100 (a / b − 1)`: a figure's deviation from its reference (%).
-fn percent_off(a: f64, b: f64) -> f64 {
-    100.0 * (a / b - 1.0)
-}
-
 impl fmt::Display for Summary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let s = self;
@@ -98,37 +93,10 @@ impl Summary {
         )
     }
 
-    /// The closed-form checks of the scenes that have one.
+    /// The reference check's line, for the scenes that have one.
     fn fmt_checks(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if let Some(c) = &self.capstan {
-            writeln!(
-                f,
-                "  capstan: T_pull/T_hold = {:.4}, e^(mu theta) = {:.4} ({:+.2} %)",
-                c.tension_ratio,
-                c.analytic,
-                percent_off(c.tension_ratio, c.analytic)
-            )?;
-        }
-        if let Some(b) = &self.block {
-            writeln!(
-                f,
-                "  block: slip force {:.3} N, mu N = {:.3} N ({:+.2} %)",
-                b.slip_force,
-                b.analytic,
-                percent_off(b.slip_force, b.analytic)
-            )?;
-        }
-        if let Some(t) = &self.strip {
-            writeln!(
-                f,
-                "  strip: draw force {:.2} N, 2 mu F = {:.2} N ({:+.2} %; F = {:.1} N prescribed, {:.1} N delivered, mu = {})",
-                t.draw_force,
-                t.analytic,
-                percent_off(t.draw_force, t.analytic),
-                t.holder_prescribed,
-                t.holder_force,
-                t.mu
-            )?;
+        if let Some(r) = &self.reference {
+            writeln!(f, "  {}", r.line())?;
         }
         Ok(())
     }

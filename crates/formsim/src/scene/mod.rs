@@ -11,6 +11,7 @@ pub mod blank_mesh;
 pub mod build;
 pub mod error;
 pub mod estimate;
+pub mod kind;
 pub mod locate;
 pub mod material;
 pub mod overrides;

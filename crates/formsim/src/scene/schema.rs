@@ -48,9 +48,10 @@ pub struct Meta {
     /// Free text.
     #[serde(default)]
     pub description: String,
-    /// Post-processing preset: `generic`, `square-cup`, `capstan`, `block-on-plane`.
-    #[serde(default)]
-    pub kind: SceneKind,
+    /// `generic` (default), `square-cup` or a registered reference check
+    /// (`capstan`, `block-on-plane`, `strip-draw`): [`super::kind::resolve`].
+    #[serde(default = "default_kind")]
+    pub kind: String,
     /// The unit system; formsim computes in mm, N, MPa, tonne, s only.
     pub units: Units,
     /// `"quasi-static"` (default: the run warns when its kinetic energy
@@ -82,22 +83,8 @@ impl Regime {
     }
 }
 
-/// Post-processing preset of a scene.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum SceneKind {
-    /// No benchmark-specific results.
-    #[default]
-    Generic,
-    /// NUMISHEET'93 square cup: sections OD/OX, draw-in DX/DY/DD.
-    SquareCup,
-    /// Capstan: tension ratio against `e^{μθ}`.
-    Capstan,
-    /// Block on a plane: slip force against `μN`.
-    BlockOnPlane,
-    /// A strip drawn between a force-controlled holder and a die: draw force
-    /// against `2μF`, and the force the holder delivers against `F`.
-    StripDraw,
+fn default_kind() -> String {
+    "generic".into()
 }
 
 /// `[scene.units]`: must be mm, N, MPa, tonne, s (stated so that every scene says it).
@@ -773,8 +760,6 @@ pub struct Output {
 /// prescribed motion's reaction is averaged.
 #[derive(Debug, Clone, Copy)]
 pub struct PulledEnd<'a> {
-    /// The scene kind the output belongs to.
-    pub kind: SceneKind,
     /// Its key (`output.capstan`, `output.block`, `output.strip`).
     pub key: &'static str,
     /// The node set pulled.
@@ -785,55 +770,13 @@ pub struct PulledEnd<'a> {
     pub average_from: f64,
 }
 
-impl<'a> PulledEnd<'a> {
-    fn new(
-        kind: SceneKind,
-        key: &'static str,
-        pull_set: &'a str,
-        pull_dof: &'a str,
-        average_from: f64,
-    ) -> Self {
-        Self {
-            kind,
-            key,
-            pull_set,
-            pull_dof,
-            average_from,
-        }
-    }
-}
-
 impl Output {
     /// The pulled ends of the capstan, block and strip outputs present.
     pub fn pulled_ends(&self) -> impl Iterator<Item = PulledEnd<'_>> {
         [
-            self.capstan.as_ref().map(|c| {
-                PulledEnd::new(
-                    SceneKind::Capstan,
-                    "output.capstan",
-                    &c.pull_set,
-                    &c.pull_dof,
-                    c.average_from,
-                )
-            }),
-            self.block.as_ref().map(|b| {
-                PulledEnd::new(
-                    SceneKind::BlockOnPlane,
-                    "output.block",
-                    &b.pull_set,
-                    &b.pull_dof,
-                    b.average_from,
-                )
-            }),
-            self.strip.as_ref().map(|b| {
-                PulledEnd::new(
-                    SceneKind::StripDraw,
-                    "output.strip",
-                    &b.pull_set,
-                    &b.pull_dof,
-                    b.average_from,
-                )
-            }),
+            self.capstan.as_ref().map(CapstanOutput::pulled_end),
+            self.block.as_ref().map(BlockOutput::pulled_end),
+            self.strip.as_ref().map(StripOutput::pulled_end),
         ]
         .into_iter()
         .flatten()
@@ -919,6 +862,18 @@ pub struct CapstanOutput {
     pub average_from: f64,
 }
 
+impl CapstanOutput {
+    /// Its pulled end.
+    pub fn pulled_end(&self) -> PulledEnd<'_> {
+        PulledEnd {
+            key: "output.capstan",
+            pull_set: &self.pull_set,
+            pull_dof: &self.pull_dof,
+            average_from: self.average_from,
+        }
+    }
+}
+
 /// `[output.block]`: slip force of a block pressed on a plane and pulled.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -931,6 +886,18 @@ pub struct BlockOutput {
     pub normal_force: f64,
     /// Steady sliding is averaged from this time on (s).
     pub average_from: f64,
+}
+
+impl BlockOutput {
+    /// Its pulled end.
+    pub fn pulled_end(&self) -> PulledEnd<'_> {
+        PulledEnd {
+            key: "output.block",
+            pull_set: &self.pull_set,
+            pull_dof: &self.pull_dof,
+            average_from: self.average_from,
+        }
+    }
 }
 
 /// `[output.strip]`: a strip drawn between a force-controlled holder and a
@@ -946,4 +913,16 @@ pub struct StripOutput {
     pub holder: String,
     /// Steady drawing is averaged from this time on (s).
     pub average_from: f64,
+}
+
+impl StripOutput {
+    /// Its pulled end.
+    pub fn pulled_end(&self) -> PulledEnd<'_> {
+        PulledEnd {
+            key: "output.strip",
+            pull_set: &self.pull_set,
+            pull_dof: &self.pull_dof,
+            average_from: self.average_from,
+        }
+    }
 }

@@ -6,7 +6,7 @@
 use super::LoadedScene;
 use super::SceneError;
 use super::estimate::{self, MeshSize};
-use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, SceneKind, Step};
+use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, Step};
 
 /// Largest blank thickness accepted (mm).
 pub const THICKNESS_MAX: f64 = 1e3;
@@ -93,9 +93,13 @@ impl Keys<'_> {
     }
 }
 
-/// The scene's name (the output folder) and its units.
+/// The scene's name (the output folder), its kind and its units.
 fn header(loaded: &LoadedScene) -> Result<(), SceneError> {
     let (s, keys) = (&loaded.scene, Keys(loaded));
+    // A preset or a registered reference check.
+    if let Err(message) = super::kind::resolve(&s.scene.kind) {
+        return keys.err("scene.kind", message);
+    }
     // The name is the default output folder `results/NAME`, which a run
     // replaces: one plain path component only.
     if !is_plain_name(&s.scene.name) {
@@ -751,43 +755,10 @@ fn outputs(loaded: &LoadedScene) -> Result<(), SceneError> {
             );
         }
     }
-    if s.scene.kind == SceneKind::Capstan && o.capstan.is_none() {
-        return keys.err(
-            "output.capstan",
-            "a capstan scene needs [output.capstan]".into(),
-        );
-    }
-    if s.scene.kind == SceneKind::StripDraw {
-        match &o.strip {
-            None => {
-                return keys.err(
-                    "output.strip",
-                    "a strip-draw scene needs [output.strip]".into(),
-                );
-            }
-            Some(st) if !s.tools.contains_key(&st.holder) => {
-                return keys.err(
-                    "output.strip.holder",
-                    format!("\"{}\": no such tool", st.holder),
-                );
-            }
-            Some(st)
-                if !s
-                    .steps
-                    .iter()
-                    .flat_map(|step| &step.motions)
-                    .any(|m| matches!(m, Motion::Force { .. }) && m.tool() == st.holder) =>
-            {
-                return keys.err(
-                    "output.strip.holder",
-                    format!(
-                        "\"{}\": the holder must be force-controlled in some step (its force is the reference 2 mu F)",
-                        st.holder
-                    ),
-                );
-            }
-            Some(_) => {}
-        }
+    // What the scene's reference check needs (its kind is resolved in
+    // `header`).
+    if let Ok(Some(check)) = super::kind::resolve(&s.scene.kind) {
+        (check.needs)(loaded)?;
     }
     for end in o.pulled_ends() {
         keys.non_negative(&format!("{}.average_from", end.key), end.average_from, "s")?;
@@ -797,12 +768,6 @@ fn outputs(loaded: &LoadedScene) -> Result<(), SceneError> {
                 format!("\"{}\": must be ux, uy or uz", end.pull_dof),
             );
         }
-    }
-    if s.scene.kind == SceneKind::BlockOnPlane && o.block.is_none() {
-        return keys.err(
-            "output.block",
-            "a block-on-plane scene needs [output.block]".into(),
-        );
     }
     Ok(())
 }
