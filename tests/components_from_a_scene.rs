@@ -267,12 +267,12 @@ fn block_on_plane_with_a_new_component_of_each_kind_slides_at_mu_n() {
     let s = &r.summary;
     assert_eq!(s.law, "test-coulomb");
     assert_eq!(s.formulation, "test-keep");
-    let b = s.block.as_ref().expect("the block's check");
+    let b = s.figures("block").expect("the block's check");
     assert!((b.analytic - 30.0).abs() < 1e-9, "mu N = {} N", b.analytic);
     assert!(
-        (b.slip_force / b.analytic - 1.0).abs() < 0.01,
+        (b.value / b.analytic - 1.0).abs() < 0.01,
         "slip force {} N against mu N = {} N",
-        b.slip_force,
+        b.value,
         b.analytic
     );
 }
