@@ -172,7 +172,7 @@ impl MaterialLibrary {
     /// As [`Self::open`] for an invalid table.
     pub fn linked<T: super::UserMaterial>() -> Result<Self, MaterialPluginError> {
         let cell = Box::leak(Box::new(std::sync::OnceLock::new()));
-        let table = super::abi::__private::entry::<T>(cell);
+        let table = crate::abi::__private::entry::<MaterialPluginV1, T>(cell);
         let path = format!("linked into this program: {}", std::any::type_name::<T>());
         let error = |reason| MaterialPluginError::Load {
             path: path.clone(),
