@@ -6,12 +6,14 @@
 //!
 //! The `#[repr(C)]` tables stay spelled out field by field in their modules
 //! (they are the ABI); this module is the one place that copies the shared
-//! fields into a table ([`with_header!`]), so that the plugin side builds
-//! the header once for both kinds.
+//! fields into a table ([`with_header!`], plugin side) and out of one
+//! ([`HasHeader::header`], host side), so the code of either side is written
+//! once for both kinds.
 
 use std::ffi::c_char;
 
-use crate::abi::{AbiParamSpec, CreateFn, DestroyFn, LastErrorFn};
+use crate::abi::{AbiParamSpec, CreateFn, DestroyFn, FrictionPluginV1, LastErrorFn};
+use crate::material::abi::MaterialPluginV1;
 
 /// The fields that every plugin table has, under the same names and with
 /// the same meaning (see [`FrictionPluginV1`](crate::abi::FrictionPluginV1)).
@@ -35,6 +37,17 @@ pub struct Header {
     pub last_error: Option<LastErrorFn>,
 }
 
+/// A plugin table as the host reads it: its kind and its [`Header`].
+pub(crate) trait HasHeader: Copy + 'static {
+    /// `friction` or `material`: the kind, for messages and the entry
+    /// symbol `formsim_{KIND}_plugin_v1`.
+    const KIND: &'static str;
+    /// What the table's name names (`law`, `material`), for messages.
+    const NOUN: &'static str;
+    /// The shared fields of the table.
+    fn header(&self) -> Header;
+}
+
 /// `$table { $field: $value, … }` with the shared fields taken from
 /// `$header` (a [`Header`]): the kind gives only its own fields.
 macro_rules! with_header {
@@ -54,3 +67,30 @@ macro_rules! with_header {
     }};
 }
 pub(crate) use with_header;
+
+/// Implement [`HasHeader`] for a table type: `Table: "kind", "noun"`.
+macro_rules! impl_has_header {
+    ($($table:ty: $kind:literal, $noun:literal;)*) => {$(
+        impl HasHeader for $table {
+            const KIND: &'static str = $kind;
+            const NOUN: &'static str = $noun;
+            fn header(&self) -> Header {
+                Header {
+                    abi_version: self.abi_version,
+                    name: self.name,
+                    summary: self.summary,
+                    params: self.params,
+                    n_params: self.n_params,
+                    create: self.create,
+                    destroy: self.destroy,
+                    last_error: self.last_error,
+                }
+            }
+        }
+    )*};
+}
+
+impl_has_header! {
+    FrictionPluginV1: "friction", "law";
+    MaterialPluginV1: "material", "material";
+}
