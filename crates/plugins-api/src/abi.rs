@@ -316,21 +316,49 @@ pub trait PluginLaw: FrictionLaw + Sized + 'static {
 #[macro_export]
 macro_rules! export_friction_law {
     ($law:ty) => {
-        const _: () = $crate::abi::__private::check_texts::<$law>();
-
-        /// Entry point of this formsim friction plugin (ABI version 1): a
-        /// pointer to its static C-ABI table.
-        #[unsafe(no_mangle)]
-        pub extern "C" fn formsim_friction_plugin_v1() -> *const $crate::abi::FrictionPluginV1 {
-            static TABLE: ::std::sync::OnceLock<$crate::abi::__private::StaticTable> =
-                ::std::sync::OnceLock::new();
-            $crate::abi::__private::entry::<$law>(&TABLE)
+        $crate::__export_plugin! {
+            $law as $crate::abi::FrictionPluginV1,
+            checked by $crate::abi::__private::check_texts::<$law>(),
+            /// Entry point of this formsim friction plugin (ABI version 1): a
+            /// pointer to its static C-ABI table.
+            fn formsim_friction_plugin_v1
         }
     };
 }
 
-/// Support code of [`export_friction_law!`](crate::export_friction_law); not
-/// a stable API.
+/// What [`export_friction_law!`](crate::export_friction_law) and
+/// [`export_material!`](crate::export_material) generate: the compile-time
+/// check of the type and the entry function `$symbol`, which builds the
+/// table of type `$table` once and returns it. Not a stable API.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __export_plugin {
+    (
+        $ty:ty as $table:ty,
+        checked by $check:expr,
+        $(#[$attr:meta])*
+        fn $symbol:ident
+    ) => {
+        const _: () = $check;
+
+        $(#[$attr])*
+        #[unsafe(no_mangle)]
+        pub extern "C" fn $symbol() -> *const $table {
+            static TABLE: ::std::sync::OnceLock<$crate::abi::__private::Leaked<$table>> =
+                ::std::sync::OnceLock::new();
+            $crate::abi::__private::entry::<$table, $ty>(&TABLE)
+        }
+    };
+}
+
+/// Support code of [`export_friction_law!`](crate::export_friction_law) and
+/// [`export_material!`](crate::export_material); not a stable API.
+///
+/// What both kinds share lives here: the panic guard and the error slot of
+/// `last_error`, the table's header (texts, schema, `create`, `destroy`,
+/// `last_error`) and the entry function, through
+/// [`Export`](__private::Export). The shims of a law's or a material's own
+/// functions live with their kind.
 #[doc(hidden)]
 pub mod __private {
     use std::any::Any;
@@ -343,6 +371,8 @@ pub mod __private {
         AbiCriticalShear, AbiParamSpec, AbiShearInputs, FrictionPluginV1, PluginLaw, STATUS_ERROR,
         STATUS_OK, STATUS_PANIC,
     };
+    pub use crate::table::Header;
+    use crate::table::with_header;
     use crate::{ParamSpec, ShearInputs};
 
     thread_local! {
@@ -395,6 +425,60 @@ pub mod __private {
         })
     }
 
+    /// What a type exported as a plugin whose table is `Tab` gives the shared
+    /// code: the texts and schema of the header, how to build a value behind
+    /// a handle, and the rest of the table. Implemented for every
+    /// [`PluginLaw`] (`Tab` = [`FrictionPluginV1`]) and every
+    /// [`UserMaterial`](crate::material::UserMaterial) (`Tab` =
+    /// [`MaterialPluginV1`](crate::material::abi::MaterialPluginV1)).
+    pub trait Export<Tab>: Send + Sync + Sized + 'static {
+        /// Name as typed in scenes.
+        const NAME: &'static str;
+        /// One-line summary.
+        const SUMMARY: &'static str;
+        /// Parameter schema, in the order [`Self::build`] receives the values.
+        const PARAMS: &'static [ParamSpec];
+
+        /// The value behind a new handle, from one value per entry of
+        /// [`Self::PARAMS`].
+        ///
+        /// # Errors
+        /// The plugin's reason to refuse the values.
+        fn build(values: &[f64]) -> Result<Self, String>;
+
+        /// The whole table: `header` and the kind's own fields.
+        fn table(header: Header) -> Tab;
+    }
+
+    impl<T: PluginLaw> Export<FrictionPluginV1> for T {
+        const NAME: &'static str = <T as PluginLaw>::NAME;
+        const SUMMARY: &'static str = <T as PluginLaw>::SUMMARY;
+        const PARAMS: &'static [ParamSpec] = <T as PluginLaw>::PARAMS;
+
+        fn build(values: &[f64]) -> Result<Self, String> {
+            let law = T::from_values(values)?;
+            if law.needs() != T::NEEDS || law.work_dependent() != T::WORK_DEPENDENT {
+                return Err(format!(
+                    "needs()/work_dependent() of the built law ({}, {}) disagree with PluginLaw::NEEDS/WORK_DEPENDENT ({}, {})",
+                    law.needs(),
+                    law.work_dependent(),
+                    T::NEEDS,
+                    T::WORK_DEPENDENT
+                ));
+            }
+            Ok(law)
+        }
+
+        fn table(header: Header) -> FrictionPluginV1 {
+            with_header!(FrictionPluginV1 {
+                needs: T::NEEDS.0,
+                work_dependent: u8::from(T::WORK_DEPENDENT),
+                stick_stiffness: Some(stick_stiffness::<T>),
+                critical_shear: Some(critical_shear::<T>),
+            } header)
+        }
+    }
+
     /// A leaked, immutable table that may live in a `static`.
     pub struct Leaked<Tab: 'static>(pub &'static Tab);
 
@@ -404,9 +488,6 @@ pub mod __private {
     unsafe impl<Tab> Sync for Leaked<Tab> {}
     // SAFETY: as for `Sync`: immutable 'static data.
     unsafe impl<Tab> Send for Leaked<Tab> {}
-
-    /// The friction table, leaked.
-    pub type StaticTable = Leaked<FrictionPluginV1>;
 
     /// Whether `s` has no NUL byte (and, for a name, is a non-empty scene key).
     pub const fn text_ok(s: &str, is_name: bool) -> bool {
@@ -431,19 +512,26 @@ pub mod __private {
 
     /// Compile-time check of the texts of `T` (evaluated in a `const _`).
     pub const fn check_texts<T: PluginLaw>() {
-        assert!(
-            text_ok(T::NAME, true),
-            "PluginLaw::NAME must be non-empty and made of lowercase ASCII letters, digits, `-` and `_`"
+        check_header(
+            (T::NAME, T::SUMMARY, T::PARAMS),
+            "PluginLaw::NAME must be non-empty and made of lowercase ASCII letters, digits, `-` and `_`",
+            "PluginLaw::SUMMARY must not contain a NUL byte",
         );
-        assert!(
-            text_ok(T::SUMMARY, false),
-            "PluginLaw::SUMMARY must not contain a NUL byte"
-        );
-        check_params(T::PARAMS);
     }
 
-    /// Compile-time check of a parameter schema's texts.
-    pub const fn check_params(params: &[ParamSpec]) {
+    /// Compile-time check of a header's texts (`name`, `summary`, `params`):
+    /// stops the build with `name_rule` or `summary_rule` if one is broken.
+    pub const fn check_header(
+        (name, summary, params): (&str, &str, &[ParamSpec]),
+        name_rule: &str,
+        summary_rule: &str,
+    ) {
+        if !text_ok(name, true) {
+            panic!("{}", name_rule);
+        }
+        if !text_ok(summary, false) {
+            panic!("{}", summary_rule);
+        }
         let mut i = 0;
         while i < params.len() {
             let p = &params[i];
@@ -483,37 +571,27 @@ pub mod __private {
         Some(Box::leak(params.into_boxed_slice()))
     }
 
-    fn build_table<T: PluginLaw>() -> Option<StaticTable> {
+    /// The table of `T`, leaked; `None` if a text holds a NUL byte.
+    fn build_table<Tab: 'static, T: Export<Tab>>() -> Option<Leaked<Tab>> {
         let params = abi_params(T::PARAMS)?;
-        let table = FrictionPluginV1 {
+        let header = Header {
             abi_version: crate::ABI_VERSION,
             name: leak_c(T::NAME)?,
             summary: leak_c(T::SUMMARY)?,
             params: params.as_ptr(),
             n_params: params.len(),
-            needs: T::NEEDS.0,
-            work_dependent: u8::from(T::WORK_DEPENDENT),
-            create: Some(create::<T>),
+            create: Some(create::<Tab, T>),
             destroy: Some(destroy::<T>),
-            stick_stiffness: Some(stick_stiffness::<T>),
-            critical_shear: Some(critical_shear::<T>),
             last_error: Some(last_error),
         };
-        Some(Leaked(Box::leak(Box::new(table))))
+        Some(Leaked(Box::leak(Box::new(T::table(header)))))
     }
 
-    /// Body of the exported entry function: the table, built once; null if
-    /// building it failed (texts are checked at compile time, so only on
-    /// allocation failure or a panic).
-    pub fn entry<T: PluginLaw>(cell: &'static OnceLock<StaticTable>) -> *const FrictionPluginV1 {
-        entry_of(cell, build_table::<T>)
-    }
-
-    /// [`entry`] for any kind of table: `build` runs once, under the guard.
-    pub fn entry_of<Tab>(
-        cell: &'static OnceLock<Leaked<Tab>>,
-        build: fn() -> Option<Leaked<Tab>>,
-    ) -> *const Tab {
+    /// Body of the exported entry function: the table of `T`, built once;
+    /// null if building it failed (texts are checked at compile time, so
+    /// only on allocation failure or a panic), with the reason for
+    /// `last_error`.
+    pub fn entry<Tab: 'static, T: Export<Tab>>(cell: &'static OnceLock<Leaked<Tab>>) -> *const Tab {
         // Nothing may unwind out of here; installing a hook only panics on a
         // thread that is already panicking, and then the default hook stays.
         let _ = catch_unwind(install_quiet_hook);
@@ -521,7 +599,7 @@ pub mod __private {
             if let Some(t) = cell.get() {
                 return Some(t.0 as *const Tab);
             }
-            let table = build()?;
+            let table = build_table::<Tab, T>()?;
             Some(cell.get_or_init(|| table).0 as *const Tab)
         });
         match built {
@@ -540,6 +618,28 @@ pub mod __private {
     /// Keep `message` for the `last_error` of this thread.
     pub fn set_error(message: String) {
         LAST_ERROR.with(|e| *e.borrow_mut() = message);
+    }
+
+    /// [`STATUS_ERROR`], with `CALL: null pointer from the host` kept for
+    /// `last_error`: what a shim returns when the host breaks its contract.
+    #[cold]
+    pub fn null_pointer(call: &str) -> i32 {
+        set_error(format!("{call}: null pointer from the host"));
+        STATUS_ERROR
+    }
+
+    /// The status of a shim whose plugin code ran under [`guarded`]:
+    /// [`STATUS_OK`], or [`STATUS_PANIC`] with the panic's text kept for
+    /// `last_error`.
+    #[inline]
+    pub fn status(run: Result<(), String>) -> i32 {
+        match run {
+            Ok(()) => STATUS_OK,
+            Err(panicked) => {
+                set_error(panicked);
+                STATUS_PANIC
+            }
+        }
     }
 
     /// The message of a panic payload; drops the payload without letting a
@@ -579,56 +679,18 @@ pub mod __private {
         message.len()
     }
 
-    /// `create` shim.
+    /// `create` shim of either kind: the host's pointers and the count
+    /// checked, [`Export::build`] run on the values under the guard, the
+    /// handle written or the failure's text copied out.
     ///
     /// # Safety
     /// As [`super::CreateFn`].
-    pub unsafe extern "C" fn create<T: PluginLaw>(
+    pub unsafe extern "C" fn create<Tab, T: Export<Tab>>(
         values: *const f64,
         n: usize,
         out_handle: *mut *mut c_void,
         err_buf: *mut c_char,
         err_len: usize,
-    ) -> i32 {
-        let build = |values: &[f64]| {
-            let law = T::from_values(values)?;
-            if law.needs() != T::NEEDS || law.work_dependent() != T::WORK_DEPENDENT {
-                return Err(format!(
-                    "needs()/work_dependent() of the built law ({}, {}) disagree with PluginLaw::NEEDS/WORK_DEPENDENT ({}, {})",
-                    law.needs(),
-                    law.work_dependent(),
-                    T::NEEDS,
-                    T::WORK_DEPENDENT
-                ));
-            }
-            Ok(Box::into_raw(Box::new(law)).cast::<c_void>())
-        };
-        // SAFETY: the contract of `create` is the contract of `create_with`.
-        unsafe {
-            create_with(
-                values,
-                n,
-                T::PARAMS.len(),
-                out_handle,
-                (err_buf, err_len),
-                build,
-            )
-        }
-    }
-
-    /// The body of a `create` shim: the host's pointers and the count
-    /// checked, `build` run on the values under the guard, the handle written
-    /// or the failure's text copied out.
-    ///
-    /// # Safety
-    /// As [`super::CreateFn`] (`err` is its `err_buf`, `err_len`).
-    pub unsafe fn create_with(
-        values: *const f64,
-        n: usize,
-        expected: usize,
-        out_handle: *mut *mut c_void,
-        (err_buf, err_len): (*mut c_char, usize),
-        build: impl FnOnce(&[f64]) -> Result<*mut c_void, String>,
     ) -> i32 {
         let fail = |status: i32, message: String| {
             // SAFETY: the host passes an `err_buf` writable for `err_len` bytes, or null.
@@ -639,6 +701,7 @@ pub mod __private {
         if out_handle.is_null() || (values.is_null() && n > 0) {
             return fail(STATUS_ERROR, "create: null pointer from the host".into());
         }
+        let expected = T::PARAMS.len();
         if n != expected {
             return fail(
                 STATUS_ERROR,
@@ -652,7 +715,7 @@ pub mod __private {
                 // SAFETY: the host passes `n` readable values (checked non-null above).
                 unsafe { std::slice::from_raw_parts(values, n) }
             };
-            build(values)
+            T::build(values).map(|value| Box::into_raw(Box::new(value)).cast::<c_void>())
         });
         match built {
             Ok(Ok(handle)) => {
@@ -714,24 +777,15 @@ pub mod __private {
         out: *mut AbiCriticalShear,
     ) -> i32 {
         if handle.is_null() || x.is_null() || out.is_null() {
-            set_error("critical_shear: null pointer from the host".into());
-            return STATUS_ERROR;
+            return null_pointer("critical_shear");
         }
         // SAFETY: `handle` was made by `create::<T>` and is live; `x` points to a
         // valid `AbiShearInputs` (host contract, non-null checked above).
         let (law, inputs) = unsafe { (&*handle.cast::<T>(), ShearInputs::from(&*x)) };
         // The law is only borrowed immutably: a panic cannot leave it half-updated.
-        match guarded(|| law.critical_shear(&inputs)) {
-            Ok(cs) => {
-                // SAFETY: `out` is non-null and writable (host contract).
-                unsafe { out.write(AbiCriticalShear::from(cs)) };
-                STATUS_OK
-            }
-            Err(panicked) => {
-                set_error(panicked);
-                STATUS_PANIC
-            }
-        }
+        let run = guarded(|| law.critical_shear(&inputs));
+        // SAFETY: `out` is non-null and writable (host contract).
+        status(run.map(|cs| unsafe { out.write(AbiCriticalShear::from(cs)) }))
     }
 
     /// `last_error` shim.

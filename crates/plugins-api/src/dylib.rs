@@ -3,8 +3,10 @@
 //! texts and parameter schema, and reading the plugin's last error message.
 //!
 //! The friction-law loader ([`crate::loader`]) and the user-material loader
-//! ([`crate::material::loader`]) are both written on these functions, so a
-//! plugin of either kind is opened, checked and reported the same way.
+//! ([`crate::material::loader`]) are both written on these functions and on
+//! [`Shared`] and [`Instance`] (a loaded table, a live handle), so a plugin
+//! of either kind is opened, checked, created, destroyed and reported the
+//! same way.
 
 use std::ffi::{CStr, c_char, c_void};
 use std::path::{Path, PathBuf};
@@ -13,6 +15,13 @@ use libloading::Library;
 
 use crate::ParamSpec;
 use crate::abi::{AbiParamSpec, LastErrorFn};
+use crate::table::HasHeader;
+
+mod loaded;
+
+pub(crate) use loaded::{
+    CreateError, Instance, PluginTable, Reported, Shared, without_panic_prefix,
+};
 
 /// Upper bound on a plugin's parameter count, to reject corrupt tables.
 pub(crate) const MAX_PARAMS: usize = 256;
@@ -43,19 +52,16 @@ pub(crate) fn open_library(path: &Path) -> Result<Library, String> {
         .map_err(|e| format!("cannot be loaded as a shared library: {e}"))
 }
 
-/// Open the library at `path`, find its entry function `{prefix}1` and call
-/// it: the library and the table it returns (non-null). `kind` (`friction`,
-/// `material`) is for the messages.
+/// Open the library at `path`, find the entry function
+/// `formsim_{KIND}_plugin_v1` of the table kind `Tab` and call it: the
+/// library and the table it returns (non-null).
 ///
 /// # Errors
 /// As [`open_library`]; the symbol missing (with the reason of
 /// [`missing_entry_reason`]); a null table.
-pub(crate) fn load_table<Tab>(
-    path: &Path,
-    kind: &str,
-    prefix: &str,
-) -> Result<(Library, *const Tab), String> {
+pub(crate) fn load_table<Tab: HasHeader>(path: &Path) -> Result<(Library, *const Tab), String> {
     let library = open_library(path)?;
+    let (kind, prefix) = (Tab::KIND, format!("formsim_{}_plugin_v", Tab::KIND));
     let symbol = format!("{prefix}1");
     // SAFETY: the entry symbol has type `extern "C" fn() -> *const Tab` in
     // every library that defines it (the ABI v1 contract of that kind); the
@@ -65,7 +71,7 @@ pub(crate) fn load_table<Tab>(
             .ok()
             .map(|s| *s);
     let Some(entry) = entry else {
-        return Err(missing_entry_reason(&library, kind, prefix));
+        return Err(missing_entry_reason(&library, kind, &prefix));
     };
     let table = entry();
     if table.is_null() {
@@ -133,6 +139,11 @@ pub(crate) fn exports(library: &Library, symbol: &str) -> bool {
     // SAFETY: only the presence of the symbol is tested; it is never called
     // or dereferenced, so its type does not matter.
     unsafe { library.get::<*const c_void>(symbol.as_bytes()) }.is_ok()
+}
+
+/// The function `what` of a table, refused if it is a null pointer.
+pub(crate) fn function<F>(f: Option<F>, what: &str) -> Result<F, String> {
+    f.ok_or_else(|| format!("invalid table: function `{what}` is a null pointer"))
 }
 
 /// The message for a table whose `abi_version` is not ours.

@@ -36,6 +36,7 @@ pub mod needs;
 pub mod params;
 pub mod registry;
 pub mod return_mapping;
+mod table;
 pub mod tool;
 
 pub use dylib::{PluginKind, plugin_kind};

@@ -27,23 +27,17 @@
 //! taken it) or [`DynamicLaw::last_error`].
 
 use std::cell::RefCell;
-use std::ffi::{c_char, c_void};
 use std::path::Path;
 use std::sync::{Arc, Mutex, PoisonError};
 
-use libloading::Library;
-
 use crate::abi::{
-    __private::PANIC_PREFIX, AbiCriticalShear, AbiShearInputs, CreateFn, CriticalShearFn,
-    DestroyFn, FrictionPluginV1, LastErrorFn, STATUS_ERROR, STATUS_OK, STATUS_PANIC,
-    StickStiffnessFn,
+    __private::PANIC_PREFIX, AbiCriticalShear, AbiShearInputs, CriticalShearFn, FrictionPluginV1,
+    STATUS_ERROR, STATUS_OK, StickStiffnessFn,
 };
-use crate::dylib;
+use crate::dylib::{self, CreateError, Instance, PluginTable, Reported, Shared};
 use crate::law::LawDescription;
-use crate::params::check_values;
 use crate::{
-    ABI_VERSION, CriticalShear, FrictionError, FrictionLaw, ParamSpec, Params, PointNeeds,
-    ShearInputs,
+    CriticalShear, FrictionError, FrictionLaw, ParamSpec, Params, PointNeeds, ShearInputs,
 };
 
 /// Every [`PointNeeds`] bit this version of formsim knows how to provide.
@@ -79,37 +73,45 @@ pub fn take_last_error() -> Option<String> {
     LAST_PLUGIN_FAILURE.with(|f| f.borrow_mut().take().map(|f| f.error.to_string()))
 }
 
-/// The table's function pointers, checked non-null at load.
-#[derive(Clone, Copy)]
-struct Functions {
-    create: CreateFn,
-    destroy: DestroyFn,
+/// The law's own part of its table, checked at load.
+pub(crate) struct LawRest {
     stick_stiffness: StickStiffnessFn,
     critical_shear: CriticalShearFn,
-    last_error: LastErrorFn,
-}
-
-/// A table read and validated, with its texts copied into host memory.
-struct TableInfo {
-    abi_version: u32,
-    name: &'static str,
-    summary: &'static str,
-    params: &'static [ParamSpec],
     needs: PointNeeds,
     work_dependent: bool,
-    functions: Functions,
 }
 
-/// What a library and every law built from it share.
-struct Shared {
-    path: String,
-    info: TableInfo,
-    /// Keeps the code of `info.functions` mapped. `None` only for tables that
-    /// live in the host executable itself (tests).
-    _library: Option<Library>,
+impl PluginTable for FrictionPluginV1 {
+    type Rest = LawRest;
+
+    fn rest(&self) -> Result<LawRest, String> {
+        let stick_stiffness = dylib::function(self.stick_stiffness, "stick_stiffness")?;
+        let critical_shear = dylib::function(self.critical_shear, "critical_shear")?;
+        let needs = PointNeeds(self.needs);
+        if !KNOWN_NEEDS.contains(needs) {
+            return Err(format!(
+                "the law needs point data unknown to this formsim (bits {:#x}; known: {}); update formsim",
+                self.needs & !KNOWN_NEEDS.0,
+                KNOWN_NEEDS
+            ));
+        }
+        if self.work_dependent > 1 {
+            return Err(format!(
+                "invalid table: work_dependent = {} (must be 0 or 1)",
+                self.work_dependent
+            ));
+        }
+        Ok(LawRest {
+            stick_stiffness,
+            critical_shear,
+            needs,
+            work_dependent: self.work_dependent == 1,
+        })
+    }
 }
 
-impl Shared {
+impl Shared<FrictionPluginV1> {
+    /// The error for a library that cannot be used, or misbehaved.
     fn error(&self, reason: String) -> FrictionError {
         FrictionError::Plugin {
             path: self.path.clone(),
@@ -117,22 +119,14 @@ impl Shared {
         }
     }
 
-    /// The error for a panic in `call`, whose text (as the plugin's `last_error`
-    /// gives it) is `text`.
-    fn panicked(&self, call: String, text: &str) -> FrictionError {
-        let message = text.strip_prefix(PANIC_PREFIX).unwrap_or(text);
+    /// The error for a panic in `call` with the panic's `message`.
+    fn panicked(&self, call: String, message: &str) -> FrictionError {
         FrictionError::PluginPanicked {
-            name: self.info.name.to_string(),
+            name: self.name.to_string(),
             path: self.path.clone(),
             call,
             message: message.to_string(),
         }
-    }
-
-    /// The plugin's last error message on this thread, or `fallback`.
-    #[cold]
-    fn plugin_message(&self, fallback: &str) -> String {
-        dylib::plugin_message(self.info.functions.last_error, fallback)
     }
 }
 
@@ -142,16 +136,16 @@ impl Shared {
 /// and memory.
 #[derive(Clone)]
 pub struct PluginLibrary {
-    shared: Arc<Shared>,
+    shared: Arc<Shared<FrictionPluginV1>>,
 }
 
 impl std::fmt::Debug for PluginLibrary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("PluginLibrary")
             .field("path", &self.shared.path)
-            .field("name", &self.shared.info.name)
-            .field("abi_version", &self.shared.info.abi_version)
-            .field("needs", &self.shared.info.needs)
+            .field("name", &self.shared.name)
+            .field("abi_version", &self.shared.abi_version)
+            .field("needs", &self.shared.rest.needs)
             .finish_non_exhaustive()
     }
 }
@@ -169,10 +163,10 @@ impl PluginLibrary {
     /// (or a hand-written table honouring every contract in [`crate::abi`]).
     /// Only open plugins you trust. What is checked: the file exists and loads;
     /// the entry symbol `formsim_friction_plugin_v1` exists; the table's
-    /// `abi_version` equals [`ABI_VERSION`] (read before anything else); no
-    /// function pointer is null; texts are UTF-8; the needs are known to this
-    /// formsim; the parameter schema is consistent (ranges, defaults, unique
-    /// names).
+    /// `abi_version` equals [`ABI_VERSION`](crate::ABI_VERSION) (read before
+    /// anything else); no function pointer is null; texts are UTF-8; the needs
+    /// are known to this formsim; the parameter schema is consistent (ranges,
+    /// defaults, unique names).
     ///
     /// A path without a directory part is read relative to the current
     /// directory, never searched on the system library path.
@@ -183,26 +177,11 @@ impl PluginLibrary {
     /// found), ABI version mismatch (with the version to rebuild against), or an
     /// invalid table.
     pub fn open(path: impl AsRef<Path>) -> Result<Self, FrictionError> {
-        let path = path.as_ref();
-        let shown = path.display().to_string();
-        let error = |reason: String| FrictionError::Plugin {
-            path: shown.clone(),
-            reason,
-        };
-        let (library, table) =
-            dylib::load_table::<FrictionPluginV1>(path, "friction", "formsim_friction_plugin_v")
-                .map_err(error)?;
-        // SAFETY: `table` is non-null and, per the ABI contract, points to a
-        // table that lives as long as the library; `read_table` reads the
-        // version field first and nothing else unless it matches.
-        let info = unsafe { read_table(table) }.map_err(error)?;
-        Ok(Self {
-            shared: Arc::new(Shared {
-                path: shown,
-                info,
-                _library: Some(library),
-            }),
-        })
+        let shared = Shared::open(path.as_ref()).map_err(|e| FrictionError::Plugin {
+            path: e.path,
+            reason: e.reason,
+        })?;
+        Ok(Self { shared })
     }
 
     /// Path the library was opened from, as given.
@@ -211,40 +190,40 @@ impl PluginLibrary {
         &self.shared.path
     }
 
-    /// ABI version of the table (equal to [`ABI_VERSION`] once opened).
+    /// ABI version of the table (equal to [`ABI_VERSION`](crate::ABI_VERSION) once opened).
     #[must_use]
     pub fn abi_version(&self) -> u32 {
-        self.shared.info.abi_version
+        self.shared.abi_version
     }
 
     /// Law name as typed in scenes.
     #[must_use]
     pub fn name(&self) -> &'static str {
-        self.shared.info.name
+        self.shared.name
     }
 
     /// One-line summary with the formula.
     #[must_use]
     pub fn summary(&self) -> &'static str {
-        self.shared.info.summary
+        self.shared.summary
     }
 
     /// Parameter schema, in the order the law receives the values.
     #[must_use]
     pub fn params(&self) -> &'static [ParamSpec] {
-        self.shared.info.params
+        self.shared.params
     }
 
     /// Point data the law reads beyond `p` and `ω`.
     #[must_use]
     pub fn needs(&self) -> PointNeeds {
-        self.shared.info.needs
+        self.shared.rest.needs
     }
 
     /// Whether `τ_c` depends on the frictional work `ω`.
     #[must_use]
     pub fn work_dependent(&self) -> bool {
-        self.shared.info.work_dependent
+        self.shared.rest.work_dependent
     }
 
     /// Name, summary and schema as a [`LawDescription`], like a registry entry.
@@ -272,8 +251,7 @@ impl PluginLibrary {
     /// # Errors
     /// As [`Self::build`].
     pub fn build_dynamic(&self, params: &Params) -> Result<DynamicLaw, FrictionError> {
-        let values = params.resolve(self.name(), self.params())?;
-        self.instantiate(&values)
+        self.instantiate(&self.shared.resolve(params)?)
     }
 
     /// Build the law from one value per schema entry, in schema order.
@@ -281,51 +259,33 @@ impl PluginLibrary {
     /// # Errors
     /// Wrong number of values; a value outside its range; as [`Self::build`].
     pub fn instantiate(&self, values: &[f64]) -> Result<DynamicLaw, FrictionError> {
-        let name = self.name();
-        let specs = self.params();
-        check_values(name, specs, values)?;
         let shared = &self.shared;
-        let mut handle: *mut c_void = std::ptr::null_mut();
-        let mut buf = [0 as c_char; dylib::ERROR_BUFFER];
-        // SAFETY: `values` holds `values.len()` readable values, `handle` and
-        // `buf` are writable (the `create` contract).
-        let status = unsafe {
-            (shared.info.functions.create)(
-                values.as_ptr(),
-                values.len(),
-                &mut handle,
-                buf.as_mut_ptr(),
-                buf.len(),
-            )
-        };
-        if status != STATUS_OK {
-            let message = dylib::buffer_message(&mut buf);
-            return Err(match status {
-                STATUS_ERROR => FrictionError::InvalidParameters {
-                    component: name.to_string(),
-                    reason: message,
-                },
-                STATUS_PANIC => shared.panicked("create".into(), &message),
-                other => shared.error(format!("create returned unknown status {other}: {message}")),
-            });
-        }
-        if handle.is_null() {
-            return Err(shared.error("create reported success but returned a null handle".into()));
-        }
-        let mut law = DynamicLaw {
-            handle,
-            k_t: f64::NAN,
-            last_error: Mutex::new(None),
-            shared: Arc::clone(shared),
-        };
-        // SAFETY: `handle` is live: just created, destroyed only by `law`'s `Drop`.
-        let k_t = unsafe { (shared.info.functions.stick_stiffness)(handle) };
+        let instance = shared.create(values).map_err(|e| match e {
+            CreateError::Values(e) => e,
+            CreateError::Refused {
+                status: STATUS_ERROR,
+                message,
+            } => FrictionError::InvalidParameters {
+                component: shared.name.to_string(),
+                reason: message,
+            },
+            CreateError::Refused { status, message } => shared.error(format!(
+                "create returned unknown status {status}: {message}"
+            )),
+            CreateError::Panicked(message) => shared.panicked("create".into(), &message),
+            CreateError::NullHandle => {
+                shared.error("create reported success but returned a null handle".into())
+            }
+        })?;
+        // SAFETY: the handle is live: just created, destroyed only by
+        // `instance`'s `Drop`.
+        let k_t = unsafe { (shared.rest.stick_stiffness)(instance.handle()) };
         if !(k_t.is_finite() && k_t > 0.0) {
-            // Returning drops `law`, which destroys the handle.
+            // Returning drops `instance`, which destroys the handle.
             return Err(if k_t.is_nan() {
-                let text = shared.plugin_message("");
+                let text = shared.message("");
                 if text.starts_with(PANIC_PREFIX) {
-                    shared.panicked("stick_stiffness".into(), &text)
+                    shared.panicked("stick_stiffness".into(), dylib::without_panic_prefix(&text))
                 } else if text.is_empty() {
                     shared.error("stick_stiffness returned NaN".into())
                 } else {
@@ -333,78 +293,19 @@ impl PluginLibrary {
                 }
             } else {
                 FrictionError::InvalidParameters {
-                    component: name.to_string(),
+                    component: shared.name.to_string(),
                     reason: format!(
                         "the law reports a stick stiffness k_t = {k_t} MPa/mm; it must be finite and > 0"
                     ),
                 }
             });
         }
-        law.k_t = k_t;
-        Ok(law)
+        Ok(DynamicLaw {
+            instance,
+            k_t,
+            last_error: Mutex::new(None),
+        })
     }
-}
-
-/// Read, check and copy a plugin table.
-///
-/// # Safety
-/// `table` is non-null and points to at least a `u32` (the version); if that
-/// equals [`ABI_VERSION`], it points to a whole [`FrictionPluginV1`] whose
-/// pointers are null or valid as documented in [`crate::abi`].
-unsafe fn read_table(table: *const FrictionPluginV1) -> Result<TableInfo, String> {
-    // SAFETY: the first field of every table version is the `u32` version,
-    // readable per the function contract.
-    let abi_version = unsafe { std::ptr::addr_of!((*table).abi_version).read() };
-    if abi_version != ABI_VERSION {
-        return Err(dylib::version_mismatch(abi_version));
-    }
-    // SAFETY: the version matches, so the whole v1 table is readable.
-    let t = unsafe { table.read() };
-    let missing = |what: &str| format!("invalid table: function `{what}` is a null pointer");
-    let functions = Functions {
-        create: t.create.ok_or_else(|| missing("create"))?,
-        destroy: t.destroy.ok_or_else(|| missing("destroy"))?,
-        stick_stiffness: t
-            .stick_stiffness
-            .ok_or_else(|| missing("stick_stiffness"))?,
-        critical_shear: t.critical_shear.ok_or_else(|| missing("critical_shear"))?,
-        last_error: t.last_error.ok_or_else(|| missing("last_error"))?,
-    };
-    // SAFETY: table strings are null or NUL-terminated (ABI contract).
-    let name = unsafe { dylib::text(t.name, "the law name") }?;
-    if !dylib::is_key(&name) {
-        return Err(format!(
-            "invalid table: law name `{name}` must be made of a-z, 0-9, `-`, `_`"
-        ));
-    }
-    // SAFETY: as above.
-    let summary = unsafe { dylib::text(t.summary, "the summary") }?;
-    let needs = PointNeeds(t.needs);
-    if !KNOWN_NEEDS.contains(needs) {
-        return Err(format!(
-            "the law needs point data unknown to this formsim (bits {:#x}; known: {}); update formsim",
-            t.needs & !KNOWN_NEEDS.0,
-            KNOWN_NEEDS
-        ));
-    }
-    if t.work_dependent > 1 {
-        return Err(format!(
-            "invalid table: work_dependent = {} (must be 0 or 1)",
-            t.work_dependent
-        ));
-    }
-    // SAFETY: `params` is null or holds `n_params` entries whose strings are
-    // null or NUL-terminated (ABI contract).
-    let params = unsafe { dylib::read_params(t.params, t.n_params) }?;
-    Ok(TableInfo {
-        abi_version,
-        name: dylib::leak(name),
-        summary: dylib::leak(summary),
-        params,
-        needs,
-        work_dependent: t.work_dependent == 1,
-        functions,
-    })
 }
 
 /// A friction law living in a plugin, called through its C-ABI table.
@@ -413,22 +314,16 @@ unsafe fn read_table(table: *const FrictionPluginV1) -> Result<TableInfo, String
 /// and keeps the failure (a panic: [`FrictionError::PluginPanicked`]) for
 /// [`FrictionLaw::take_failure`], through which the return mapping reports it,
 /// and for [`Self::last_error`] and [`take_last_error`].
+///
+/// `Send` and `Sync`: the table's functions may be called concurrently with
+/// one handle (the ABI contract), and the error slot is behind a `Mutex`.
 pub struct DynamicLaw {
-    handle: *mut c_void,
+    /// The handle, destroyed when the law is dropped.
+    instance: Instance<FrictionPluginV1>,
     /// `k_T`, read once at creation (immutable).
     k_t: f64,
     last_error: Mutex<Option<String>>,
-    shared: Arc<Shared>,
 }
-
-// SAFETY: the handle is owned by this value alone (destroyed once, in `Drop`);
-// the ABI contract requires `critical_shear`/`stick_stiffness` to be callable
-// concurrently with the same handle (the macro's shims only take `&T` with
-// `T: FrictionLaw: Send + Sync`), and `destroy` may run on any thread (`T: Send`).
-unsafe impl Send for DynamicLaw {}
-// SAFETY: see `Send`; shared access only calls the thread-safe table functions
-// and the `Mutex`-protected error slot.
-unsafe impl Sync for DynamicLaw {}
 
 impl DynamicLaw {
     /// The plugin's message for the most recent failure of this law (on any
@@ -444,7 +339,7 @@ impl DynamicLaw {
     /// Path of the library the law comes from.
     #[must_use]
     pub fn plugin_path(&self) -> &str {
-        &self.shared.path
+        &self.instance.shared().path
     }
 
     /// Keep the failure of a `critical_shear` call (status `status` at
@@ -453,20 +348,20 @@ impl DynamicLaw {
     #[cold]
     #[inline(never)]
     fn record_failure(&self, status: i32, p: f64) {
-        let shared = &self.shared;
-        let text = shared.plugin_message("no message");
+        let shared = self.instance.shared();
         let call = format!("critical_shear at p = {p} MPa");
-        let error = if status == STATUS_PANIC {
-            shared.panicked(call, &text)
-        } else {
-            shared.error(format!("{call} failed (status {status}): {text}"))
+        let error = match shared.reported(status) {
+            Reported::Panicked(message) => shared.panicked(call, &message),
+            Reported::Failed(text) => {
+                shared.error(format!("{call} failed (status {status}): {text}"))
+            }
         };
         *self
             .last_error
             .lock()
             .unwrap_or_else(PoisonError::into_inner) = Some(error.to_string());
         let failure = Failure {
-            handle: self.handle as usize,
+            handle: self.instance.handle() as usize,
             error,
         };
         LAST_PLUGIN_FAILURE.with(|f| *f.borrow_mut() = Some(failure));
@@ -476,24 +371,16 @@ impl DynamicLaw {
 impl std::fmt::Debug for DynamicLaw {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("DynamicLaw")
-            .field("name", &self.shared.info.name)
-            .field("path", &self.shared.path)
+            .field("name", &self.instance.shared().name)
+            .field("path", &self.instance.shared().path)
             .field("k_t", &self.k_t)
             .finish_non_exhaustive()
     }
 }
 
-impl Drop for DynamicLaw {
-    fn drop(&mut self) {
-        // The library outlives this call: `shared` (holding it) is dropped after.
-        // SAFETY: `handle` came from `create` and is destroyed exactly once, here.
-        unsafe { (self.shared.info.functions.destroy)(self.handle) };
-    }
-}
-
 impl FrictionLaw for DynamicLaw {
     fn name(&self) -> &str {
-        self.shared.info.name
+        self.instance.shared().name
     }
 
     fn stick_stiffness(&self) -> f64 {
@@ -501,21 +388,22 @@ impl FrictionLaw for DynamicLaw {
     }
 
     fn needs(&self) -> PointNeeds {
-        self.shared.info.needs
+        self.instance.shared().rest.needs
     }
 
     fn work_dependent(&self) -> bool {
-        self.shared.info.work_dependent
+        self.instance.shared().rest.work_dependent
     }
 
     #[inline]
     fn critical_shear(&self, x: &ShearInputs) -> CriticalShear {
         let input = AbiShearInputs::from(x);
         let mut out = AbiCriticalShear::default();
-        // SAFETY: `handle` is live (destroyed only in `Drop`), `input` readable,
-        // `out` writable; concurrent calls are allowed by the ABI contract.
-        let status =
-            unsafe { (self.shared.info.functions.critical_shear)(self.handle, &input, &mut out) };
+        let critical_shear = self.instance.shared().rest.critical_shear;
+        // SAFETY: the handle is live (destroyed only when `instance` is
+        // dropped), `input` readable, `out` writable; concurrent calls are
+        // allowed by the ABI contract.
+        let status = unsafe { critical_shear(self.instance.handle(), &input, &mut out) };
         if status == STATUS_OK {
             return out.into();
         }
@@ -530,12 +418,11 @@ impl FrictionLaw for DynamicLaw {
     }
 
     fn take_failure(&self) -> Option<FrictionError> {
+        let handle = self.instance.handle() as usize;
         LAST_PLUGIN_FAILURE.with(|f| {
             let mut slot = f.borrow_mut();
             match slot.as_ref() {
-                Some(failure) if failure.handle == self.handle as usize => {
-                    slot.take().map(|f| f.error)
-                }
+                Some(failure) if failure.handle == handle => slot.take().map(|f| f.error),
                 _ => None,
             }
         })
@@ -545,6 +432,7 @@ impl FrictionLaw for DynamicLaw {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ABI_VERSION;
     use crate::abi::AbiParamSpec;
 
     fn good_table() -> FrictionPluginV1 {
@@ -553,10 +441,10 @@ mod tests {
 
     /// Validate a copy of a table without any library (the host executable
     /// holds the code of `crate::abi::tests`).
-    fn check(t: &FrictionPluginV1) -> Result<TableInfo, String> {
+    fn check(t: &FrictionPluginV1) -> Result<Shared<FrictionPluginV1>, String> {
         // SAFETY: `t` is a whole, valid-or-deliberately-broken v1 table whose
         // pointers are null or point to the leaked test table's data.
-        unsafe { read_table(t) }
+        unsafe { Shared::from_table(t, String::new(), None) }
     }
 
     #[test]
@@ -566,7 +454,7 @@ mod tests {
         assert_eq!(info.params.len(), 1);
         assert_eq!(info.params[0].name, "mu");
         assert_eq!(info.params[0].default, None);
-        assert_eq!(info.needs, PointNeeds::NONE);
+        assert_eq!(info.rest.needs, PointNeeds::NONE);
     }
 
     #[test]

@@ -144,11 +144,6 @@ impl fmt::Display for Report {
     /// One line per check × formulation (`PASS`/`FAIL`, check, formulation,
     /// detail), then `N passed, M failed`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(
-            f,
-            "conformance of `{}` (docs/friction-math.md §5)",
-            self.subject
-        )?;
         let width = self
             .results
             .iter()
@@ -157,23 +152,45 @@ impl fmt::Display for Report {
             .max()
             .unwrap_or(0)
             .max(1);
-        for r in &self.results {
-            let status = if r.passed { "PASS" } else { "FAIL" };
+        let rows = self.results.iter().map(|r| {
             let form = r.formulation.as_deref().unwrap_or("-");
-            writeln!(
-                f,
-                "  {status}  {:<20} {form:<width$}  {}",
-                r.check, r.detail
-            )?;
-        }
-        let failed = self.failures().count();
-        write!(
+            (
+                r.passed,
+                format!("{:<20} {form:<width$}  {}", r.check, r.detail),
+            )
+        });
+        write_report(
             f,
-            "{} passed, {} failed",
-            self.results.len() - failed,
-            failed
+            &format!(
+                "conformance of `{}` (docs/friction-math.md §5)",
+                self.subject
+            ),
+            rows,
         )
     }
+}
+
+/// Write a conformance report, of a law or of a material: `title`, one line
+/// per result (`PASS`/`FAIL`, then the row's text), then `N passed, M
+/// failed`.
+pub(crate) fn write_report(
+    f: &mut fmt::Formatter<'_>,
+    title: &str,
+    rows: impl Iterator<Item = (bool, String)>,
+) -> fmt::Result {
+    writeln!(f, "{title}")?;
+    let (mut passed, mut failed) = (0, 0);
+    for (ok, row) in rows {
+        let status = if ok {
+            passed += 1;
+            "PASS"
+        } else {
+            failed += 1;
+            "FAIL"
+        };
+        writeln!(f, "  {status}  {row}")?;
+    }
+    write!(f, "{passed} passed, {failed} failed")
 }
 
 /// Run the conformance suite (friction-math §5) on `subject` under each of

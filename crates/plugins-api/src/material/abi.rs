@@ -133,103 +133,61 @@ pub type EntryFn = extern "C" fn() -> *const MaterialPluginV1;
 #[macro_export]
 macro_rules! export_material {
     ($material:ty) => {
-        const _: () = $crate::material::abi::__private::check::<$material>();
-
-        /// Entry point of this formsim material plugin (ABI version 1): a
-        /// pointer to its static C-ABI table.
-        #[unsafe(no_mangle)]
-        pub extern "C" fn formsim_material_plugin_v1()
-        -> *const $crate::material::abi::MaterialPluginV1 {
-            static TABLE: ::std::sync::OnceLock<$crate::material::abi::__private::StaticTable> =
-                ::std::sync::OnceLock::new();
-            $crate::material::abi::__private::entry::<$material>(&TABLE)
+        $crate::__export_plugin! {
+            $material as $crate::material::abi::MaterialPluginV1,
+            checked by $crate::material::abi::__private::check::<$material>(),
+            /// Entry point of this formsim material plugin (ABI version 1): a
+            /// pointer to its static C-ABI table.
+            fn formsim_material_plugin_v1
         }
     };
 }
 
-/// Support code of [`export_material!`](crate::export_material); not a stable API.
+/// Support code of [`export_material!`](crate::export_material): the
+/// material's own shims; what both kinds share is in
+/// [`crate::abi::__private`]. Not a stable API.
 #[doc(hidden)]
 pub mod __private {
-    use std::ffi::{c_char, c_void};
-    use std::sync::OnceLock;
+    use std::ffi::c_void;
 
     use super::{AbiMaterialBatch, MaterialPluginV1, STATUS_ERROR, STATUS_OK, STATUS_PANIC};
+    use crate::ParamSpec;
     use crate::abi::__private::{
-        Leaked, abi_params, check_params, create_with, destroy, entry_of, guarded, last_error,
-        leak_c, set_error, text_ok,
+        Export, Header, check_header, guarded, null_pointer, set_error, status,
     };
     use crate::material::{Elastic, MAX_STATE, PointResult, UserMaterial};
-
-    /// The material table, leaked.
-    pub type StaticTable = Leaked<MaterialPluginV1>;
+    use crate::table::with_header;
 
     /// Compile-time checks of `T` (evaluated in a `const _`).
     pub const fn check<T: UserMaterial>() {
-        assert!(
-            text_ok(T::NAME, true),
-            "UserMaterial::NAME must be non-empty and made of lowercase ASCII letters, digits, `-` and `_`"
-        );
-        assert!(
-            text_ok(T::SUMMARY, false),
-            "UserMaterial::SUMMARY must not contain a NUL byte"
+        check_header(
+            (T::NAME, T::SUMMARY, T::PARAMS),
+            "UserMaterial::NAME must be non-empty and made of lowercase ASCII letters, digits, `-` and `_`",
+            "UserMaterial::SUMMARY must not contain a NUL byte",
         );
         assert!(
             T::N_STATE <= MAX_STATE,
             "UserMaterial::N_STATE exceeds MAX_STATE"
         );
-        check_params(T::PARAMS);
     }
 
-    fn build_table<T: UserMaterial>() -> Option<StaticTable> {
-        let params = abi_params(T::PARAMS)?;
-        let table = MaterialPluginV1 {
-            abi_version: crate::ABI_VERSION,
-            name: leak_c(T::NAME)?,
-            summary: leak_c(T::SUMMARY)?,
-            params: params.as_ptr(),
-            n_params: params.len(),
-            n_state: T::N_STATE,
-            isotropic: u8::from(T::ISOTROPIC),
-            create: Some(create::<T>),
-            destroy: Some(destroy::<T>),
-            elastic: Some(elastic::<T>),
-            initial_state: Some(initial_state::<T>),
-            update: Some(update::<T>),
-            last_error: Some(last_error),
-        };
-        Some(Leaked(Box::leak(Box::new(table))))
-    }
+    impl<T: UserMaterial> Export<MaterialPluginV1> for T {
+        const NAME: &'static str = <T as UserMaterial>::NAME;
+        const SUMMARY: &'static str = <T as UserMaterial>::SUMMARY;
+        const PARAMS: &'static [ParamSpec] = <T as UserMaterial>::PARAMS;
 
-    /// Body of the exported entry function: the table, built once; null
-    /// (with the reason for `last_error`) if building it failed.
-    pub fn entry<T: UserMaterial>(cell: &'static OnceLock<StaticTable>) -> *const MaterialPluginV1 {
-        entry_of(cell, build_table::<T>)
-    }
+        fn build(values: &[f64]) -> Result<Self, String> {
+            T::from_values(values)
+        }
 
-    /// `create` shim.
-    ///
-    /// # Safety
-    /// As [`crate::abi::CreateFn`].
-    pub unsafe extern "C" fn create<T: UserMaterial>(
-        values: *const f64,
-        n: usize,
-        out_handle: *mut *mut c_void,
-        err_buf: *mut c_char,
-        err_len: usize,
-    ) -> i32 {
-        let build = |values: &[f64]| {
-            T::from_values(values).map(|m| Box::into_raw(Box::new(m)).cast::<c_void>())
-        };
-        // SAFETY: the contract of `create` is the contract of `create_with`.
-        unsafe {
-            create_with(
-                values,
-                n,
-                T::PARAMS.len(),
-                out_handle,
-                (err_buf, err_len),
-                build,
-            )
+        fn table(header: Header) -> MaterialPluginV1 {
+            with_header!(MaterialPluginV1 {
+                n_state: T::N_STATE,
+                isotropic: u8::from(T::ISOTROPIC),
+                elastic: Some(elastic::<T>),
+                initial_state: Some(initial_state::<T>),
+                update: Some(update::<T>),
+            } header)
         }
     }
 
@@ -242,22 +200,12 @@ pub mod __private {
         out: *mut Elastic,
     ) -> i32 {
         if handle.is_null() || out.is_null() {
-            set_error("elastic: null pointer from the host".into());
-            return STATUS_ERROR;
+            return null_pointer("elastic");
         }
         // SAFETY: live handle of `create::<T>` (host contract).
         let m = unsafe { &*handle.cast::<T>() };
-        match guarded(|| m.elastic()) {
-            Ok(e) => {
-                // SAFETY: `out` is non-null and writable (host contract).
-                unsafe { out.write(e) };
-                STATUS_OK
-            }
-            Err(panicked) => {
-                set_error(panicked);
-                STATUS_PANIC
-            }
-        }
+        // SAFETY: `out` is non-null and writable (host contract).
+        status(guarded(|| m.elastic()).map(|e| unsafe { out.write(e) }))
     }
 
     /// `initial_state` shim.
@@ -270,27 +218,18 @@ pub mod __private {
         flow_stress: *mut f64,
     ) -> i32 {
         if handle.is_null() || flow_stress.is_null() || (state.is_null() && T::N_STATE > 0) {
-            set_error("initial_state: null pointer from the host".into());
-            return STATUS_ERROR;
+            return null_pointer("initial_state");
         }
         // SAFETY: live handle (host contract).
         let m = unsafe { &*handle.cast::<T>() };
         let mut s = [0.0; MAX_STATE];
-        match guarded(|| m.initial_state(&mut s[..T::N_STATE])) {
-            Ok(f) => {
-                // SAFETY: `state` is writable for `N_STATE` values and
-                // `flow_stress` for one (host contract).
-                unsafe {
-                    std::ptr::copy_nonoverlapping(s.as_ptr(), state, T::N_STATE);
-                    flow_stress.write(f);
-                }
-                STATUS_OK
-            }
-            Err(panicked) => {
-                set_error(panicked);
-                STATUS_PANIC
-            }
-        }
+        let run = guarded(|| m.initial_state(&mut s[..T::N_STATE]));
+        // SAFETY: `state` is writable for `N_STATE` values and `flow_stress`
+        // for one (host contract).
+        status(run.map(|f| unsafe {
+            std::ptr::copy_nonoverlapping(s.as_ptr(), state, T::N_STATE);
+            flow_stress.write(f);
+        }))
     }
 
     /// `update` shim: point by point, refusing non-finite inputs and
@@ -304,8 +243,7 @@ pub mod __private {
         failed_point: *mut usize,
     ) -> i32 {
         if handle.is_null() || batch.is_null() || failed_point.is_null() {
-            set_error("update: null pointer from the host".into());
-            return STATUS_ERROR;
+            return null_pointer("update");
         }
         // SAFETY: live handle, readable batch (host contract).
         let (m, b) = unsafe { (&*handle.cast::<T>(), *batch) };

@@ -84,19 +84,13 @@ impl MaterialReport {
 }
 
 impl fmt::Display for MaterialReport {
+    /// One line per check (`PASS`/`FAIL`, check, detail), then `N passed,
+    /// M failed`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "conformance of `{}` (docs/materials.md)", self.subject)?;
-        for r in &self.results {
-            let status = if r.passed { "PASS" } else { "FAIL" };
-            writeln!(f, "  {status}  {:<18} {}", r.check, r.detail)?;
-        }
-        let failed = self.results.iter().filter(|r| !r.passed).count();
-        write!(
-            f,
-            "{} passed, {} failed",
-            self.results.len() - failed,
-            failed
-        )
+        let rows = self.results.iter();
+        let rows = rows.map(|r| (r.passed, format!("{:<18} {}", r.check, r.detail)));
+        let title = format!("conformance of `{}` (docs/materials.md)", self.subject);
+        crate::conformance::write_report(f, &title, rows)
     }
 }
 

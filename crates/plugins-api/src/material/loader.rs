@@ -16,21 +16,17 @@
 //! trusted like the formsim binary) is that of the friction loader,
 //! [`crate::loader::PluginLibrary::open`].
 
-use std::ffi::{c_char, c_void};
 use std::path::Path;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
-use libloading::Library;
 use thiserror::Error;
 
 use super::abi::{
-    AbiMaterialBatch, ElasticFn, InitialStateFn, MaterialPluginV1, STATUS_OK, STATUS_PANIC,
-    UpdateFn,
+    AbiMaterialBatch, ElasticFn, InitialStateFn, MaterialPluginV1, STATUS_OK, UpdateFn,
 };
 use super::{Elastic, MAX_STATE, PointResult};
-use crate::abi::__private::PANIC_PREFIX;
-use crate::abi::{CreateFn, DestroyFn, LastErrorFn};
-use crate::{ABI_VERSION, ParamSpec, Params, check_values, dylib};
+use crate::dylib::{self, CreateError, Instance, PluginTable, Reported, Shared};
+use crate::{ParamSpec, Params};
 
 /// What can go wrong with a material plugin; every message names the plugin.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -73,66 +69,75 @@ pub enum MaterialPluginError {
     },
 }
 
-/// The table's function pointers, checked non-null at load.
-#[derive(Clone, Copy)]
-struct Functions {
-    create: CreateFn,
-    destroy: DestroyFn,
+/// The material's own part of its table, checked at load.
+pub(crate) struct MaterialRest {
     elastic: ElasticFn,
     initial_state: InitialStateFn,
     update: UpdateFn,
-    last_error: LastErrorFn,
-}
-
-/// A table read, checked and copied, and the library that holds its code.
-struct Shared {
-    path: String,
-    name: &'static str,
-    summary: &'static str,
-    params: &'static [ParamSpec],
     n_state: usize,
     isotropic: bool,
-    functions: Functions,
-    /// Keeps the code mapped; `None` only for tables of the host itself (tests).
-    _library: Option<Library>,
 }
 
-impl Shared {
-    /// The error for a failed call (`status`), with the plugin's message.
+impl PluginTable for MaterialPluginV1 {
+    type Rest = MaterialRest;
+
+    fn rest(&self) -> Result<MaterialRest, String> {
+        let elastic = dylib::function(self.elastic, "elastic")?;
+        let initial_state = dylib::function(self.initial_state, "initial_state")?;
+        let update = dylib::function(self.update, "update")?;
+        if self.n_state > MAX_STATE || self.isotropic > 1 {
+            return Err(format!(
+                "invalid table: n_state = {} (at most {MAX_STATE}), isotropic = {} (0 or 1)",
+                self.n_state, self.isotropic
+            ));
+        }
+        Ok(MaterialRest {
+            elastic,
+            initial_state,
+            update,
+            n_state: self.n_state,
+            isotropic: self.isotropic == 1,
+        })
+    }
+}
+
+impl Shared<MaterialPluginV1> {
+    /// The error for what the plugin reported about `call`.
     #[cold]
-    fn failure(&self, status: i32, call: String) -> MaterialPluginError {
-        let text = dylib::plugin_message(self.functions.last_error, "no message");
+    fn error(&self, call: String, reported: Reported) -> MaterialPluginError {
         let (name, path) = (self.name.to_string(), self.path.clone());
-        match text.strip_prefix(PANIC_PREFIX) {
-            Some(message) if status == STATUS_PANIC => MaterialPluginError::Panicked {
+        match reported {
+            Reported::Panicked(message) => MaterialPluginError::Panicked {
                 name,
                 path,
                 call,
-                message: message.to_string(),
+                message,
             },
-            _ => MaterialPluginError::Failed {
+            Reported::Failed(message) => MaterialPluginError::Failed {
                 name,
                 path,
                 call,
-                message: text,
+                message,
             },
         }
     }
 
+    /// The error for a failed call (`status`), with the plugin's message.
+    #[cold]
+    fn failure(&self, status: i32, call: String) -> MaterialPluginError {
+        self.error(call, self.reported(status))
+    }
+
+    /// The error for a call whose values cannot be used.
     fn failed(&self, call: String, message: String) -> MaterialPluginError {
-        MaterialPluginError::Failed {
-            name: self.name.to_string(),
-            path: self.path.clone(),
-            call,
-            message,
-        }
+        self.error(call, Reported::Failed(message))
     }
 }
 
 /// A material plugin loaded from a shared library. Cheap to clone.
 #[derive(Clone)]
 pub struct MaterialLibrary {
-    shared: Arc<Shared>,
+    shared: Arc<Shared<MaterialPluginV1>>,
 }
 
 impl std::fmt::Debug for MaterialLibrary {
@@ -150,17 +155,11 @@ impl MaterialLibrary {
     /// # Errors
     /// [`MaterialPluginError::Load`] naming the path and what is wrong.
     pub fn open(path: impl AsRef<Path>) -> Result<Self, MaterialPluginError> {
-        let path = path.as_ref();
-        let shown = path.display().to_string();
-        let error = |reason: String| MaterialPluginError::Load {
-            path: shown.clone(),
-            reason,
-        };
-        let (library, table) =
-            dylib::load_table::<MaterialPluginV1>(path, "material", "formsim_material_plugin_v")
-                .map_err(error)?;
-        // SAFETY: non-null, a table living as long as the library (ABI contract).
-        unsafe { Self::from_table(table, shown.clone(), Some(library)) }.map_err(error)
+        let shared = Shared::open(path.as_ref()).map_err(|e| MaterialPluginError::Load {
+            path: e.path,
+            reason: e.reason,
+        })?;
+        Ok(Self { shared })
     }
 
     /// The material type `T` of this process through the same table and
@@ -171,77 +170,21 @@ impl MaterialLibrary {
     /// # Errors
     /// As [`Self::open`] for an invalid table.
     pub fn linked<T: super::UserMaterial>() -> Result<Self, MaterialPluginError> {
-        let cell = Box::leak(Box::new(std::sync::OnceLock::new()));
-        let table = super::abi::__private::entry::<T>(cell);
+        let cell = Box::leak(Box::new(OnceLock::new()));
+        let table = crate::abi::__private::entry::<MaterialPluginV1, T>(cell);
         let path = format!("linked into this program: {}", std::any::type_name::<T>());
-        let error = |reason| MaterialPluginError::Load {
-            path: path.clone(),
-            reason,
+        let shared = if table.is_null() {
+            Err("the table could not be built".into())
+        } else {
+            // SAFETY: a table of this process's shims, leaked: valid for ever.
+            unsafe { Shared::from_table(table, path.clone(), None) }
         };
-        if table.is_null() {
-            return Err(error("the table could not be built".into()));
-        }
-        // SAFETY: a table of this process's shims, leaked: valid for ever.
-        unsafe { Self::from_table(table, path.clone(), None) }.map_err(error)
-    }
-
-    /// Read and check a table.
-    ///
-    /// # Safety
-    /// `table` is non-null and points to at least a `u32`; if that equals
-    /// [`ABI_VERSION`], to a whole [`MaterialPluginV1`] honouring the
-    /// contracts of [`super::abi`], valid while `library` (or the process,
-    /// for `None`) is.
-    pub(crate) unsafe fn from_table(
-        table: *const MaterialPluginV1,
-        path: String,
-        library: Option<Library>,
-    ) -> Result<Self, String> {
-        // SAFETY: the version is the first field of every table version.
-        let abi_version = unsafe { std::ptr::addr_of!((*table).abi_version).read() };
-        if abi_version != ABI_VERSION {
-            return Err(dylib::version_mismatch(abi_version));
-        }
-        // SAFETY: the version matches, so the whole v1 table is readable.
-        let t = unsafe { table.read() };
-        let missing = |what: &str| format!("invalid table: function `{what}` is a null pointer");
-        let functions = Functions {
-            create: t.create.ok_or_else(|| missing("create"))?,
-            destroy: t.destroy.ok_or_else(|| missing("destroy"))?,
-            elastic: t.elastic.ok_or_else(|| missing("elastic"))?,
-            initial_state: t.initial_state.ok_or_else(|| missing("initial_state"))?,
-            update: t.update.ok_or_else(|| missing("update"))?,
-            last_error: t.last_error.ok_or_else(|| missing("last_error"))?,
-        };
-        // SAFETY: table strings are null or NUL-terminated (ABI contract).
-        let name = unsafe { dylib::text(t.name, "the material name") }?;
-        if !dylib::is_key(&name) {
-            return Err(format!(
-                "invalid table: material name `{name}` must be made of a-z, 0-9, `-`, `_`"
-            ));
-        }
-        // SAFETY: as above.
-        let summary = unsafe { dylib::text(t.summary, "the summary") }?;
-        if t.n_state > MAX_STATE || t.isotropic > 1 {
-            return Err(format!(
-                "invalid table: n_state = {} (at most {MAX_STATE}), isotropic = {} (0 or 1)",
-                t.n_state, t.isotropic
-            ));
-        }
-        // SAFETY: null or `n_params` entries with valid strings (ABI contract).
-        let params = unsafe { dylib::read_params(t.params, t.n_params) }?;
-        Ok(Self {
-            shared: Arc::new(Shared {
-                path,
-                name: dylib::leak(name),
-                summary: dylib::leak(summary),
-                params,
-                n_state: t.n_state,
-                isotropic: t.isotropic == 1,
-                functions,
-                _library: library,
+        match shared {
+            Ok(shared) => Ok(Self {
+                shared: Arc::new(shared),
             }),
-        })
+            Err(reason) => Err(MaterialPluginError::Load { path, reason }),
+        }
     }
 
     /// Path the library was opened from.
@@ -262,11 +205,11 @@ impl MaterialLibrary {
     }
     /// State variables per point.
     pub fn n_state(&self) -> usize {
-        self.shared.n_state
+        self.shared.rest.n_state
     }
     /// Whether the plugin declares an isotropic response.
     pub fn isotropic(&self) -> bool {
-        self.shared.isotropic
+        self.shared.rest.isotropic
     }
 
     /// Resolve `params` against the schema (defaults, ranges) and create the material.
@@ -274,8 +217,9 @@ impl MaterialLibrary {
     /// # Errors
     /// As [`Self::instantiate`], and an unknown or missing parameter.
     pub fn build(&self, params: &Params) -> Result<DynamicMaterial, MaterialPluginError> {
-        let values = params
-            .resolve(self.name(), self.params())
+        let values = self
+            .shared
+            .resolve(params)
             .map_err(|e| MaterialPluginError::Params(e.to_string()))?;
         self.instantiate(&values)
     }
@@ -287,51 +231,26 @@ impl MaterialLibrary {
     /// out of range (E > 0, -1 < ν < 0.5, ρ > 0).
     pub fn instantiate(&self, values: &[f64]) -> Result<DynamicMaterial, MaterialPluginError> {
         let shared = &self.shared;
-        check_values(shared.name, shared.params, values)
-            .map_err(|e| MaterialPluginError::Params(e.to_string()))?;
-        let mut handle: *mut c_void = std::ptr::null_mut();
-        let mut buf = [0 as c_char; dylib::ERROR_BUFFER];
-        // SAFETY: `values` readable, `handle` and `buf` writable (`create` contract).
-        let status = unsafe {
-            (shared.functions.create)(
-                values.as_ptr(),
-                values.len(),
-                &mut handle,
-                buf.as_mut_ptr(),
-                buf.len(),
-            )
-        };
-        if status != STATUS_OK {
-            let message = dylib::buffer_message(&mut buf);
-            return Err(if status == STATUS_PANIC {
-                let message = message.strip_prefix(PANIC_PREFIX).unwrap_or(&message);
-                MaterialPluginError::Panicked {
-                    name: shared.name.into(),
-                    path: shared.path.clone(),
-                    call: "create".into(),
-                    message: message.into(),
-                }
-            } else {
-                MaterialPluginError::Params(format!(
-                    "invalid parameters of material plugin {}: {message}",
-                    shared.name
-                ))
-            });
-        }
-        if handle.is_null() {
-            return Err(shared.failed("create".into(), "returned a null handle".into()));
-        }
-        let instance = Instance {
-            handle,
-            shared: Arc::clone(shared),
-        };
+        let instance = shared.create(values).map_err(|e| match e {
+            CreateError::Values(e) => MaterialPluginError::Params(e.to_string()),
+            CreateError::Refused { message, .. } => MaterialPluginError::Params(format!(
+                "invalid parameters of material plugin {}: {message}",
+                shared.name
+            )),
+            CreateError::Panicked(message) => {
+                shared.error("create".into(), Reported::Panicked(message))
+            }
+            CreateError::NullHandle => {
+                shared.failed("create".into(), "returned a null handle".into())
+            }
+        })?;
         let mut elastic = Elastic {
             young: f64::NAN,
             poisson: f64::NAN,
             density: f64::NAN,
         };
         // SAFETY: live handle, writable `elastic`.
-        let status = unsafe { (shared.functions.elastic)(handle, &mut elastic) };
+        let status = unsafe { (shared.rest.elastic)(instance.handle(), &mut elastic) };
         if status != STATUS_OK {
             return Err(shared.failure(status, "elastic".into()));
         }
@@ -345,33 +264,12 @@ impl MaterialLibrary {
     }
 }
 
-/// A live handle; destroyed when the last [`DynamicMaterial`] sharing it goes.
-struct Instance {
-    handle: *mut c_void,
-    shared: Arc<Shared>,
-}
-
-// SAFETY: the handle is owned by this value alone (destroyed once, in
-// `Drop`); the ABI requires `elastic`, `initial_state` and `update` to be
-// callable concurrently with one handle (the macro's shims take `&T`,
-// `T: Send + Sync`), and `destroy` may run on any thread.
-unsafe impl Send for Instance {}
-// SAFETY: as for `Send`.
-unsafe impl Sync for Instance {}
-
-impl Drop for Instance {
-    fn drop(&mut self) {
-        // SAFETY: made by `create`, destroyed exactly once, here; the library
-        // (in `shared`) is dropped after this call.
-        unsafe { (self.shared.functions.destroy)(self.handle) };
-    }
-}
-
 /// A user material living in a plugin, called through its C-ABI table.
-/// Cheap to clone (the handle is shared).
+/// Cheap to clone (the handle is shared; it is destroyed when the last
+/// clone goes).
 #[derive(Clone)]
 pub struct DynamicMaterial {
-    instance: Arc<Instance>,
+    instance: Arc<Instance<MaterialPluginV1>>,
     elastic: Elastic,
 }
 
@@ -388,19 +286,19 @@ impl std::fmt::Debug for DynamicMaterial {
 impl DynamicMaterial {
     /// The material's name.
     pub fn name(&self) -> &'static str {
-        self.instance.shared.name
+        self.instance.shared().name
     }
     /// Path of the library.
     pub fn path(&self) -> &str {
-        &self.instance.shared.path
+        &self.instance.shared().path
     }
     /// State variables per point.
     pub fn n_state(&self) -> usize {
-        self.instance.shared.n_state
+        self.instance.shared().rest.n_state
     }
     /// Whether the plugin declares an isotropic response.
     pub fn isotropic(&self) -> bool {
-        self.instance.shared.isotropic
+        self.instance.shared().rest.isotropic
     }
     /// Elastic constants and density (read and checked at creation).
     pub fn elastic(&self) -> Elastic {
@@ -413,12 +311,12 @@ impl DynamicMaterial {
     /// The plugin's failure, or a non-finite or non-positive flow stress or
     /// non-finite state.
     pub fn initial_state(&self, state: &mut [f64]) -> Result<f64, MaterialPluginError> {
-        let shared = &self.instance.shared;
-        assert_eq!(state.len(), shared.n_state, "state length");
+        let shared = self.instance.shared();
+        assert_eq!(state.len(), shared.rest.n_state, "state length");
         let mut flow = f64::NAN;
         // SAFETY: live handle; `state` writable for `n_state`; `flow` writable.
         let status = unsafe {
-            (shared.functions.initial_state)(self.instance.handle, state.as_mut_ptr(), &mut flow)
+            (shared.rest.initial_state)(self.instance.handle(), state.as_mut_ptr(), &mut flow)
         };
         if status != STATUS_OK {
             return Err(shared.failure(status, "initial_state".into()));
@@ -449,10 +347,11 @@ impl DynamicMaterial {
         state: &mut [f64],
         result: &mut [PointResult],
     ) -> Result<(), MaterialPluginError> {
-        let shared = &self.instance.shared;
+        let shared = self.instance.shared();
+        let n_state = shared.rest.n_state;
         let n = deps.len();
         assert!(
-            stress.len() == n && result.len() == n && state.len() == n * shared.n_state,
+            stress.len() == n && result.len() == n && state.len() == n * n_state,
             "batch lengths"
         );
         let batch = AbiMaterialBatch {
@@ -465,14 +364,13 @@ impl DynamicMaterial {
         let mut failed = usize::MAX;
         // SAFETY: live handle; the arrays hold `n` points each and do not
         // overlap (distinct Rust slices); `failed` is writable.
-        let status =
-            unsafe { (shared.functions.update)(self.instance.handle, &batch, &mut failed) };
+        let status = unsafe { (shared.rest.update)(self.instance.handle(), &batch, &mut failed) };
         if status != STATUS_OK {
             let at = failed.min(n.saturating_sub(1));
             return Err(shared.failure(status, point_call(at, &deps[at])));
         }
         for (i, (s, r)) in stress.iter().zip(result.iter()).enumerate() {
-            let st = &state[i * shared.n_state..(i + 1) * shared.n_state];
+            let st = &state[i * n_state..(i + 1) * n_state];
             let finite = s.iter().chain(st).all(|x| x.is_finite())
                 && [r.deps_zz, r.dissipation, r.plastic_strain, r.flow_stress]
                     .iter()
