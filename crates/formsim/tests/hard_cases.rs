@@ -222,6 +222,7 @@ fn report(case: &str, f: &Figures, run_wall: f64) {
 /// tolerance, and every gold figure of the part not measured, fail together.
 /// (A name may come twice: once against an analytic value, once as a
 /// regression value, under two names.)
+#[track_caller]
 fn gold(part: &str, figures: &[(&str, f64)]) {
     let mut g = Gold::part("hard-cases", part);
     let mut failures = Vec::new();

@@ -42,6 +42,7 @@ const SMOOTH: usize = 25;
 /// Compare a twin's identified `figures` (name, value) with the figures
 /// `PART.*` of `tests/gold/identification.json`: every figure outside its
 /// tolerance, and every gold figure of the part not given, fail together.
+#[track_caller]
 fn check_gold(part: &str, figures: &[(&str, f64)]) {
     let mut g = gold::Gold::part("identification", part);
     let mut failures = Vec::new();

@@ -292,7 +292,8 @@ pub fn assert_parts_named(case: &str, source: &str) {
     }
 }
 
-/// Fail with every line of `failures`, if any.
+/// Fail with every line of `failures`, if any (at the caller's line).
+#[track_caller]
 pub fn assert_none(failures: &[String]) {
     assert!(
         failures.is_empty(),
