@@ -11,7 +11,14 @@
 //!   reported intervals.
 //!
 //! The measured values come from the run's `summary.json` (`states.<s>`),
-//! read here directly, not through the identification's own lookup.
+//! read here directly, not through the identification's own lookup. What
+//! each twin identifies is compared with its part of
+//! `tests/gold/identification.json`.
+
+// Each test binary that includes the gold checks uses a part of them.
+#[allow(dead_code)]
+#[path = "common/gold.rs"]
+mod gold;
 
 use formsim::identify::measurements::Measurements;
 use formsim::identify::objective::Objective;
@@ -31,6 +38,27 @@ const COARSE: usize = 10;
 /// 0.46 against χ² ≈ 21): the fit failed twice on two builds there (true
 /// `a1` just outside the interval), see docs/identification.md.
 const SMOOTH: usize = 25;
+
+/// Compare a twin's identified `figures` (name, value) with the figures
+/// `PART.*` of `tests/gold/identification.json`: every figure outside its
+/// tolerance, and every gold figure of the part not given, fail together.
+#[track_caller]
+fn check_gold(part: &str, figures: &[(&str, f64)]) {
+    let mut g = gold::Gold::part("identification", part);
+    let mut failures = Vec::new();
+    for &(name, value) in figures {
+        g.check(&mut failures, name, value);
+    }
+    g.finish(&mut failures);
+    gold::assert_none(&failures);
+}
+
+/// Every part of `tests/gold/identification.json` is named by a test of this
+/// file (`"PART"`), so none goes unchecked because its test was removed.
+#[test]
+fn every_identification_gold_part_is_checked_by_a_test() {
+    gold::assert_parts_named("identification", include_str!("identify_twin.rs"));
+}
 
 fn scene() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/square-cup-al.toml")
@@ -143,6 +171,7 @@ fn twin_ac_mu_recovered_within_one_percent_from_noise_free_draw_in() {
     );
     let report = identify(&o, &data).unwrap();
     let mu = report.params[0].end;
+    check_gold("ac-mae", &[("mu", mu), ("mu_vs_truth", mu)]);
     assert!(
         (mu - 0.12).abs() <= 0.01 * 0.12,
         "identified μ = {mu}, true 0.12"
@@ -178,6 +207,15 @@ fn twin_ac_mu_interval_contains_the_truth_with_noisy_draw_in() {
     let report = identify(&o, &data).unwrap();
     let u = report.uncertainty.expect("an uncertainty");
     let [lo, hi] = u.interval95[0].expect("a bounded interval");
+    check_gold(
+        "ac-wls",
+        &[
+            ("mu", report.params[0].end),
+            ("mu_sigma", u.sigma[0].unwrap_or(f64::NAN)),
+            ("mu_interval95_low", lo),
+            ("mu_interval95_high", hi),
+        ],
+    );
     assert!(
         lo <= 0.14 && 0.14 <= hi,
         "interval {lo} .. {hi}, true 0.14, end {}",
@@ -229,6 +267,10 @@ fn twin_wh_two_parameters_recovered_within_their_intervals() {
         u.roughness_sd,
         report.runs_made,
         report.stop
+    );
+    check_gold(
+        "wh-wls",
+        &[("a0", report.params[0].end), ("a1", report.params[1].end)],
     );
     for (j, truth) in [0.15, -2e-3].into_iter().enumerate() {
         let [lo, hi] = u.interval95[j].expect("a bounded interval");

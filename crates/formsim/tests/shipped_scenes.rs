@@ -2,13 +2,21 @@
 //! but the true ones its docs explain, and the figures behind the warnings
 //! (the kinetic energy's share of the external work, the force a
 //! force-controlled tool holds) measure what they claim. The hard cases are
-//! checked the same way in `hard_cases.rs`.
+//! checked the same way in `hard_cases.rs`. The benchmarks' headline
+//! figures are compared with their gold files (`tests/gold/NAME.json`).
 
 mod common;
 
+use common::gold::{self, Gold};
 use common::run_scene;
 use formsim::run::RunResult;
 use formsim::run::warnings::KINETIC_TO_WORK_MAX;
+
+/// The figures of `summary.json` in `dir` (the file the run wrote).
+fn summary_json(dir: &tempfile::TempDir) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
 
 /// Assert that `r` warns exactly with lines containing `expected`, in order.
 fn warns_only(name: &str, r: &RunResult, expected: &[&str]) {
@@ -81,14 +89,23 @@ fn strip_draw_runs_clean_and_its_lift_is_the_holders_acceleration() {
 /// The block on a plane and the capstan (closed forms `μN` and `e^{μθ}`):
 /// no warning; their kinetic/internal ratios (11.3 for the block) are
 /// ratios over an elastic energy of 3e-4 mJ against 5 mJ of friction work.
+/// The capstan's figures match `tests/gold/capstan.json`: the tension ratio
+/// against `e^{μθ}` (2 %, docs/benchmarks.md §3) and as regression values.
 #[test]
 fn block_and_capstan_run_clean() {
+    let mut failures = Vec::new();
     for name in ["block-on-plane", "capstan"] {
-        let (_d, r) = run_scene(name, &[]);
+        let (d, r) = run_scene(name, &[]);
         warns_only(name, &r, &[]);
         assert!(r.summary.kinetic_to_work_max < KINETIC_TO_WORK_MAX);
         assert_eq!(r.summary.regime, "quasi-static");
+        if name == "capstan" {
+            let mut g = Gold::load("capstan");
+            g.check_summary(&mut failures, &summary_json(&d));
+            g.finish(&mut failures);
+        }
     }
+    gold::assert_none(&failures);
 }
 
 /// The forming benchmarks as shipped, full size: the square cup, the
@@ -96,6 +113,9 @@ fn block_and_capstan_run_clean() {
 /// of the work while forming) with mass scaling under its bound, at the
 /// default stick stiffness (1e4 MPa/mm). The S-rail's 5 mm elements over
 /// its 5 mm shoulders warn, truly (docs/s-rail.md; `s-rail-fine.toml` resolves them).
+/// The headline figures of each (punch force, thinning, draw-in, strains,
+/// energies, kinetic energy's share) match `tests/gold/NAME.json`, all
+/// figures outside their tolerance listed together.
 #[test]
 fn forming_benchmarks_run_clean() {
     let cases: [(&str, &[&str]); 3] = [
@@ -103,9 +123,10 @@ fn forming_benchmarks_run_clean() {
         ("square-cup-al", &[]),
         ("s-rail", &["coarsely resolved"]),
     ];
+    let mut failures = Vec::new();
     for (name, expected) in cases {
         let sets = ["output.frames=0", "output.plots=false"];
-        let (_d, r) = run_scene(name, &sets);
+        let (d, r) = run_scene(name, &sets);
         warns_only(name, &r, expected);
         let s = &r.summary;
         assert!(s.kinetic_to_work_max < KINETIC_TO_WORK_MAX, "{name}");
@@ -114,5 +135,9 @@ fn forming_benchmarks_run_clean() {
             "{name}: K/W {:.4}, K/I {:.4}, added mass {:.0} %",
             s.kinetic_to_work_max, s.kinetic_to_internal_max, s.added_mass_percent
         );
+        let mut g = Gold::load(name);
+        g.check_summary(&mut failures, &summary_json(&d));
+        g.finish(&mut failures);
     }
+    gold::assert_none(&failures);
 }

@@ -1,9 +1,14 @@
-//! Helpers shared by formsim's integration tests: the repository's root and
-//! a run of a ready scene with overrides into a fresh temporary directory.
+//! Helpers shared by formsim's integration tests: the repository's root,
+//! a run of a ready scene with overrides into a fresh temporary directory,
+//! and the gold files of the benchmarks' headline figures ([`gold`]).
 
 use formsim::run::{RunOptions, RunResult, run};
 use formsim::scene;
 use std::path::{Path, PathBuf};
+
+// Each test binary that includes `common` uses a part of the gold checks.
+#[allow(dead_code)]
+pub mod gold;
 
 /// The repository's root (the shipped scenes are under `scenes/`).
 pub fn root() -> PathBuf {
