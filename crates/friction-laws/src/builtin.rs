@@ -8,7 +8,7 @@
 //! with a concrete formulation; a formulation that is not built in (registered
 //! by a linked crate) is paired as a trait object too.
 //!
-//! The built-in laws and formulations are listed once, in [`builtins!`]: the
+//! The built-in laws and formulations are listed once, in `builtins!`: the
 //! names ([`LAW_NAMES`], [`FORMULATION_NAMES`]), the enum
 //! [`BuiltinFormulation`], every pairing and the registrations
 //! (`registration.rs`) are generated from that list. A new built-in law or
