@@ -7,7 +7,7 @@
 //!   `average_from` on; its mean is the slip force.
 //! - Figures: `slip_force`, `analytic = μ normal_force`.
 
-use super::PullMean;
+use super::{PullOnly, needs_table};
 use crate::scene::kind::{Figures, ReferenceCheck, Sampler};
 use crate::scene::{LoadedScene, Model, SceneError};
 
@@ -30,45 +30,17 @@ pub(super) fn anchor() -> usize {
 }
 
 fn needs(loaded: &LoadedScene) -> Result<(), SceneError> {
-    match loaded.scene.output.block {
-        Some(_) => Ok(()),
-        None => Err(loaded.key_error(
-            "output.block",
-            "a block-on-plane scene needs [output.block]",
-        )),
-    }
+    let present = loaded.scene.output.block.is_some();
+    needs_table(loaded, present, "block-on-plane", "block")
 }
 
-/// The pulled end's mean reaction and the normal force.
-struct Block {
-    pull: PullMean,
-    normal_force: f64,
-}
-
+/// The pulled end's mean reaction against `μ normal_force`.
 fn start(loaded: &LoadedScene, _model: &Model) -> Option<Box<dyn Sampler>> {
     let b = loaded.scene.output.block.as_ref()?;
-    Some(Box::new(Block {
-        pull: PullMean::new(&b.pulled_end()),
-        normal_force: b.normal_force,
+    let normal_force = b.normal_force;
+    Some(PullOnly::boxed(&b.pulled_end(), 1.0, move |mu| {
+        mu * normal_force
     }))
-}
-
-impl Sampler for Block {
-    fn sample(&mut self, loaded: &LoadedScene, model: &Model) -> Result<(), SceneError> {
-        self.pull.sample(loaded, model).map(|_| ())
-    }
-
-    fn sampled(&self) -> bool {
-        self.pull.samples() > 0
-    }
-
-    fn figures(&self, mu: f64) -> Option<Figures> {
-        Some(Figures {
-            value: self.pull.mean(),
-            analytic: mu * self.normal_force,
-            more: Vec::new(),
-        })
-    }
 }
 
 fn line(f: &Figures) -> String {

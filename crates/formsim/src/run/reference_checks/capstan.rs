@@ -9,7 +9,7 @@
 //! - Figures: `tension_ratio = T_pull / hold_force`, `analytic =
 //!   e^{μ angle_deg π/180}`.
 
-use super::PullMean;
+use super::{PullOnly, needs_table};
 use crate::scene::kind::{Figures, ReferenceCheck, Sampler};
 use crate::scene::{LoadedScene, Model, SceneError};
 
@@ -32,44 +32,17 @@ pub(super) fn anchor() -> usize {
 }
 
 fn needs(loaded: &LoadedScene) -> Result<(), SceneError> {
-    match loaded.scene.output.capstan {
-        Some(_) => Ok(()),
-        None => Err(loaded.key_error("output.capstan", "a capstan scene needs [output.capstan]")),
-    }
+    let present = loaded.scene.output.capstan.is_some();
+    needs_table(loaded, present, "capstan", "capstan")
 }
 
-/// The pulled end's mean reaction, and what it is divided by and compared with.
-struct Capstan {
-    pull: PullMean,
-    hold_force: f64,
-    angle_deg: f64,
-}
-
+/// The pulled end's mean reaction over `hold_force` against `e^{μθ}`.
 fn start(loaded: &LoadedScene, _model: &Model) -> Option<Box<dyn Sampler>> {
     let c = loaded.scene.output.capstan.as_ref()?;
-    Some(Box::new(Capstan {
-        pull: PullMean::new(&c.pulled_end()),
-        hold_force: c.hold_force,
-        angle_deg: c.angle_deg,
+    let angle = c.angle_deg.to_radians();
+    Some(PullOnly::boxed(&c.pulled_end(), c.hold_force, move |mu| {
+        (mu * angle).exp()
     }))
-}
-
-impl Sampler for Capstan {
-    fn sample(&mut self, loaded: &LoadedScene, model: &Model) -> Result<(), SceneError> {
-        self.pull.sample(loaded, model).map(|_| ())
-    }
-
-    fn sampled(&self) -> bool {
-        self.pull.samples() > 0
-    }
-
-    fn figures(&self, mu: f64) -> Option<Figures> {
-        Some(Figures {
-            value: self.pull.mean() / self.hold_force,
-            analytic: (mu * self.angle_deg.to_radians()).exp(),
-            more: Vec::new(),
-        })
-    }
 }
 
 fn line(f: &Figures) -> String {

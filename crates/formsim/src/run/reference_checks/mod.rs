@@ -142,6 +142,65 @@ impl PullMean {
     }
 }
 
+/// The sampler of a check that reads only a pulled end: its value is the
+/// mean reaction over `divisor`, its reference `analytic(μ)`.
+pub(crate) struct PullOnly {
+    pull: PullMean,
+    divisor: f64,
+    analytic: Box<dyn Fn(f64) -> f64>,
+}
+
+impl PullOnly {
+    /// Averaging the reaction of `end`, divided by `divisor`, against `analytic(μ)`.
+    pub(crate) fn boxed(
+        end: &PulledEnd<'_>,
+        divisor: f64,
+        analytic: impl Fn(f64) -> f64 + 'static,
+    ) -> Box<dyn Sampler> {
+        Box::new(Self {
+            pull: PullMean::new(end),
+            divisor,
+            analytic: Box::new(analytic),
+        })
+    }
+}
+
+impl Sampler for PullOnly {
+    fn sample(&mut self, loaded: &LoadedScene, model: &Model) -> Result<(), SceneError> {
+        self.pull.sample(loaded, model).map(|_| ())
+    }
+
+    fn sampled(&self) -> bool {
+        self.pull.samples() > 0
+    }
+
+    fn figures(&self, mu: f64) -> Option<Figures> {
+        Some(Figures {
+            value: self.pull.mean() / self.divisor,
+            analytic: (self.analytic)(mu),
+            more: Vec::new(),
+        })
+    }
+}
+
+/// `Ok` when the scene has the check's table `[output.KEY]` (`present`),
+/// else the one-line error at `output.KEY`.
+pub(crate) fn needs_table(
+    loaded: &LoadedScene,
+    present: bool,
+    kind: &str,
+    key: &str,
+) -> Result<(), SceneError> {
+    if present {
+        Ok(())
+    } else {
+        Err(loaded.key_error(
+            &format!("output.{key}"),
+            format!("a {kind} scene needs [output.{key}]"),
+        ))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

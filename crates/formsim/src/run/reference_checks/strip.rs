@@ -12,7 +12,7 @@
 //! - Figures: `draw_force`, `analytic = 2 μ F`, `holder_force` (mean
 //!   delivered), `holder_prescribed` (`F`), `mu`.
 
-use super::PullMean;
+use super::{PullMean, needs_table};
 use crate::run::tools_report::press_axes;
 use crate::scene::kind::{Figures, ReferenceCheck, Sampler};
 use crate::scene::schema::Motion;
@@ -39,8 +39,9 @@ pub(super) fn anchor() -> usize {
 
 fn needs(loaded: &LoadedScene) -> Result<(), SceneError> {
     let s = &loaded.scene;
+    needs_table(loaded, s.output.strip.is_some(), "strip-draw", "strip")?;
     let Some(strip) = &s.output.strip else {
-        return Err(loaded.key_error("output.strip", "a strip-draw scene needs [output.strip]"));
+        return Ok(());
     };
     if !s.tools.contains_key(&strip.holder) {
         return Err(loaded.key_error(
