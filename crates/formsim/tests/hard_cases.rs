@@ -20,7 +20,7 @@
 
 mod common;
 
-use common::gold::{self as gold_file, Gold};
+use common::gold as gold_file;
 use common::{root, run_scene};
 use contact::PointStatus;
 use formsim::scene::{self, Model};
@@ -224,13 +224,7 @@ fn report(case: &str, f: &Figures, run_wall: f64) {
 /// regression value, under two names.)
 #[track_caller]
 fn gold(part: &str, figures: &[(&str, f64)]) {
-    let mut g = Gold::part("hard-cases", part);
-    let mut failures = Vec::new();
-    for &(name, value) in figures {
-        g.check(&mut failures, name, value);
-    }
-    g.finish(&mut failures);
-    gold_file::assert_none(&failures);
+    gold_file::check_part("hard-cases", part, figures);
 }
 
 /// Every part of `tests/gold/hard-cases.json` is named by a test of this

@@ -44,13 +44,7 @@ const SMOOTH: usize = 25;
 /// tolerance, and every gold figure of the part not given, fail together.
 #[track_caller]
 fn check_gold(part: &str, figures: &[(&str, f64)]) {
-    let mut g = gold::Gold::part("identification", part);
-    let mut failures = Vec::new();
-    for &(name, value) in figures {
-        g.check(&mut failures, name, value);
-    }
-    g.finish(&mut failures);
-    gold::assert_none(&failures);
+    gold::check_part("identification", part, figures);
 }
 
 /// Every part of `tests/gold/identification.json` is named by a test of this

@@ -302,3 +302,17 @@ pub fn assert_none(failures: &[String]) {
         failures.join("\n  ")
     );
 }
+
+/// Compare `figures` (name, value) with the figures `PART.*` of
+/// `tests/gold/CASE.json`: every figure outside its tolerance, and every gold
+/// figure of the part not given, fail together (at the caller's line).
+#[track_caller]
+pub fn check_part(case: &str, part: &str, figures: &[(&str, f64)]) {
+    let mut g = Gold::part(case, part);
+    let mut failures = Vec::new();
+    for &(name, value) in figures {
+        g.check(&mut failures, name, value);
+    }
+    g.finish(&mut failures);
+    assert_none(&failures);
+}
