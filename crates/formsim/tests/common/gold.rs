@@ -304,7 +304,7 @@ pub fn assert_none(failures: &[String]) {
 }
 
 /// Compare `figures` (name, value) with the figures `PART.*` of
-/// `tests/gold/CASE.json`: every figure outside its tolerance, and every gold
+/// the case's gold file: every figure outside its tolerance, and every gold
 /// figure of the part not given, fail together (at the caller's line).
 #[track_caller]
 pub fn check_part(case: &str, part: &str, figures: &[(&str, f64)]) {
