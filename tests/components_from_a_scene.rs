@@ -1,6 +1,6 @@
 //! One new component of each registered kind, added in this file alone and
-//! run from a scene: a friction law, a kinematic formulation and a material
-//! (each with declared parameters) and a tool kind. Nothing else in the
+//! run from a scene: a friction law, a kinematic formulation, a material and
+//! a shell element (each with declared parameters) and a tool kind. Nothing else in the
 //! workspace names them; `inventory` registers them at link time and the
 //! scene resolves every one through its registry.
 //!
@@ -17,10 +17,15 @@ use plugins_api::{
     CriticalShear, DirectionInputs, FrictionError, FrictionLaw, KinematicFormulation, ParamSpec,
     PointNeeds, ShearInputs, StepKinematics, Vec3,
 };
-use shell_elements::kinds::{MaterialKind, MaterialRequest, Shells, add_shells};
-use shell_elements::{Hardening, J2PlaneStress, ShellError};
+use shell_elements::kinds::{
+    ElementKind, MaterialKind, MaterialRequest, Shells, add_set, add_shells, with_builtin_material,
+};
+use shell_elements::{
+    BelytschkoTsay, ElementResult, ElementState, Hardening, J2PlaneStress, Material, Section,
+    ShellError, ShellFormulation, V3,
+};
 use tools_nurbs::builders::primitives;
-use tools_nurbs::kinds::{Request, ToolKind};
+use tools_nurbs::kinds::{Request, ToolKey, ToolKind};
 use tools_nurbs::{NurbsError, Tool};
 
 // ----- a friction law: Amontons–Coulomb under another name -------------------
@@ -135,7 +140,8 @@ fn build_square(r: Request<'_>) -> Result<Tool, NurbsError> {
 inventory::submit! {
     ToolKind {
         name: "test-square",
-        summary: "a square plane: side (mm) (a test's tool kind)",
+        summary: "a square plane (a test's tool kind)",
+        keys: &[ToolKey::required("side", "mm", "> 0", "side of the square")],
         default_facing: tools_nurbs::builders::Facing::Up,
         build: build_square,
     }
@@ -151,10 +157,13 @@ const MATERIAL_PARAMS: &[ParamSpec] = &[ParamSpec::required(
     "the constant flow stress",
 )];
 
-fn build_material(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+fn make_material(r: &MaterialRequest<'_>) -> Result<J2PlaneStress, ShellError> {
     let perfect = Hardening::swift(r.params[0], 1.0, 0.0)?;
-    let m = J2PlaneStress::new(r.young, r.poisson, r.density, perfect)?;
-    add_shells(&r.shells, m, "test-perfect", solver)
+    J2PlaneStress::new(r.young, r.poisson, r.density, perfect)
+}
+
+fn build_material(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+    add_shells(&r.shells, make_material(r)?, "test-perfect", solver)
 }
 
 inventory::submit! {
@@ -166,6 +175,73 @@ inventory::submit! {
         params: MATERIAL_PARAMS,
         relative_cost: 1.0,
         build: build_material,
+    }
+}
+
+// ----- an element: Belytschko–Tsay element by element, its drilling a key of its own -----
+
+/// The one-point shell computed one element at a time (the default
+/// four-element kernel), with the drilling coefficient it declares.
+#[derive(Clone)]
+struct TestBt(BelytschkoTsay);
+
+impl ShellFormulation for TestBt {
+    const NAME: &'static str = "test-bt";
+    const IN_PLANE_POINTS: usize = BelytschkoTsay::IN_PLANE_POINTS;
+    const HOURGLASS_VARS: usize = BelytschkoTsay::HOURGLASS_VARS;
+
+    fn drilling(&self) -> f64 {
+        self.0.drilling()
+    }
+
+    fn compute<M: Material>(
+        &self,
+        mat: &M,
+        sec: &Section,
+        x: &[V3; 4],
+        v: &[V3; 4],
+        w: &[V3; 4],
+        dt: f64,
+        st: ElementState<'_, M::History>,
+    ) -> ElementResult {
+        self.0.compute(mat, sec, x, v, w, dt, st)
+    }
+}
+
+const ELEMENT_PARAMS: &[ParamSpec] = &[ParamSpec::optional(
+    "gamma",
+    "-",
+    1e-3,
+    0.0,
+    0.1,
+    "drilling coefficient",
+)];
+
+/// The element with the request's material: this file's own material, or a
+/// built-in one.
+fn add_element(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+    let form = TestBt(BelytschkoTsay::default().with_drilling(r.shells.element_params[0])?);
+    match r.model {
+        "test-perfect" => add_set(
+            &r.shells,
+            form,
+            make_material(r)?,
+            "test-bt",
+            "test-perfect",
+            solver,
+        ),
+        _ => with_builtin_material(r, form, "test-bt", solver),
+    }
+}
+
+inventory::submit! {
+    ElementKind {
+        name: "test-bt",
+        summary: "Belytschko–Tsay one element at a time: gamma (-) (a test's element)",
+        in_plane_points: 1,
+        relative_cost: 1.0,
+        params: ELEMENT_PARAMS,
+        add: Some(add_element),
     }
 }
 
@@ -250,6 +326,8 @@ fn block_on_plane_with_a_new_component_of_each_kind_slides_at_mu_n() {
         "contact.params.test-coulomb.mu=0.3",
         "contact.formulation=\"test-keep\"",
         "contact.params.test-keep.keep=1.0",
+        "blank.element=\"test-bt\"",
+        "blank.element_parameters.gamma=1e-3",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -267,6 +345,7 @@ fn block_on_plane_with_a_new_component_of_each_kind_slides_at_mu_n() {
     let s = &r.summary;
     assert_eq!(s.law, "test-coulomb");
     assert_eq!(s.formulation, "test-keep");
+    assert_eq!(s.element, "test-bt");
     let b = s.figures("block").expect("the block's check");
     assert!((b.analytic - 30.0).abs() < 1e-9, "mu N = {} N", b.analytic);
     assert!(
@@ -275,4 +354,39 @@ fn block_on_plane_with_a_new_component_of_each_kind_slides_at_mu_n() {
         b.value,
         b.analytic
     );
+}
+
+/// The element's declared key is checked at its key when the scene is read,
+/// and the element pairs with a built-in material as well as with this
+/// file's own.
+#[test]
+fn a_registered_element_checks_its_key_and_pairs_with_a_built_in_material() {
+    let dir = std::env::temp_dir().join(format!("formsim-element-{}", std::process::id()));
+    let scene = block_scene(&dir);
+    let element = "blank.element=\"test-bt\"".to_string();
+    for (set, says) in [
+        (
+            "blank.element_parameters.gamma=0.5",
+            "`gamma` = 0.5 - of `test-bt` is out of range",
+        ),
+        ("blank.element_parameters.k=1.0", "unknown parameter `k`"),
+    ] {
+        let e = formsim::scene::load(&scene, &[element.clone(), set.to_string()]).expect_err(set);
+        let m = e.to_string();
+        assert!(
+            m.contains("blank.element_parameters") && m.contains(says),
+            "{set}: {m}"
+        );
+    }
+    let j2 = [
+        element,
+        "blank.material.model=\"j2\"".to_string(),
+        "blank.material.parameters={}".to_string(),
+        "blank.material.hardening={kind=\"elastic\"}".to_string(),
+    ];
+    let loaded = formsim::scene::load(&scene, &j2).unwrap_or_else(|e| panic!("{e}"));
+    let model = formsim::scene::build(&loaded).unwrap_or_else(|e| panic!("{e}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    let h = model.shells;
+    assert_eq!((h.element, h.material), ("test-bt", "j2"));
 }

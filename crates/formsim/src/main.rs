@@ -392,6 +392,7 @@ fn tools(action: &ToolsAction) -> Outcome {
                     k.name,
                     k.summary
                 );
+                print_tool_keys(k.keys)?;
             }
         }
         ToolsAction::Export { spec, out } => {
@@ -431,6 +432,20 @@ fn print_schema(specs: &[ParamSpec]) -> Result<(), Failure> {
     Ok(())
 }
 
+fn print_tool_keys(keys: &[tools_nurbs::kinds::ToolKey]) -> Result<(), Failure> {
+    for k in keys {
+        say!(
+            "    {:<16} {:<10} {:<20} {:<26} {}",
+            k.name,
+            format!("[{}]", k.unit),
+            k.default.unwrap_or("required"),
+            k.range,
+            k.doc
+        );
+    }
+    Ok(())
+}
+
 /// `formsim components`: every registry, one line per component.
 fn components_list() -> Outcome {
     tools_nurbs::ensure_linked();
@@ -441,18 +456,22 @@ fn components_list() -> Outcome {
     say!("Kinematic formulations (contact.formulation):");
     for f in registry::formulations() {
         say!("  {:<20} {}", f.name, f.summary);
+        print_schema(f.params)?;
     }
-    say!("Materials (blank.material.model):");
+    say!("Materials (blank.material.model; own keys in blank.material.parameters):");
     for m in shell_elements::kinds::materials() {
         say!("  {:<20} {}", m.name, m.summary);
+        print_schema(m.params)?;
     }
-    say!("Shell elements (blank.element):");
+    say!("Shell elements (blank.element; own keys in blank.element_parameters):");
     for e in shell_elements::kinds::elements() {
         say!("  {:<20} {}", e.name, e.summary);
+        print_schema(e.params)?;
     }
     say!("Tool kinds (tools.NAME.kind; `formsim tools kinds` for their facing):");
     for k in tools_nurbs::kinds::all() {
         say!("  {:<20} {}", k.name, k.summary);
+        print_tool_keys(k.keys)?;
     }
     say!("Scene kinds (scene.kind): the presets, then the reference checks:");
     for p in formsim::scene::kind::PRESETS {

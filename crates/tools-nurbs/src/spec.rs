@@ -131,16 +131,51 @@ pub fn build_tool(name: &str, table: &toml::Table, base: &Path) -> Result<Tool, 
         )));
     }
     let facing: Facing = take(name, &mut t, "facing")?.unwrap_or(registered.default_facing);
+    check_keys(name, registered, &t)?;
     (registered.build)(kinds::Request {
         name,
         kind: &kind,
         table: t,
+        keys: registered.keys,
         base,
         place: Placement {
             origin: Vec3::from(origin),
             facing,
         },
     })
+}
+
+/// The table's keys against the kind's declaration: none undeclared, every
+/// required one given.
+fn check_keys(name: &str, kind: &kinds::ToolKind, table: &toml::Table) -> Result<(), NurbsError> {
+    let declared = || {
+        if kind.keys.is_empty() {
+            "none".to_string()
+        } else {
+            kinds::key_list(kind.keys)
+        }
+    };
+    if let Some(key) = table
+        .keys()
+        .find(|k| !kind.keys.iter().any(|d| d.name == *k))
+    {
+        return Err(spec_err(format!(
+            "tool `{name}` (kind `{}`): unknown key `{key}` (its keys: {}; and kind, origin, facing)",
+            kind.name,
+            declared()
+        )));
+    }
+    if let Some(k) = kind
+        .keys
+        .iter()
+        .find(|k| k.default.is_none() && !table.contains_key(k.name))
+    {
+        return Err(spec_err(format!(
+            "tool `{name}` (kind `{}`): missing key `{}` ({}, {}: {})",
+            kind.name, k.name, k.unit, k.range, k.doc
+        )));
+    }
+    Ok(())
 }
 
 /// Build every tool of a spec text (`[tools.NAME]` tables; other sections ignored), sorted by name.

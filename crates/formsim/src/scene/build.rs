@@ -107,8 +107,8 @@ fn add_shells(
         .and_then(|sec| sec.with_rule(shell_elements::RuleKind::Gauss, s.blank.integration_points))
         .and_then(|sec| sec.with_hourglass(s.blank.hourglass))
         .map_err(|e| loaded.key_error("blank", e.to_string()))?;
-    let kind = kinds::material(&super::schema::material_model(s))
-        .expect("validated: a registered material model");
+    let model = super::schema::material_model(s);
+    let kind = kinds::material(&model).expect("validated: a registered material model");
     let rolling_angle = match m.r_values {
         Some(_) => Some(
             super::material::rolling_angle(mesh)
@@ -124,7 +124,12 @@ fn add_shells(
             .map_err(|e| loaded.key_error("blank.material.parameters", e.to_string()))?
     };
     let b = &s.blank;
+    let element = kinds::element(&b.element).expect("validated: a registered element");
+    let element_params = plugins_api::Params(b.element_parameters.clone())
+        .resolve(element.name, element.params)
+        .map_err(|e| loaded.key_error("blank.element_parameters", e.to_string()))?;
     let request = MaterialRequest {
+        model: &model,
         young: m.youngs_modulus,
         poisson: m.poissons_ratio,
         density: m.density,
@@ -139,6 +144,7 @@ fn add_shells(
         shells: ShellRequest {
             name: "blank",
             element: &b.element,
+            element_params: &element_params,
             nodes: &mesh.nodes,
             quads: &mesh.quads,
             section,
@@ -146,7 +152,7 @@ fn add_shells(
             drilling: b.drilling,
         },
     };
-    (kind.build)(&request, solver).map_err(|e| {
+    kinds::add_blank(&request, solver).map_err(|e| {
         // The element and the model were checked against the registries;
         // what is left is the mesh's elements or the material's values.
         let key = match e {

@@ -115,6 +115,10 @@ pub struct Blank {
     /// `belytschko-tsay` (default) or `fully-integrated`.
     #[serde(default = "default_element")]
     pub element: String,
+    /// The element's own keys, by the names it declares (`formsim
+    /// components` lists them); the built-in elements have none.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub element_parameters: BTreeMap<String, f64>,
     /// Through-thickness integration points (default 5).
     #[serde(default = "default_points")]
     pub integration_points: usize,

@@ -137,7 +137,7 @@ fn blank(loaded: &LoadedScene) -> Result<(), SceneError> {
     // Blank.
     let b = &s.blank;
     shell_elements::kinds::ensure_linked();
-    if shell_elements::kinds::element(&b.element).is_none() {
+    let Some(element) = shell_elements::kinds::element(&b.element) else {
         return keys.err(
             "blank.element",
             format!(
@@ -148,6 +148,12 @@ fn blank(loaded: &LoadedScene) -> Result<(), SceneError> {
                 )
             ),
         );
+    };
+    // The element's own keys, against its declared specs.
+    if let Err(e) =
+        plugins_api::Params(b.element_parameters.clone()).resolve(element.name, element.params)
+    {
+        return keys.err("blank.element_parameters", e.to_string());
     }
     keys.physical(
         "blank.thickness",

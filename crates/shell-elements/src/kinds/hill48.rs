@@ -5,7 +5,10 @@ use crate::ShellError;
 use crate::material::Hill48PlaneStress;
 use fem_core::Solver;
 
-fn build(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+/// The material of `r` (listed in `builtin.rs`).
+pub(super) fn make(
+    r: &MaterialRequest<'_>,
+) -> Result<(Hill48PlaneStress, Option<&'static str>), ShellError> {
     let Some(rv) = r.r_values else {
         return Err(ShellError::InvalidInput(
             "material hill48 needs r_values = [r0, r45, r90]".into(),
@@ -13,7 +16,11 @@ fn build(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellEr
     };
     let m = Hill48PlaneStress::new(r.young, r.poisson, r.density, r.hardening_of("hill48")?, rv)
         .and_then(|m| m.with_rolling_angle(r.rolling_angle.unwrap_or(0.0)))?;
-    add_shells(&r.shells, m, "hill48", solver)
+    Ok((m, None))
+}
+
+fn build(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+    add_shells(&r.shells, make(r)?.0, "hill48", solver)
 }
 
 inventory::submit! {

@@ -4,14 +4,21 @@ use super::{MaterialKind, MaterialRequest, Shells, add_shells};
 use crate::{J2PlaneStress, ShellError};
 use fem_core::Solver;
 
-fn build(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+/// The material of `r` (listed in `builtin.rs`).
+pub(super) fn make(
+    r: &MaterialRequest<'_>,
+) -> Result<(J2PlaneStress, Option<&'static str>), ShellError> {
     if r.r_values.is_some() {
         return Err(ShellError::InvalidInput(
             "material j2 is isotropic: it takes no r_values (use model = \"hill48\")".into(),
         ));
     }
     let m = J2PlaneStress::new(r.young, r.poisson, r.density, r.hardening_of("j2")?)?;
-    add_shells(&r.shells, m, "j2", solver)
+    Ok((m, None))
+}
+
+fn build(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+    add_shells(&r.shells, make(r)?.0, "j2", solver)
 }
 
 inventory::submit! {

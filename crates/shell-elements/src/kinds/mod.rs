@@ -3,25 +3,39 @@
 //! [`MaterialKind`], each `blank.element` an [`ElementKind`], submitted to
 //! the registry (`inventory`) from their own files in this folder.
 //!
-//! - A new **material** is one file here: its `MaterialKind` (name, summary,
-//!   keys) and a builder that makes the material from a
-//!   [`MaterialRequest`] and hands it to [`add_shells`].
-//! - A new **element** is one file here (its `ElementKind`) plus one arm of
-//!   [`add_shells`], the one place where an element's name becomes a type:
-//!   the element loop stays monomorphised over the element and the material.
+//! The element loop is monomorphised over the element and the material, so
+//! a run needs the pair's type, made at compile time. Each side reaches the
+//! other side's built-ins, generated from one list ([`builtin`]):
+//!
+//! - A new **material** is one file: its `MaterialKind` (name, summary,
+//!   declared keys) and a builder that makes the material from a
+//!   [`MaterialRequest`] and hands it to [`add_shells`], which pairs it with
+//!   every built-in element.
+//! - A new **element** is one file: its formulation (a
+//!   [`ShellFormulation`]), its `ElementKind` (name, summary, declared keys)
+//!   and an [`ElementKind::add`] that hands the formulation to
+//!   [`with_builtin_material`], which pairs it with every built-in material.
+//!   A built-in element or material is its file plus one line of the list in
+//!   `builtin.rs`.
+//!
+//! [`add_blank`] resolves a scene's pair. Two components both registered
+//! outside this crate pair only if one of them names the other (as
+//! `tests/components_from_a_scene.rs` does).
 //!
 //! [`materials`] and [`elements`] list them (`formsim components`);
 //! [`ensure_linked`] keeps this crate's registrations in a binary that names
 //! nothing else of it.
 
+mod builtin;
 mod elements;
 mod hill48;
 mod j2;
 mod plugin;
 
+pub use builtin::{add_shells, with_builtin_material};
 pub use plugin::{PluginSource, plugin_material};
 
-use crate::{BelytschkoTsay, FullyIntegrated, Hardening, Material, Section, ShellError, ShellSet};
+use crate::{Hardening, Material, Section, ShellError, ShellSet};
 use crate::{ShellFormulation, ShellView};
 use fem_core::{EffectId, Solver, Vec3};
 
@@ -45,7 +59,7 @@ pub struct MaterialKind {
     /// run-time estimate (measured; the material's file says where).
     pub relative_cost: f64,
     /// Make the material and add the blank's shells of `request.shells.element`.
-    pub build: fn(&MaterialRequest<'_>, &mut Solver) -> Result<Shells, ShellError>,
+    pub build: AddShells,
 }
 
 /// A registered shell element.
@@ -60,7 +74,22 @@ pub struct ElementKind {
     /// A whole run's cost per element cycle relative to Belytschko–Tsay's,
     /// for the run-time estimate (measured; the element's file says where).
     pub relative_cost: f64,
+    /// Its own keys, given in `blank.element_parameters` and resolved
+    /// against these specs (name, unit, default, range, doc) into
+    /// [`ShellRequest::element_params`]; the built-in elements have none
+    /// (the keys every shell reads are `[blank]`'s: section, hourglass,
+    /// drilling, warping correction).
+    pub params: &'static [plugins_api::ParamSpec],
+    /// How its shells are added: `None` for a built-in element, which every
+    /// material's builder reaches through [`add_shells`]; for an element
+    /// registered elsewhere, a function that makes its formulation from the
+    /// [`ShellRequest`] and hands it to [`with_builtin_material`].
+    pub add: Option<AddShells>,
 }
+
+/// Add the blank's shells of a request to a solver (a material's builder,
+/// an element's [`ElementKind::add`]).
+pub type AddShells = fn(&MaterialRequest<'_>, &mut Solver) -> Result<Shells, ShellError>;
 
 inventory::collect!(MaterialKind);
 inventory::collect!(ElementKind);
@@ -69,6 +98,8 @@ inventory::collect!(ElementKind);
 /// and the shells to make.
 #[derive(Debug)]
 pub struct MaterialRequest<'a> {
+    /// The material model asked for ([`MaterialKind::name`]).
+    pub model: &'a str,
     /// Young's modulus (MPa).
     pub young: f64,
     /// Poisson's ratio (-).
@@ -110,6 +141,9 @@ pub struct ShellRequest<'a> {
     pub name: &'a str,
     /// The element asked for ([`ElementKind::name`]).
     pub element: &'a str,
+    /// The values of the element's own keys ([`ElementKind::params`]), in
+    /// the order of its specs.
+    pub element_params: &'a [f64],
     /// Initial nodal positions (mm).
     pub nodes: &'a [Vec3],
     /// Quadrilaterals (node indices).
@@ -162,45 +196,43 @@ fn view_of<E: ShellFormulation, M: Material>(
         .map(|s| s as &dyn ShellView)
 }
 
-/// Add the shells of `request.element` with `material` to `solver`: the one
-/// place where an element's name becomes its type (a new element adds its
-/// arm here). `material_name` is the material's registered name.
+/// Add the blank's shells of `request`'s element and material to `solver`:
+/// through the material's builder for a built-in element, through the
+/// element's [`ElementKind::add`] for one registered elsewhere.
 ///
 /// # Errors
-/// An element not registered (the message lists those that are); the
-/// element's or the shell set's own checks.
-pub fn add_shells<M: Material>(
-    request: &ShellRequest<'_>,
-    material: M,
-    material_name: &'static str,
-    solver: &mut Solver,
-) -> Result<Shells, ShellError> {
-    let r = request;
-    match r.element {
-        "belytschko-tsay" => {
-            let form = BelytschkoTsay {
-                warping_correction: r.warping_correction,
-                ..BelytschkoTsay::default()
-            }
-            .with_drilling(r.drilling)?;
-            add(r, form, material, "belytschko-tsay", material_name, solver)
-        }
-        "fully-integrated" => {
-            let form = FullyIntegrated {
-                warping_correction: r.warping_correction,
-                ..FullyIntegrated::default()
-            }
-            .with_drilling(r.drilling)?;
-            add(r, form, material, "fully-integrated", material_name, solver)
-        }
-        other => Err(ShellError::InvalidInput(format!(
-            "element \"{other}\" is not registered (registered: {})",
+/// An element or material not registered (the message lists those that
+/// are); a pair with no monomorphised instance; the element's, the
+/// material's or the shell set's own checks.
+pub fn add_blank(request: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+    let e = request.shells.element;
+    let element = element(e).ok_or_else(|| {
+        ShellError::InvalidInput(format!(
+            "element \"{e}\" is not registered (registered: {})",
             names(elements().iter().map(|k| k.name))
-        ))),
+        ))
+    })?;
+    match element.add {
+        Some(add) => add(request, solver),
+        None => {
+            let m = request.model;
+            let material = material(m).ok_or_else(|| {
+                ShellError::InvalidInput(format!(
+                    "material \"{m}\" is not registered (registered: {})",
+                    names(materials().iter().map(|k| k.name))
+                ))
+            })?;
+            (material.build)(request, solver)
+        }
     }
 }
 
-fn add<E: ShellFormulation, M: Material>(
+/// Add a shell set of `form` and `material` to `solver` as the blank's
+/// shells, under the registered names `element` and `material_name`.
+///
+/// # Errors
+/// The shell set's own checks (mesh, section, formulation).
+pub fn add_set<E: ShellFormulation, M: Material>(
     r: &ShellRequest<'_>,
     form: E,
     material: M,

@@ -63,7 +63,11 @@ pub fn plugin_material(
     PluginMaterial::new(m)
 }
 
-fn build(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+/// The material of `r` and the user material's own name (listed in
+/// `builtin.rs`).
+pub(super) fn make(
+    r: &MaterialRequest<'_>,
+) -> Result<(PluginMaterial, Option<&'static str>), ShellError> {
     let Some(source) = r.plugin else {
         return Err(ShellError::InvalidInput(
             "material plugin needs plugin = \"path/to/library\"".into(),
@@ -71,9 +75,14 @@ fn build(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellEr
     };
     let m = plugin_material(source, r.young, r.poisson, r.density)?;
     let name = m.plugin().name();
+    Ok((m, Some(name)))
+}
+
+fn build(r: &MaterialRequest<'_>, solver: &mut Solver) -> Result<Shells, ShellError> {
+    let (m, name) = make(r)?;
     let shells = add_shells(&r.shells, m, "plugin", solver)?;
     Ok(Shells {
-        plugin: Some(name),
+        plugin: name,
         ..shells
     })
 }

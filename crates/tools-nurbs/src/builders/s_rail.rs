@@ -207,6 +207,13 @@ fn check(name: &str, p: &SRailParams) -> Result<(), NurbsError> {
     positive(name, "flange_width", p.flange_width)?;
     positive(name, "holder_gap", p.holder_gap)?;
     require(
+        p.clearance_factor.is_finite() && p.clearance_factor > 0.0,
+        name,
+        "clearance_factor",
+        p.clearance_factor,
+        "must be finite and > 0 (a multiple of the thickness)".into(),
+    )?;
+    require(
         p.arc_angle_deg > 0.0 && p.arc_angle_deg <= 90.0,
         name,
         "arc_angle_deg",

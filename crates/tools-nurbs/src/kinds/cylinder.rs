@@ -1,7 +1,8 @@
-//! `kind = "cylinder"`: a cylinder about the x axis, `radius` and `length`
-//! (mm), swept from `start_deg` to `end_deg` (default the full turn).
+//! `kind = "cylinder"`: a cylinder about the y axis, `radius` and `length`
+//! (mm), swept from `start_deg` to `end_deg` (from +x towards +z; default
+//! the full turn).
 
-use super::{Request, ToolKind};
+use super::{Request, ToolKey, ToolKind};
 use crate::builders::{Facing, primitives};
 use crate::error::NurbsError;
 use crate::spec::Tool;
@@ -37,7 +38,13 @@ fn build(r: Request<'_>) -> Result<Tool, NurbsError> {
 inventory::submit! {
     ToolKind {
         name: "cylinder",
-        summary: "cylinder: radius, length (mm), start_deg and end_deg (default 0 and 360)",
+        summary: "a cylinder about the y axis, swept from start_deg to end_deg",
+        keys: &[
+            ToolKey::required("radius", "mm", "> 0", "radius"),
+            ToolKey::required("length", "mm", "> 0", "length along y, centred on the origin"),
+            ToolKey::optional("start_deg", "degrees", "0", "any",  "where the sweep starts, from +x towards +z"),
+            ToolKey::optional("end_deg", "degrees", "360", "(start_deg, start_deg + 360]", "where the sweep ends"),
+        ],
         default_facing: Facing::Up,
         build,
     }

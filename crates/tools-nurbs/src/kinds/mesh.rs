@@ -2,7 +2,7 @@
 //! `file` relative to the scene), moved to the origin, mirrored in z when
 //! facing down; `flip_normals` turns its facets over.
 
-use super::{Request, ToolKind};
+use super::{Request, ToolKey, ToolKind};
 use crate::builders::Facing;
 use crate::error::NurbsError;
 use crate::faceted::FacetedTool;
@@ -41,7 +41,11 @@ fn build(r: Request<'_>) -> Result<Tool, NurbsError> {
 inventory::submit! {
     ToolKind {
         name: "mesh",
-        summary: "faceted tool from an STL or OBJ file: file (relative to the scene), flip_normals",
+        summary: "a faceted tool from an STL or OBJ file",
+        keys: &[
+            ToolKey::required("file", "path", "an .stl or .obj file", "the triangles, relative to the scene"),
+            ToolKey::optional("flip_normals", "-", "false", "true | false", "turn the facets over"),
+        ],
         default_facing: Facing::Up,
         build,
     }

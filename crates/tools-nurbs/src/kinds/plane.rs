@@ -1,7 +1,7 @@
 //! `kind = "plane"`: a flat rectangle `length × width` (mm) centred on the
 //! origin, normal +z (or −z facing down).
 
-use super::{Request, ToolKind};
+use super::{Request, ToolKey, ToolKind};
 use crate::builders::{Facing, primitives};
 use crate::error::NurbsError;
 use crate::spec::Tool;
@@ -24,7 +24,11 @@ fn build(r: Request<'_>) -> Result<Tool, NurbsError> {
 inventory::submit! {
     ToolKind {
         name: "plane",
-        summary: "flat rectangle centred on the origin: length, width (mm)",
+        summary: "a flat rectangle centred on the origin",
+        keys: &[
+            ToolKey::required("length", "mm", "> 0", "size along x"),
+            ToolKey::required("width", "mm", "> 0", "size along y"),
+        ],
         default_facing: Facing::Up,
         build,
     }

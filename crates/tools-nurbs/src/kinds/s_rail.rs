@@ -2,7 +2,7 @@
 //! "s-rail-blankholder"`, from the shared S-rail dimensions (mm;
 //! docs/tools.md).
 
-use super::{Request, ToolKind};
+use super::{Request, ToolKey, ToolKind};
 use crate::builders::s_rail::{self, SRailParams};
 use crate::builders::{Facing, Placement};
 use crate::error::NurbsError;
@@ -19,6 +19,90 @@ fn s_rail_tool(
     Ok(Tool::Nurbs(build(name, &p, &place)?))
 }
 
+/// The S-rail's dimensions, shared by its three tools (defaults: the
+/// benchmark's, `SRailParams::default`).
+const KEYS: &[ToolKey] = &[
+    ToolKey::optional(
+        "punch_width",
+        "mm",
+        "30.0",
+        "> 2 punch_shoulder",
+        "punch width between the walls",
+    ),
+    ToolKey::optional("draw_depth", "mm", "37.0", "> 0", "draw depth"),
+    ToolKey::optional(
+        "arc_radius",
+        "mm",
+        "80.0",
+        "> flange_width + 1",
+        "centre-line arc radius",
+    ),
+    ToolKey::optional(
+        "arc_angle_deg",
+        "degrees",
+        "30.0",
+        "(0, 90]",
+        "turning angle of each arc (a reconstruction)",
+    ),
+    ToolKey::optional(
+        "straight_lengths",
+        "mm",
+        "[60.0, 50.0, 60.0]",
+        "each ≥ 0",
+        "straights 1, 2, 3 along the centre line",
+    ),
+    ToolKey::optional(
+        "end_extension",
+        "mm",
+        "60.0",
+        "≥ 0",
+        "straights 1 and 3 prolonged beyond the S (a reconstruction)",
+    ),
+    ToolKey::optional(
+        "punch_shoulder",
+        "mm",
+        "5.0",
+        "> 0",
+        "punch shoulder radius",
+    ),
+    ToolKey::optional("die_shoulder", "mm", "5.0", "> 0", "die shoulder radius"),
+    ToolKey::optional(
+        "thickness",
+        "mm",
+        "1.0",
+        "> 0",
+        "blank thickness: sets the clearance and the die roof",
+    ),
+    ToolKey::optional(
+        "clearance_factor",
+        "-",
+        "1.1",
+        "> 0",
+        "die–punch clearance as a multiple of the thickness",
+    ),
+    ToolKey::optional(
+        "flange_width",
+        "mm",
+        "70.0",
+        "room for shoulder and holder",
+        "half width of die face and holder from the centre line",
+    ),
+    ToolKey::optional(
+        "holder_gap",
+        "mm",
+        "2.0",
+        "> 0",
+        "gap between punch wall and holder inner edge",
+    ),
+    ToolKey::optional(
+        "apron",
+        "mm",
+        "0.0",
+        "≥ 0",
+        "flat prolongation of die face and holder beyond the flange (0: none)",
+    ),
+];
+
 fn punch(r: Request<'_>) -> Result<Tool, NurbsError> {
     s_rail_tool(r, s_rail::punch)
 }
@@ -34,7 +118,8 @@ fn blankholder(r: Request<'_>) -> Result<Tool, NurbsError> {
 inventory::submit! {
     ToolKind {
         name: "s-rail-punch",
-        summary: "S-rail punch: punch_width, draw_depth, arc_radius, arc_angle_deg, straight_lengths, end_extension, punch_shoulder, die_shoulder, thickness, clearance_factor, flange_width, holder_gap, apron (mm, degrees)",
+        summary: "NUMISHEET'96 S-rail punch",
+        keys: KEYS,
         default_facing: Facing::Up,
         build: punch,
     }
@@ -43,7 +128,8 @@ inventory::submit! {
 inventory::submit! {
     ToolKind {
         name: "s-rail-die",
-        summary: "S-rail die: punch_width, draw_depth, arc_radius, arc_angle_deg, straight_lengths, end_extension, punch_shoulder, die_shoulder, thickness, clearance_factor, flange_width, holder_gap, apron (mm, degrees)",
+        summary: "NUMISHEET'96 S-rail die",
+        keys: KEYS,
         default_facing: Facing::Up,
         build: die,
     }
@@ -52,7 +138,8 @@ inventory::submit! {
 inventory::submit! {
     ToolKind {
         name: "s-rail-blankholder",
-        summary: "S-rail blankholder: punch_width, draw_depth, arc_radius, arc_angle_deg, straight_lengths, end_extension, punch_shoulder, die_shoulder, thickness, clearance_factor, flange_width, holder_gap, apron (mm, degrees)",
+        summary: "NUMISHEET'96 S-rail blankholder",
+        keys: KEYS,
         default_facing: Facing::Up,
         build: blankholder,
     }

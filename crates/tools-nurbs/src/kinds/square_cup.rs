@@ -2,7 +2,7 @@
 //! "blankholder"`, with their dimensions (mm; docs/tools.md) and `model =
 //! "quarter" | "full"`.
 
-use super::{Request, ToolKind};
+use super::{Request, ToolKey, ToolKind};
 use crate::builders::square_cup::{self, DieParams, HolderParams, PunchParams};
 use crate::builders::{Facing, Model, Placement};
 use crate::error::NurbsError;
@@ -22,6 +22,119 @@ fn square<P: DeserializeOwned>(
     Ok(Tool::Nurbs(build(name, &p, model, &place)?))
 }
 
+/// `model`, which every square-cup tool reads.
+const MODEL: ToolKey = ToolKey::optional(
+    "model",
+    "text",
+    "\"quarter\"",
+    "quarter | full",
+    "the quadrant x ≥ 0, y ≥ 0 or the whole tool",
+);
+
+/// The punch's keys (defaults: the benchmark's, `PunchParams::default`).
+const PUNCH: &[ToolKey] = &[
+    ToolKey::optional("length", "mm", "70.0", "> 0", "size along x"),
+    ToolKey::optional("width", "mm", "70.0", "> 0", "size along y"),
+    ToolKey::optional(
+        "corner_radius",
+        "mm",
+        "10.0",
+        "(profile_radius, length/2]",
+        "plan-view corner radius at the walls",
+    ),
+    ToolKey::optional(
+        "profile_radius",
+        "mm",
+        "8.0",
+        "(0, corner_radius)",
+        "profile (nose) radius",
+    ),
+    ToolKey::optional(
+        "height",
+        "mm",
+        "50.0",
+        "> profile_radius",
+        "height modelled below the nose",
+    ),
+    MODEL,
+];
+
+/// The die's keys (defaults: `DieParams::default`).
+const DIE: &[ToolKey] = &[
+    ToolKey::optional(
+        "opening_length",
+        "mm",
+        "74.0",
+        "> 0",
+        "opening size along x at the walls",
+    ),
+    ToolKey::optional("opening_width", "mm", "74.0", "> 0", "opening size along y"),
+    ToolKey::optional(
+        "corner_radius",
+        "mm",
+        "12.0",
+        "(0, opening/2]",
+        "plan corner radius of the opening",
+    ),
+    ToolKey::optional(
+        "shoulder_radius",
+        "mm",
+        "5.0",
+        "> 0",
+        "shoulder (profile) radius",
+    ),
+    ToolKey::optional(
+        "depth",
+        "mm",
+        "50.0",
+        "> shoulder_radius",
+        "depth of the opening's walls below the face",
+    ),
+    ToolKey::optional(
+        "outer_length",
+        "mm",
+        "170.0",
+        "> opening + 2 shoulder",
+        "outer size along x",
+    ),
+    ToolKey::optional(
+        "outer_width",
+        "mm",
+        "170.0",
+        "> opening + 2 shoulder",
+        "outer size along y",
+    ),
+    MODEL,
+];
+
+/// The blankholder's keys (defaults: `HolderParams::default`).
+const HOLDER: &[ToolKey] = &[
+    ToolKey::optional("inner_length", "mm", "84.0", "> 0", "inner size along x"),
+    ToolKey::optional("inner_width", "mm", "84.0", "> 0", "inner size along y"),
+    ToolKey::optional(
+        "corner_radius",
+        "mm",
+        "12.0",
+        "(0, inner/2)",
+        "plan corner radius of the inner edge",
+    ),
+    ToolKey::optional(
+        "outer_length",
+        "mm",
+        "170.0",
+        "> inner_length",
+        "outer size along x",
+    ),
+    ToolKey::optional(
+        "outer_width",
+        "mm",
+        "170.0",
+        "> inner_width",
+        "outer size along y",
+    ),
+    MODEL,
+];
+
 fn punch(r: Request<'_>) -> Result<Tool, NurbsError> {
     square::<PunchParams>(r, square_cup::punch)
 }
@@ -37,7 +150,8 @@ fn blankholder(r: Request<'_>) -> Result<Tool, NurbsError> {
 inventory::submit! {
     ToolKind {
         name: "punch",
-        summary: "square-cup punch: length, width, corner_radius, profile_radius, height (mm), model",
+        summary: "NUMISHEET'93 square-cup punch",
+        keys: PUNCH,
         default_facing: Facing::Up,
         build: punch,
     }
@@ -46,7 +160,8 @@ inventory::submit! {
 inventory::submit! {
     ToolKind {
         name: "die",
-        summary: "square-cup die: opening_length, opening_width, corner_radius, shoulder_radius, depth, outer_length, outer_width (mm), model",
+        summary: "NUMISHEET'93 square-cup die",
+        keys: DIE,
         default_facing: Facing::Up,
         build: die,
     }
@@ -55,7 +170,8 @@ inventory::submit! {
 inventory::submit! {
     ToolKind {
         name: "blankholder",
-        summary: "square-cup blankholder ring: inner_length, inner_width, corner_radius, outer_length, outer_width (mm), model",
+        summary: "NUMISHEET'93 square-cup blankholder ring",
+        keys: HOLDER,
         default_facing: Facing::Down,
         build: blankholder,
     }
