@@ -19,6 +19,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod belytschko_tsay;
+pub mod bending;
 pub mod block_nodes;
 pub mod error;
 pub mod formulation;
