@@ -21,6 +21,9 @@
 //! [`AnchorSprings`] (a node set dragged through a spring, a scene's
 //! `[[springs]]`). The press scheduler ([`Press`]) moves the rigid tools:
 //! travel, velocity, spin and force control.
+//! For springback, [`rigid_modes`] finds the rigid-body modes the blank's
+//! constraints leave free, picks a 3-2-1 set of DOFs that removes them and
+//! subtracts their best fit from a displacement field.
 //!
 //! Data layout and cost: the nodal state is a structure of arrays
 //! ([`NodalState`]); one step makes one fused pass over the nodes (velocity
@@ -66,6 +69,7 @@ pub mod mesh;
 pub mod mesh_io;
 pub mod nodal_limit;
 pub mod press;
+pub mod rigid_modes;
 pub mod settings;
 pub mod solver;
 pub mod springs;
