@@ -69,6 +69,7 @@ pub mod mesh;
 pub mod mesh_io;
 pub mod nodal_limit;
 pub mod press;
+pub mod relaxation;
 pub mod rigid_modes;
 pub mod settings;
 pub mod solver;
@@ -85,6 +86,7 @@ pub use fields::{FieldAccess, NodalField, SharedFields};
 pub use mesh::{Mesh, MeshQuality, rectangle, wrapped_strip, wrapped_strip_segments};
 pub use mesh_io::{MeshFile, read_inp, read_inp_numbered, read_msh, read_msh_numbered};
 pub use press::{ForceLaw, Press, PressStep, StepChange, StepEnd, ToolLoad, ToolMotion};
+pub use relaxation::SpringbackReport;
 pub use settings::SolverSettings;
 pub use solver::{
     Control, DtLimit, EffectId, RunSummary, SetupReport, Solver, StepReport, StepTiming,

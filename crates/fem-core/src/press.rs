@@ -204,14 +204,34 @@ pub enum StepEnd {
         /// Upper bound on the step's duration (s).
         max_duration: f64,
     },
+    /// A springback step: every contact pair ends and the tools hold, the
+    /// solver removes the blank's free rigid-body modes and relaxes it
+    /// (dynamic relaxation, [`crate::Solver`]); the step ends when the
+    /// out-of-balance force has fallen to `tolerance` times its value when
+    /// the tools let go, or after `max_duration` (s).
+    Settled {
+        /// Residual force ratio at which the blank is at rest, in (0, 1).
+        tolerance: f64,
+        /// Upper bound on the step's duration (s).
+        max_duration: f64,
+    },
 }
 
 impl StepEnd {
     fn duration(&self) -> f64 {
         match *self {
             StepEnd::Duration(d) => d,
-            StepEnd::Travel { max_duration, .. } => max_duration,
+            StepEnd::Travel { max_duration, .. } | StepEnd::Settled { max_duration, .. } => {
+                max_duration
+            }
         }
+    }
+}
+
+impl PressStep {
+    /// Whether this is a springback step ([`StepEnd::Settled`]).
+    pub fn is_release(&self) -> bool {
+        matches!(self.end, StepEnd::Settled { .. })
     }
 }
 
@@ -267,6 +287,8 @@ pub struct Press {
     current: usize,
     step_start: f64,
     finished: bool,
+    /// The solver found the blank at rest in the current springback step.
+    settled: bool,
 }
 
 impl Press {
@@ -313,6 +335,7 @@ impl Press {
             current: 0,
             step_start: 0.0,
             finished: false,
+            settled: false,
         })
     }
 
@@ -395,8 +418,25 @@ impl Press {
             .map_or(&ToolMotion::Hold, |(_, m)| m)
     }
 
-    /// Whether contact pair `pair` is active in the current step.
+    /// Whether the current step is a springback step that is still running.
+    pub fn releasing(&self) -> bool {
+        !self.finished && self.steps[self.current].is_release()
+    }
+
+    /// End the current springback step at the next [`Press::advance`]: the
+    /// solver found the blank at rest. No effect in other steps.
+    pub fn mark_settled(&mut self) {
+        if self.steps[self.current].is_release() {
+            self.settled = true;
+        }
+    }
+
+    /// Whether contact pair `pair` is active in the current step (none is in
+    /// a springback step).
     pub fn pair_active(&self, pair: usize) -> bool {
+        if self.steps[self.current].is_release() {
+            return false;
+        }
         match &self.steps[self.current].active_pairs {
             None => true,
             Some(list) => list.contains(&pair),
@@ -445,6 +485,7 @@ impl Press {
                     (self.poses[tool].translation - self.step_start_pose[tool].translation).norm()
                         >= distance * (1.0 - 1e-12)
                 }
+                StepEnd::Settled { .. } => self.settled,
                 StepEnd::Duration(_) => false,
             };
             if t_next <= end_time * (1.0 + 1e-14) && !travel_done {
@@ -461,6 +502,7 @@ impl Press {
                 return Ok(change);
             }
             self.current += 1;
+            self.settled = false;
             self.step_start = t_end.max(self.step_start);
             self.step_start_pose.clone_from(&self.poses);
             change = Some(StepChange {
@@ -717,6 +759,17 @@ impl StepKeys<'_> {
             }
             if !(distance.is_finite() && distance > 0.0) {
                 return Err(self.bad("end.travel", distance, "mm", "> 0 and finite"));
+            }
+        }
+        if let StepEnd::Settled { tolerance, .. } = self.step.end {
+            if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1.0) {
+                return Err(self.bad("tolerance", tolerance, "-", "in (0, 1)"));
+            }
+            if !self.step.motions.is_empty() {
+                return Err(FemError::InvalidSetup(format!(
+                    "{}: a springback step moves no tool (the tools let go of the blank)",
+                    self.field("motions")
+                )));
             }
         }
         Ok(())

@@ -37,10 +37,11 @@
 
 use crate::fields::{Declared, effect_order};
 use crate::nodal_limit::NodalLimit;
+use crate::relaxation::{Relaxation, SpringbackReport};
 use crate::{
     Amplitude, BoundaryCondition, Dof, Dofs, Effect, EnergyLedger, EnergyTally, FemError, Forces,
     Mesh, MotionKind, NodalField, NodalLoad, NodalState, Press, SharedFields, SolverSettings,
-    StableDt, StepContext, ToolLoad, Vec3,
+    StableDt, StepContext, StepEnd, ToolLoad, Vec3,
 };
 use std::any::Any;
 use std::collections::BTreeMap;
@@ -436,6 +437,10 @@ pub struct Solver {
     land_at: Option<f64>,
     /// Seconds spent per stage of the steps.
     timing: StepTiming,
+    /// The running springback step's dynamic relaxation, if any.
+    relaxation: Option<Relaxation>,
+    /// What the last springback step did.
+    springback: Option<SpringbackReport>,
 }
 
 impl Solver {
@@ -514,6 +519,8 @@ impl Solver {
             added_mass: 0.0,
             land_at: None,
             timing: StepTiming::default(),
+            relaxation: None,
+            springback: None,
         })
     }
 
@@ -1084,6 +1091,86 @@ impl Solver {
         Ok(())
     }
 
+    /// Start or end the dynamic relaxation of a springback step as the press
+    /// enters or leaves one; during one, keep the forces at `t_n`.
+    fn follow_release(&mut self) -> Result<(), FemError> {
+        let releasing = self.press.as_ref().is_some_and(Press::releasing);
+        match (releasing, self.relaxation.is_some()) {
+            (true, false) => self.start_release()?,
+            (false, true) => {
+                self.springback = self.relaxation.take().map(|r| r.report);
+            }
+            _ => {}
+        }
+        if let Some(r) = &mut self.relaxation {
+            r.keep_forces(&self.forces.f, &self.forces.m);
+        }
+        Ok(())
+    }
+
+    /// The tools let go: fix the DOFs that remove the free rigid-body modes
+    /// (their velocities to zero) and start the relaxation.
+    fn start_release(&mut self) -> Result<(), FemError> {
+        let Some(StepEnd::Settled { tolerance, .. }) =
+            self.press.as_ref().map(|p| p.steps()[p.current_step()].end)
+        else {
+            return Ok(());
+        };
+        let springback = |e: FemError| FemError::InvalidSetup(format!("springback: {e}"));
+        let free =
+            crate::rigid_modes::free_modes(&self.state.x, &self.constrained).map_err(springback)?;
+        let fixed = crate::rigid_modes::three_two_one(&self.state.x, &self.constrained, None)
+            .map_err(springback)?;
+        for &(node, dof) in &fixed {
+            self.add_constraint(node, dof, ConstraintKind::Fixed)?;
+            let (i, a) = (node as usize, dof.axis());
+            if dof.is_rotation() {
+                self.state.w[i][a] = 0.0;
+            } else {
+                self.state.v[i][a] = 0.0;
+            }
+        }
+        self.constraints.sort_by_key(|c| (c.node, c.dof));
+        self.reactions.resize(self.constraints.len(), 0.0);
+        let n = self.state.len();
+        self.relaxation = Some(Relaxation::new(
+            n,
+            tolerance,
+            self.time,
+            &self.state.x,
+            (free, fixed.clone()),
+        ));
+        Ok(())
+    }
+
+    /// After the forces of a springback step: the damping of the next step,
+    /// and the press told when the blank is at rest.
+    fn relax(&mut self, dt: f64) {
+        let Some(r) = &mut self.relaxation else {
+            return;
+        };
+        let st = &self.state;
+        let settled = r.update(
+            (&st.v, &st.w),
+            (&st.mass, &st.inertia),
+            (&self.forces.f, &self.forces.m),
+            &self.constrained,
+            dt,
+        );
+        if settled && let Some(p) = &mut self.press {
+            p.mark_settled();
+        }
+    }
+
+    /// What the last springback step did (its report is complete once the
+    /// press has left it), or the running one's so far.
+    pub fn springback(&self) -> Option<&SpringbackReport> {
+        self.relaxation
+            .as_ref()
+            .map(|r| &r.report)
+            .or(self.springback.as_ref())
+    }
+
     /// What the effects did to the press's tools in this step, summed.
     fn gather_tool_loads(&mut self) {
         self.tool_loads
@@ -1374,11 +1461,14 @@ impl Solver {
         self.dt_prev = dt;
         self.timing.integration += started.elapsed().as_secs_f64();
 
-        // 3. Press: the tools at t_{n+1}.
+        // 3. Press: the tools at t_{n+1} (a springback step lets go of the
+        // blank and relaxes it).
         self.move_press(self.time, dt)?;
+        self.follow_release()?;
         // 4.–5. Forces at t_{n+1}: loads, then each effect, writers of a
         // shared field before its readers (the blank's shells, then contact).
         self.compute_forces(self.time, dt, self.step)?;
+        self.relax(dt);
         // 6. Time step: the next stable step, with mass scaling.
         let mark = Instant::now();
         let (dt_next, limit) = self.next_dt()?;
@@ -1405,7 +1495,10 @@ impl Solver {
         let dt = self.dt_next;
         let t_n = self.time;
         let hb = 0.5 * (self.dt_prev + dt);
-        let c = self.settings.damping;
+        let c = self
+            .relaxation
+            .as_ref()
+            .map_or(self.settings.damping, |r| r.c);
         let (d1, d2) = (1.0 - 0.5 * c * hb, 1.0 / (1.0 + 0.5 * c * hb));
         StepConstants {
             dt,

@@ -20,6 +20,7 @@ pub mod post;
 pub mod probe;
 mod recorder;
 pub mod reference_checks;
+pub mod springback;
 pub mod summary;
 mod summary_text;
 pub mod timing;
@@ -261,7 +262,7 @@ fn step_loop(
                 return Some(stop);
             }
         };
-        if model.solver.time() >= end {
+        if model.solver.time() >= end || rested(model) {
             rec.output_s += mark.elapsed().as_secs_f64();
             return None;
         }
@@ -371,6 +372,10 @@ fn finish(
     };
     let writing = Instant::now();
     write::all(out, &result, model, o.plots, &rec.frames)?;
+    if let Some((_, d)) = springback::summary(model, &loaded.scene) {
+        let path = out.join("springback.csv");
+        springback::csv(&path, model, &d).map_err(|e| OutputError::io(&path, e))?;
+    }
     result.write_s = writing.elapsed().as_secs_f64();
     let out = out.display().to_string();
     match stop {
@@ -390,6 +395,13 @@ fn finish(
             out,
         }),
     }
+}
+
+/// Whether the programme has ended with a springback step that came to
+/// rest: the run ends there rather than at the step's longest duration.
+pub(crate) fn rested(model: &Model) -> bool {
+    model.press().is_some_and(fem_core::Press::finished)
+        && model.solver.springback().is_some_and(|s| s.settled)
 }
 
 /// Stroke (mm) and punch force (full-model N) of the stroke tool.

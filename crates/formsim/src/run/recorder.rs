@@ -24,6 +24,8 @@ pub(super) struct Recorder<'a> {
     frame_every: f64,
     next_sample: f64,
     next_frame: f64,
+    /// The frame as the tools let go of the blank is written.
+    release_framed: bool,
     axes: Vec<plugins_api::Vec3>,
     strokes: Vec<f64>,
     /// The scene's reference check and what it samples.
@@ -63,6 +65,7 @@ impl<'a> Recorder<'a> {
             },
             next_sample: 0.0,
             next_frame: 0.0,
+            release_framed: false,
             axes: tools_report::press_axes(model),
             strokes,
             reference: crate::scene::kind::reference_check(&loaded.scene.scene.kind)
@@ -95,6 +98,10 @@ impl<'a> Recorder<'a> {
             Some(_) => stroke >= o.forming_starts_at,
             None => time >= 0.1 * end,
         };
+        // A springback step's motion is the release itself, not a sign of a
+        // forming run too fast to be quasi-static.
+        let released = model.solver.springback().is_some();
+        let forming = forming && !released;
         if forming {
             self.kw_max = self.kw_max.max(super::warnings::kinetic_to_work(&e));
         }
@@ -109,9 +116,13 @@ impl<'a> Recorder<'a> {
         if let Some((_, sampler)) = &mut self.reference {
             sampler.sample(self.loaded, model).map_err(Stop::failed)?;
         }
-        let sample = time >= self.next_sample || time >= end;
+        let end_now = time >= end || super::rested(model);
+        let sample = time >= self.next_sample || end_now;
         let state_due = self.strokes.first().is_some_and(|&r| stroke >= r - 1e-4);
-        let frame_due = o.frames > 0 && (time >= self.next_frame || time >= end);
+        // A frame as the tools let go: the shape before springback.
+        let let_go = released && !self.release_framed;
+        self.release_framed |= released;
+        let frame_due = o.frames > 0 && (time >= self.next_frame || end_now || let_go);
         if (sample || state_due || frame_due)
             && let Some(v) = finite::scan(model)
         {

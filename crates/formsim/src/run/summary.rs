@@ -184,6 +184,9 @@ pub struct Summary {
     pub settings: serde_json::Value,
     /// `--set` overrides applied.
     pub overrides: Vec<String>,
+    /// What the springback step did, when the scene has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub springback: Option<super::springback::SpringbackSummary>,
     /// How the run ended: `completed`, `failed` or `interrupted`.
     pub status: super::Status,
     /// Why a run that did not complete stopped, one line (the first
@@ -273,6 +276,17 @@ impl Summary {
             &tools,
         ));
         warnings.append(&mut notes);
+        let springback = super::springback::summary(i.model, scene).map(|(s, _)| s);
+        if let Some(b) = springback.as_ref().filter(|b| !b.settled) {
+            warnings.push(format!(
+                "springback: not at rest after {:.2e} s (residual {:.2e} N, {:.1e} of the {:.2e} N when the tools let go, tolerance {:.0e}): the shape is not the springback shape; give the step a longer duration",
+                b.duration_s,
+                b.residual_n,
+                b.residual_n / b.residual_start_n.max(f64::MIN_POSITIVE),
+                b.residual_start_n,
+                b.tolerance
+            ));
+        }
         Summary {
             scene: scene.scene.name.clone(),
             description: scene.scene.description.clone(),
@@ -332,6 +346,7 @@ impl Summary {
             warnings,
             settings: settings(scene),
             overrides: i.loaded.overrides.clone(),
+            springback,
             status: i.stop.map_or(super::Status::Completed, |s| s.status),
             cause: i.stop.map(|s| s.cause.clone()),
         }

@@ -58,6 +58,28 @@ impl fmt::Display for Summary {
         for line in delivered_lines(&s.tools) {
             writeln!(f, "  {line}")?;
         }
+        if let Some(b) = &s.springback {
+            writeln!(
+                f,
+                "  springback ({}): displacement max {:.3} mm at node {} ({:.1}, {:.1}, {:.1}); {} in {} increments ({:.2e} s), residual {:.2e} of {:.2e} N; fixed {}",
+                b.method,
+                b.displacement_max_mm,
+                b.displacement_max_node,
+                b.displacement_max_at[0],
+                b.displacement_max_at[1],
+                b.displacement_max_at[2],
+                if b.settled { "at rest" } else { "NOT at rest" },
+                b.increments,
+                b.duration_s,
+                b.residual_n,
+                b.residual_start_n,
+                if b.fixed.is_empty() {
+                    "nothing".to_string()
+                } else {
+                    b.fixed.join(", ")
+                }
+            )?;
+        }
         self.fmt_checks(f)?;
         if f.alternate() {
             return Ok(());

@@ -302,6 +302,17 @@ fn press_programme(
 
 /// How a press step ends, and its duration (the longest, for a travel).
 fn step_end(step: &super::schema::Step, tool_names: &[String]) -> (StepEnd, f64) {
+    use super::schema::{SPRINGBACK_TOLERANCE, StepKind};
+    if step.kind == StepKind::Springback {
+        let d = step.duration.expect("validated");
+        return (
+            StepEnd::Settled {
+                tolerance: step.tolerance.unwrap_or(SPRINGBACK_TOLERANCE),
+                max_duration: d,
+            },
+            d,
+        );
+    }
     match (step.duration, &step.until) {
         (Some(d), _) => (StepEnd::Duration(d), d),
         (None, Some(u)) => (

@@ -403,7 +403,18 @@ pub enum AmplitudeSpec {
 pub struct Step {
     /// Name for reports.
     pub name: String,
-    /// Duration (s); or give `until`.
+    /// `"press"` (the default: tools move, contact on) or `"springback"`
+    /// (the tools let go and the blank comes to rest).
+    #[serde(default, skip_serializing_if = "StepKind::is_press")]
+    pub kind: StepKind,
+    /// Springback: `"dynamic-relaxation"` (the default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub method: Option<String>,
+    /// Springback: the residual force ratio at which the blank is at rest
+    /// (default 1e-5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+    /// Duration (s), the longest a springback step may take; or give `until`.
     #[serde(default)]
     pub duration: Option<f64>,
     /// End when a tool has travelled a distance.
@@ -416,6 +427,30 @@ pub struct Step {
     #[serde(default)]
     pub pairs: Option<Vec<String>>,
 }
+
+/// What a press step does.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StepKind {
+    /// Tools move as the step's motions say; contact as `pairs` says.
+    #[default]
+    Press,
+    /// The tools let go of the blank (contact ends, they hold) and the blank
+    /// comes to rest at its springback shape.
+    Springback,
+}
+
+impl StepKind {
+    fn is_press(&self) -> bool {
+        *self == StepKind::Press
+    }
+}
+
+/// The springback methods a `kind = "springback"` step may name.
+pub const SPRINGBACK_METHODS: [&str; 1] = ["dynamic-relaxation"];
+
+/// A springback step's residual force ratio when it gives none.
+pub const SPRINGBACK_TOLERANCE: f64 = 1e-5;
 
 /// `until = { tool, distance, max_duration }`.
 #[derive(Debug, Clone, Deserialize, Serialize)]

@@ -437,6 +437,7 @@ fn press(loaded: &LoadedScene) -> Result<(), SceneError> {
     // Press programme.
     for (i, step) in s.steps.iter().enumerate() {
         step_end(loaded, i, step)?;
+        step_kind(loaded, i, step)?;
         for (j, motion) in step.motions.iter().enumerate() {
             step_motion(loaded, &format!("steps[{i}].motions[{j}]"), motion)?;
         }
@@ -467,6 +468,60 @@ fn step_end(loaded: &LoadedScene, i: usize, step: &Step) -> Result<(), SceneErro
                 ),
             );
         }
+    }
+    Ok(())
+}
+
+/// What a springback step may say: a known method, a tolerance in (0, 1), a
+/// duration, no motion; a press step none of the springback keys.
+fn step_kind(loaded: &LoadedScene, i: usize, step: &Step) -> Result<(), SceneError> {
+    use super::schema::{SPRINGBACK_METHODS, StepKind};
+    let keys = Keys(loaded);
+    let key = |k: &str| format!("steps[{i}].{k}");
+    if step.kind == StepKind::Press {
+        for (k, given) in [
+            ("method", step.method.is_some()),
+            ("tolerance", step.tolerance.is_some()),
+        ] {
+            if given {
+                return keys.err(&key(k), "only read by a kind = \"springback\" step".into());
+            }
+        }
+        return Ok(());
+    }
+    if let Some(m) = &step.method
+        && !SPRINGBACK_METHODS.contains(&m.as_str())
+    {
+        let more = if m == "implicit" {
+            " (the static implicit method is not built yet)"
+        } else {
+            ""
+        };
+        return keys.err(
+            &key("method"),
+            format!(
+                "\"{m}\": not a springback method (known: {}){more}",
+                SPRINGBACK_METHODS.join(", ")
+            ),
+        );
+    }
+    if let Some(t) = step.tolerance
+        && !(t.is_finite() && t > 0.0 && t < 1.0)
+    {
+        return keys.err(&key("tolerance"), format!("{t}: must be in (0, 1)"));
+    }
+    if step.until.is_some() {
+        return keys.err(&key("until"), "a springback step ends when the blank is at rest: give duration, the longest it may take".into());
+    }
+    if !step.motions.is_empty() || step.pairs.is_some() {
+        return keys.err(
+            &key(if step.pairs.is_some() {
+                "pairs"
+            } else {
+                "motions"
+            }),
+            "a springback step moves no tool and ends every contact pair".into(),
+        );
     }
     Ok(())
 }
