@@ -70,6 +70,7 @@ pub mod settings;
 pub mod solver;
 pub mod springs;
 pub mod state;
+pub mod statics;
 
 pub use amplitude::Amplitude;
 pub use anchor_springs::AnchorSprings;
@@ -90,3 +91,6 @@ pub use state::{Forces, NodalState, StepContext};
 
 /// A 3-vector in the global frame (mm, N, mm/s, … as the quantity requires).
 pub type Vec3 = plugins_api::Vec3;
+
+/// A 3×3 matrix in the global frame (a stiffness block in N/mm, a rotation, …).
+pub type Mat3 = plugins_api::Mat3;
