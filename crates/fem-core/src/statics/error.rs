@@ -55,8 +55,9 @@ pub enum StaticsError {
     },
     /// The last cut-back failed too: the state stays at `lambda_converged`.
     #[error(
-        "no convergence toward λ = {lambda_target} (Δλ = {increment:.3e}) after {cutbacks} \
-         cut-backs: {reason}; the state stays at λ = {lambda_converged}; |R| of the last attempt: {}",
+        "no convergence toward λ = {lambda_target} (Δλ = {increment:.3e}): {reason}; stopped \
+         after {cutbacks} cut-backs ({stop}); the state stays at λ = {lambda_converged}; \
+         |R| of the last attempt: {}",
         residual_list(.residuals)
     )]
     NotConverged {
@@ -66,10 +67,13 @@ pub enum StaticsError {
         lambda_target: f64,
         /// Its load increment.
         increment: f64,
-        /// Cut-backs made on this increment.
+        /// Cut-backs made in this solve.
         cutbacks: usize,
         /// Why the last attempt failed.
         reason: String,
+        /// Why it was the last: too many cut-backs in a row, or the
+        /// increment would fall below `min_increment`.
+        stop: String,
         /// Residual norms `‖R‖₂` of the last attempt, one per iteration.
         residuals: Vec<f64>,
     },

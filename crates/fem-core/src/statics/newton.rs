@@ -13,6 +13,26 @@ use super::factor::FactorFault;
 /// whose slope along the Newton direction is `−‖R(0)‖²`).
 const ARMIJO: f64 = 1e-4;
 
+/// Where the line search stopped.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct LineStep {
+    /// Step length `α` along the Newton correction.
+    alpha: f64,
+    /// The evaluation at the new state.
+    eval: Eval,
+    /// Whether that evaluation holds the tangent.
+    fresh: bool,
+    /// Backtracking steps taken.
+    backtracks: usize,
+    /// Whether `‖R‖` decreased enough (else the last, shortest step was taken).
+    descent: bool,
+}
+
+/// Line searches in a row without enough decrease after which the attempt
+/// fails: the residual has stalled at a minimum of `‖R‖` that is no
+/// equilibrium (past a limit load, say).
+const STALLS: usize = 2;
+
 /// What a converged increment attempt took.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Converged {
@@ -35,15 +55,16 @@ impl StaticSolver {
         self.apply_prescribed();
         let mut eval = self.evaluate(true)?;
         history.push(eval.merit);
-        let (r0, mut e0, mut backtracks) = (eval.merit, None, 0);
+        let (r0, mut e0, mut backtracks, mut stalls) = (eval.merit, None, 0, 0);
         for iteration in 1..=self.settings.max_iterations {
             self.newton_direction()?;
             let energy = dot(&self.du, &self.r).abs();
             let e0 = *e0.get_or_insert(energy);
-            let (alpha, next, fresh, steps) = self.line_search(eval.merit)?;
-            backtracks += steps;
-            history.push(next.merit);
-            eval = next;
+            let step = self.line_search(eval.merit)?;
+            let alpha = step.alpha;
+            backtracks += step.backtracks;
+            history.push(step.eval.merit);
+            eval = step.eval;
             if self.converged(&eval, alpha, alpha * energy, e0) {
                 return Ok(Converged {
                     iterations: iteration,
@@ -58,7 +79,15 @@ impl StaticSolver {
                     eval.merit / r0
                 )));
             }
-            if !fresh {
+            stalls = if step.descent { 0 } else { stalls + 1 };
+            if stalls == STALLS {
+                return Err(Failure::Soft(format!(
+                    "the residual stalled at |R| = {:.3e} ({STALLS} line searches without descent): \
+                     no equilibrium nearby",
+                    eval.merit
+                )));
+            }
+            if !step.fresh {
                 eval = self.evaluate(true)?;
             }
         }
@@ -147,11 +176,11 @@ impl StaticSolver {
     }
 
     /// Backtrack along `du` from the current state until `‖R‖` decreases
-    /// enough: `(α, evaluation at the new state, whether it holds the
-    /// tangent, backtracking steps)`. The full step is evaluated with the
-    /// tangent (it is accepted near the solution, so the next iteration
-    /// needs no second assembly); shorter ones with forces only.
-    fn line_search(&mut self, merit0: f64) -> Result<(f64, Eval, bool, usize), Failure> {
+    /// enough, or take the shortest step after `line_search_steps`. The
+    /// full step is evaluated with the tangent (it is accepted near the
+    /// solution, so the next iteration needs no second assembly); shorter
+    /// ones with forces only.
+    fn line_search(&mut self, merit0: f64) -> Result<LineStep, Failure> {
         self.x_base.copy_from_slice(&self.x);
         self.dtheta_base.copy_from_slice(&self.dtheta);
         let steps = self.settings.line_search_steps;
@@ -160,8 +189,14 @@ impl StaticSolver {
             self.set_trial(alpha);
             let tangent = step == 0;
             match self.evaluate(tangent) {
-                Ok(e) if step == steps || sufficient(e.merit, merit0, alpha) => {
-                    return Ok((alpha, e, tangent, step));
+                Ok(eval) if step == steps || sufficient(eval.merit, merit0, alpha) => {
+                    return Ok(LineStep {
+                        alpha,
+                        eval,
+                        fresh: tangent,
+                        backtracks: step,
+                        descent: sufficient(eval.merit, merit0, alpha),
+                    });
                 }
                 Ok(e) => alpha = backtrack(alpha, e.merit, merit0),
                 Err(Failure::Soft(reason)) if step == steps => return Err(Failure::Soft(reason)),

@@ -2,7 +2,7 @@
 //! (halved) on failure and grown after easy convergence; commit and revert.
 
 use super::evaluate::Failure;
-use super::{IncrementReport, SolveReport, StaticSolver, StaticsError};
+use super::{IncrementReport, NewtonSettings, SolveReport, StaticSolver, StaticsError};
 use plugins_api::nalgebra::Rotation3;
 use std::time::Instant;
 
@@ -44,7 +44,8 @@ impl StaticSolver {
         let s = self.settings;
         let mut report = SolveReport::default();
         let mut history = Vec::with_capacity(s.max_iterations + 1);
-        let (mut dl, mut cutbacks) = (s.initial_increment, 0);
+        // Cut-backs in a row on the current increment.
+        let (mut dl, mut in_a_row) = (s.initial_increment, 0);
         while self.lambda < 1.0 {
             let mut target = (self.lambda + dl).min(1.0);
             if 1.0 - target < LAMBDA_SNAP {
@@ -67,7 +68,7 @@ impl StaticSolver {
                     if c.iterations <= s.easy_iterations {
                         dl = (dl * s.growth_factor).min(s.max_increment);
                     }
-                    cutbacks = 0;
+                    in_a_row = 0;
                 }
                 Err(Failure::Hard(e)) => {
                     self.revert();
@@ -75,17 +76,19 @@ impl StaticSolver {
                 }
                 Err(Failure::Soft(reason)) => {
                     self.revert();
-                    if cutbacks == s.max_cutbacks || 0.5 * step < s.min_increment {
+                    let stop = stop_reason(&s, in_a_row, step);
+                    if let Some(stop) = stop {
                         return Err(StaticsError::NotConverged {
                             lambda_converged: self.lambda,
                             lambda_target: target,
                             increment: step,
-                            cutbacks,
+                            cutbacks: report.cutbacks,
                             reason,
+                            stop,
                             residuals: history.clone(),
                         });
                     }
-                    cutbacks += 1;
+                    in_a_row += 1;
                     report.cutbacks += 1;
                     report
                         .cutback_reasons
@@ -132,5 +135,20 @@ impl StaticSolver {
             .iter_mut()
             .for_each(|d| *d = crate::Vec3::zeros());
         self.lambda_trial = self.lambda;
+    }
+}
+
+/// Why a failed attempt of increment `step` after `in_a_row` cut-backs in
+/// a row is the last, if it is.
+fn stop_reason(s: &NewtonSettings, in_a_row: usize, step: f64) -> Option<String> {
+    if in_a_row == s.max_cutbacks {
+        Some(format!("{in_a_row} in a row, the most allowed"))
+    } else if 0.5 * step < s.min_increment {
+        Some(format!(
+            "half of Δλ = {step:.3e} is below min_increment = {:e}",
+            s.min_increment
+        ))
+    } else {
+        None
     }
 }
