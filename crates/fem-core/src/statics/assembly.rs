@@ -44,6 +44,11 @@ pub(crate) enum Sink<'a> {
 
 /// The accumulator an effect adds its internal forces and tangent to.
 ///
+/// Every tangent entry given at set-up, zero or not, puts its row's and
+/// column's DOFs in the system (a zero geometric stiffness at the start
+/// may grow later); a DOF that no entry names is dropped. So give only the
+/// entries the effect can ever make nonzero.
+///
 /// Out-of-range nodes and a tangent whose entries differ from those of the
 /// first assembly are recorded (the first one) and reported by the solver
 /// as an error naming the effect; the offending entry is skipped.
