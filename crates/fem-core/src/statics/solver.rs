@@ -13,7 +13,7 @@ use std::any::Any;
 use std::time::Instant;
 
 /// The static Newton solver: solves `F_int(u) = λ F_ext` (with prescribed
-/// DOFs at `λ ū`) for `λ` from 0 to 1, see the [module docs](super).
+/// DOFs at `λ ū`) for `λ` from 0 to 1, see the [module docs](crate::statics).
 ///
 /// Build it from a [`StaticProblem`] with [`StaticSolver::new`] (which
 /// records the tangent's pattern and makes the symbolic factorisation),
