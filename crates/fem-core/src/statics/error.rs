@@ -53,6 +53,9 @@ pub enum StaticsError {
         /// What it did.
         message: String,
     },
+    /// The sparse factorisation failed for a reason of its own (out of memory).
+    #[error("sparse factorisation failed: {0}")]
+    Factorisation(String),
     /// The last cut-back failed too: the state stays at `lambda_converged`.
     #[error(
         "no convergence toward λ = {lambda_target} (Δλ = {increment:.3e}): {reason}; stopped \

@@ -72,13 +72,17 @@ pub(crate) struct Factorizer {
 }
 
 fn failed(e: impl std::fmt::Debug) -> FactorFault {
-    FactorFault::Failed(format!("sparse factorisation failed: {e:?}"))
+    FactorFault::Failed(format!("{e:?}"))
+}
+
+fn text(e: impl std::fmt::Debug) -> String {
+    format!("{e:?}")
 }
 
 impl Factorizer {
     /// The symbolic Cholesky analysis of `pattern` (AMD ordering) and the
     /// buffers of every later factorisation and solve.
-    pub fn new(pattern: &Pattern, pivot_tolerance: f64) -> Result<Self, FactorFault> {
+    pub fn new(pattern: &Pattern, pivot_tolerance: f64) -> Result<Self, String> {
         let t = Instant::now();
         let n = pattern.matrix.nrows();
         let cholesky = factorize_symbolic_cholesky(
@@ -87,13 +91,13 @@ impl Factorizer {
             SymmetricOrdering::Amd,
             CholeskySymbolicParams::default(),
         )
-        .map_err(failed)?;
+        .map_err(text)?;
         let req = StackReq::any_of(&[
             cholesky.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
             cholesky.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
             cholesky.solve_in_place_scratch::<f64>(1, Par::Seq),
         ]);
-        let mem = MemBuffer::try_new(req).map_err(failed)?;
+        let mem = MemBuffer::try_new(req).map_err(text)?;
         let l = vec![0.0; cholesky.len_val()];
         let tally = FactorTally {
             symbolic: t.elapsed().as_secs_f64(),

@@ -130,10 +130,9 @@ impl StaticSolver {
                 self.du.iter_mut().for_each(|x| *x = -*x);
                 Ok(())
             }
-            Err(FactorFault::Failed(message)) => Err(Failure::Hard(StaticsError::Assembly {
-                effect: "tangent".to_string(),
-                message,
-            })),
+            Err(FactorFault::Failed(message)) => {
+                Err(Failure::Hard(StaticsError::Factorisation(message)))
+            }
             Err(FactorFault::Singular(p)) => {
                 let (node, dof) = self.dofs.node_dof(p.equation);
                 let error = StaticsError::Singular {

@@ -8,7 +8,7 @@ use super::{
     Assembly, NewtonSettings, Pattern, StaticProblem, StaticTangent, StaticTiming, StaticsError,
     SystemStats, TrialState,
 };
-use crate::{Dof, FemError, Mat3, Vec3};
+use crate::{Dof, Mat3, Vec3};
 use std::any::Any;
 use std::time::Instant;
 
@@ -86,7 +86,7 @@ impl StaticSolver {
             0 => None,
             _ => Some(
                 Factorizer::new(&pattern, settings.pivot_tolerance)
-                    .map_err(|e| FemError::InvalidSetup(format!("{e:?}")))?,
+                    .map_err(StaticsError::Factorisation)?,
             ),
         };
         let n = x_start.len();
