@@ -46,7 +46,8 @@
 //!   gives them with their defaults).
 //! - **Linear algebra** (`faer`): the symbolic factorisation (AMD ordering,
 //!   elimination tree, supernodes) is made once, at set-up, and reused by
-//!   every iteration of every increment; `LLᵀ` is tried first, `LDLᵀ` on
+//!   every iteration of every increment (LU's own analysis, the first time
+//!   LU is needed); `LLᵀ` is tried first, `LDLᵀ` on
 //!   the same analysis when the tangent is not positive definite (past a
 //!   limit point), LU when an effect's tangent is unsymmetric or `LDLᵀ`
 //!   solves inaccurately. A pivot at round-off of its diagonal names the
