@@ -1,4 +1,4 @@
-//! # fem-core: formsim's explicit engine
+//! # fem-core: formsim's explicit engine and static solver
 //!
 //! Place in the pipeline: it runs the explicit step (docs/architecture.md §3)
 //! and owns its stages 1–3 and 6 — integration of the nodal state with its
@@ -13,6 +13,15 @@
 //! blank's thickness that the shells write and contact reads, say), and the
 //! [`Solver`] that drives them, running every field's writer before its
 //! readers.
+//!
+//! It also owns the static solver ([`statics`]), the first brick of
+//! springback: a Newton solver of `F_int(u) = λ F_ext` by load increments,
+//! with cut-back, line search and sparse `LLᵀ`/`LDLᵀ`/LU factorisations
+//! (`faer`), over the effects that implement [`statics::StaticTangent`]
+//! (their internal forces and consistent tangent at a trial state, with
+//! commit and revert for path-dependent ones). [`Springs`] implement it;
+//! shell tangents and the springback step belong to the crates that own
+//! shells and the press stage.
 //!
 //! It must not know about shells, materials, tools, contact or friction:
 //! those are effects defined in `shell-elements`, `contact` and friends. The
@@ -75,6 +84,7 @@ pub mod settings;
 pub mod solver;
 pub mod springs;
 pub mod state;
+pub mod statics;
 
 pub use amplitude::Amplitude;
 pub use anchor_springs::AnchorSprings;
@@ -96,3 +106,6 @@ pub use state::{Forces, NodalState, StepContext};
 
 /// A 3-vector in the global frame (mm, N, mm/s, … as the quantity requires).
 pub type Vec3 = plugins_api::Vec3;
+
+/// A 3×3 matrix in the global frame (a stiffness block in N/mm, a rotation, …).
+pub type Mat3 = plugins_api::Mat3;
