@@ -9,7 +9,8 @@
 //! - `formsim::scene::load(path, overrides)` reads the file, applies
 //!   `--set`-style overrides (`KEY=VALUE` strings; none here, step 4 uses
 //!   them) and validates it into a typed `Scene`, whose fields the example
-//!   reads (the friction coefficient, the `[output.capstan]` table);
+//!   reads (the friction coefficient, and the `[output.capstan]` table,
+//!   resolved against the keys the capstan check declares);
 //! - `formsim::scene::build(&loaded)` turns it into a `Model`: a
 //!   `fem_core::Solver` holding the shells, the contact effect with its tools
 //!   and pairs, boundary conditions and loads, plus what the outputs need
@@ -68,7 +69,7 @@
 //! ```
 
 use fem_core::{Control, Solver, Vec3};
-use formsim::scene::schema::{CapstanOutput, MeshSpec};
+use formsim::scene::schema::MeshSpec;
 use formsim::scene::{self, LoadedScene, Model, Scene};
 use shell_elements::{BelytschkoTsay, J2PlaneStress, ShellSet};
 use std::path::Path;
@@ -90,23 +91,46 @@ fn run() {
     // The model: solver, shells, contact (drum, pair, law), loads and
     // boundary conditions, all from the scene.
     let mut model = scene::build(&loaded).expect("the scene builds");
-    print_model(s, &model, capstan, mu);
+    print_model(s, &model, &capstan, mu);
 
-    let pull = run_averaging_pull(&mut model, capstan);
-    check_capstan_ratio(&pull, capstan, mu, theta);
+    let pull = run_averaging_pull(&mut model, &capstan);
+    check_capstan_ratio(&pull, &capstan, mu, theta);
     check_energy_ledger(&model);
-    print_tension_along_wrap(s, &model, capstan, mu);
+    print_tension_along_wrap(s, &model, &capstan, mu);
+}
+
+/// The keys of `[output.capstan]` the example reads.
+struct Capstan<'a> {
+    /// The node set pulled: its reaction is `T_out`.
+    pull_set: &'a str,
+    /// The DOF it is pulled along.
+    pull_dof: &'a str,
+    /// `T_in` (N).
+    hold_force: f64,
+    /// `θ` (degrees).
+    angle_deg: f64,
+    /// Start of the mean (s).
+    average_from: f64,
 }
 
 /// What the scene says about its own analytic reference (its
-/// `[output.capstan]` table) and the Coulomb coefficient of its law: the
-/// table, `μ` and the wrap angle `θ` (rad).
-fn capstan_reference(s: &Scene) -> (&CapstanOutput, f64, f64) {
-    let capstan = s
+/// `[output.capstan]` table, with the defaults filled in) and the Coulomb
+/// coefficient of its law: the table, `μ` and the wrap angle `θ` (rad).
+fn capstan_reference(s: &Scene) -> (Capstan<'_>, f64, f64) {
+    let table = s
         .output
-        .capstan
-        .as_ref()
+        .checks
+        .get("capstan")
         .expect("scenes/capstan.toml has an [output.capstan] table");
+    let number = |key| table.number(key).expect("a key the capstan check declares");
+    let name = |key| table.name(key).expect("a key the capstan check declares");
+    let capstan = Capstan {
+        pull_set: name("pull_set"),
+        pull_dof: name("pull_dof"),
+        hold_force: number("hold_force"),
+        angle_deg: number("angle_deg"),
+        average_from: number("average_from"),
+    };
     assert_eq!(
         s.contact.law, "ac",
         "the reference below needs tau_c = mu p"
@@ -117,7 +141,7 @@ fn capstan_reference(s: &Scene) -> (&CapstanOutput, f64, f64) {
 }
 
 /// Print what the scene built and what the run will measure.
-fn print_model(s: &Scene, model: &Model, capstan: &CapstanOutput, mu: f64) {
+fn print_model(s: &Scene, model: &Model, capstan: &Capstan<'_>, mu: f64) {
     println!(
         "scene `{}`: {} shells, {} nodes, tools [{}], law {} x {}, end time {} s",
         s.scene.name,
@@ -153,8 +177,8 @@ struct PullForce {
 
 /// Step the solver to the end, averaging the reaction of the pulled end
 /// (the force its prescribed motion needs, i.e. T_out) once sliding is steady.
-fn run_averaging_pull(model: &mut Model, capstan: &CapstanOutput) -> PullForce {
-    let axis = match capstan.pull_dof.as_str() {
+fn run_averaging_pull(model: &mut Model, capstan: &Capstan<'_>) -> PullForce {
+    let axis = match capstan.pull_dof {
         "uy" => 1,
         "uz" => 2,
         _ => 0,
@@ -167,7 +191,7 @@ fn run_averaging_pull(model: &mut Model, capstan: &CapstanOutput) -> PullForce {
         .run_until(end, &mut |solver: &Solver, report| {
             if report.time >= capstan.average_from {
                 let (force, _moment) = solver
-                    .reaction(&capstan.pull_set)
+                    .reaction(capstan.pull_set)
                     .expect("the pull set exists: the scene validated it");
                 sum += force[axis].abs();
                 samples += 1;
@@ -186,7 +210,7 @@ fn run_averaging_pull(model: &mut Model, capstan: &CapstanOutput) -> PullForce {
 
 /// `T_out/T_in` against Euler–Eytelwein's `exp(μ θ)` (docs/benchmarks.md §3),
 /// tolerance 2 %.
-fn check_capstan_ratio(pull: &PullForce, capstan: &CapstanOutput, mu: f64, theta: f64) {
+fn check_capstan_ratio(pull: &PullForce, capstan: &Capstan<'_>, mu: f64, theta: f64) {
     let t_out = pull.mean;
     let measured = t_out / capstan.hold_force;
     let analytic = (mu * theta).exp();
@@ -220,7 +244,7 @@ fn check_energy_ledger(model: &Model) {
 /// The tension along the wrap, from the shells' membrane resultants N_xx
 /// (N/mm, element frame: x along the strip) times the element width,
 /// summed over the two elements across the strip, beside `T_in exp(μ φ)`.
-fn print_tension_along_wrap(s: &Scene, model: &Model, capstan: &CapstanOutput, mu: f64) {
+fn print_tension_along_wrap(s: &Scene, model: &Model, capstan: &Capstan<'_>, mu: f64) {
     // The scene chose Belytschko–Tsay shells and an elastic material (J2
     // that never yields): the handle's `get` returns the shells as that
     // `ShellSet` type (`None` for any other element or material).

@@ -1,15 +1,24 @@
 //! One new component of each registered kind, added in this file alone and
 //! run from a scene: a friction law, a kinematic formulation, a material and
-//! a shell element (each with declared parameters) and a tool kind. Nothing else in the
+//! a shell element (each with declared parameters), a tool kind, and a
+//! reference check with its own `[output.KEY]` table. Nothing else in the
 //! workspace names them; `inventory` registers them at link time and the
 //! scene resolves every one through its registry.
 //!
 //! Reference: the block on a plane (`scenes/block-on-plane.toml`,
 //! docs/benchmarks.md §3) slides at the friction force `μ N`; with the law
 //! below at μ = 0.3 and N = 100 N that is 30 N, within 1 % (the tolerance of
-//! the shipped block's own test).
+//! the shipped block's own test). The check below measures the same slide as
+//! an apparent friction coefficient, `F / N`, against the law's μ, within
+//! the same 1 %.
 
 use fem_core::Solver;
+use formsim::run::reference_checks::{
+    AVERAGE_FROM, CheckTable, Figures, PULL_DOF_SPEC, PULL_SET, PullMean, PulledEnd,
+    ReferenceCheck, Sampler, TableKey,
+};
+use formsim::scene::kind::needs_nothing_else;
+use formsim::scene::{LoadedScene, Model, SceneError};
 use friction_laws::formulations::Convective;
 use plugins_api::law::LawDescription;
 use plugins_api::registry::{FormulationEntry, LawEntry};
@@ -245,6 +254,79 @@ inventory::submit! {
     }
 }
 
+// ----- a reference check: the apparent friction coefficient, with its own table ---
+
+/// `[output.apparent_mu]`: the pulled end (`pull_dof` by default `ux`) and
+/// the normal force.
+const APPARENT_MU_KEYS: &[TableKey] = &[
+    PULL_SET,
+    TableKey::Name(PULL_DOF_SPEC.or("ux")),
+    TableKey::Number(
+        ParamSpec::required(
+            "normal_force",
+            "N",
+            0.0,
+            f64::INFINITY,
+            "the normal force pressing the block on the plane",
+        )
+        .exclusive_min(),
+    ),
+    AVERAGE_FROM,
+];
+
+/// The mean pull over the normal force.
+struct ApparentMu {
+    pull: PullMean,
+    normal_force: f64,
+}
+
+impl Sampler for ApparentMu {
+    fn sample(&mut self, loaded: &LoadedScene, model: &Model) -> Result<(), SceneError> {
+        self.pull.sample(loaded, model).map(drop)
+    }
+
+    fn sampled(&self) -> bool {
+        self.pull.samples() > 0
+    }
+
+    fn figures(&self, mu: f64) -> Option<Figures> {
+        Some(Figures {
+            value: self.pull.mean() / self.normal_force,
+            analytic: mu,
+            more: vec![("slip_force", self.pull.mean())],
+        })
+    }
+}
+
+fn start_apparent_mu(_: &LoadedScene, table: &CheckTable, _: &Model) -> Option<Box<dyn Sampler>> {
+    Some(Box::new(ApparentMu {
+        pull: PullMean::new(&PulledEnd::of(table)?),
+        normal_force: table.number("normal_force")?,
+    }))
+}
+
+fn apparent_mu_line(f: &Figures) -> String {
+    format!(
+        "apparent mu: F/N = {:.4}, mu = {:.4} ({:+.2} %)",
+        f.value,
+        f.analytic,
+        f.deviation_percent()
+    )
+}
+
+inventory::submit! {
+    ReferenceCheck {
+        name: "test-apparent-mu",
+        summary: "block pulled over a plane: F/N against the law's mu (a test's check); [output.apparent_mu]",
+        key: "apparent_mu",
+        keys: APPARENT_MU_KEYS,
+        value_key: "mu_apparent",
+        needs: needs_nothing_else,
+        start: start_apparent_mu,
+        line: apparent_mu_line,
+    }
+}
+
 // ----- the scene -------------------------------------------------------------------
 
 /// `scenes/block-on-plane.toml` with its plane tool of the test's kind,
@@ -263,6 +345,25 @@ fn block_scene(dir: &std::path::Path) -> std::path::PathBuf {
     );
     std::fs::create_dir_all(dir).unwrap();
     let scene = dir.join("block.toml");
+    std::fs::write(&scene, text).unwrap();
+    scene
+}
+
+/// [`block_scene`] of the test's check: its kind, and its table in place of
+/// the block's, written into `dir`.
+fn apparent_mu_scene(dir: &std::path::Path) -> std::path::PathBuf {
+    let scene = block_scene(dir);
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let kind = "kind = \"block-on-plane\"";
+    let table = "block = { pull_set = \"all\", pull_dof = \"ux\", normal_force = 100.0, average_from = 3.0e-3 }";
+    assert!(
+        text.contains(kind) && text.contains(table),
+        "the block's kind or table changed"
+    );
+    let text = text.replace(kind, "kind = \"test-apparent-mu\"").replace(
+        table,
+        "\n[output.apparent_mu]\npull_set = \"all\"\nnormal_force = 100.0\naverage_from = 3.0e-3",
+    );
     std::fs::write(&scene, text).unwrap();
     scene
 }
@@ -389,4 +490,99 @@ fn a_registered_element_checks_its_key_and_pairs_with_a_built_in_material() {
     let _ = std::fs::remove_dir_all(&dir);
     let h = model.shells;
     assert_eq!((h.element, h.material), ("test-bt", "j2"));
+}
+
+/// The check's table is read against the keys it declares: an unknown key
+/// names the table and the key at its line, a mistyped value names the key
+/// and the unit, a scene of its kind without it names the table, and a
+/// table no check reads lists the registered ones, the test's among them.
+#[test]
+fn a_registered_check_reads_its_declared_table() {
+    let dir = std::env::temp_dir().join(format!("formsim-table-{}", std::process::id()));
+    let scene = apparent_mu_scene(&dir);
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let line = 1 + text
+        .lines()
+        .position(|l| l.starts_with("normal_force"))
+        .unwrap();
+    let typo = text.replace("normal_force = 100.0", "normal_forc = 100.0");
+    let e = formsim::scene::parse(&typo, &scene, &[]).expect_err("an unknown key");
+    let m = e.to_string();
+    assert!(
+        m.contains(&format!(
+            ":{line}: output.apparent_mu.normal_forc: unknown key in [output.apparent_mu]"
+        )),
+        "{m}"
+    );
+    for (set, says) in [
+        (
+            "output.apparent_mu.normal_force=\"heavy\"",
+            "output.apparent_mu.normal_force: \"heavy\" (a string): expected a number in N",
+        ),
+        (
+            "output.apparent_mu.normal_force=0",
+            "output.apparent_mu.normal_force: 0 N: must be finite and > 0",
+        ),
+        (
+            "output.apparent_mu=",
+            "output.apparent_mu: a test-apparent-mu scene needs [output.apparent_mu] { pull_set, pull_dof, normal_force, average_from }",
+        ),
+        (
+            "output.apparent_muu.pull_set=\"all\"",
+            "[output.apparent_mu] of test-apparent-mu",
+        ),
+    ] {
+        let e = formsim::scene::load(&scene, &[set.to_string()]).expect_err(set);
+        let m = e.to_string();
+        assert!(m.contains(says) && !m.contains('\n'), "{set}: {m}");
+    }
+    let loaded = formsim::scene::load(&scene, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let table = &loaded.scene.output.checks["apparent_mu"];
+    assert_eq!(table.name("pull_dof"), Some("ux"), "the declared default");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The test's check on the block with every component of this file: its
+/// figure, `F / N`, is the law's μ = 0.3 within 1 %, and `summary.json`
+/// carries it under the check's key.
+#[test]
+fn a_registered_check_measures_the_apparent_mu() {
+    let dir = std::env::temp_dir().join(format!("formsim-apparent-{}", std::process::id()));
+    let scene = apparent_mu_scene(&dir);
+    let sets: Vec<String> = [
+        "contact.law=\"test-coulomb\"",
+        "contact.params.test-coulomb.mu=0.3",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let loaded = formsim::scene::load(&scene, &sets).unwrap_or_else(|e| panic!("{e}"));
+    let out = dir.join("out");
+    let r = formsim::run::run(
+        &loaded,
+        &formsim::run::RunOptions {
+            out: out.clone(),
+            progress: formsim::run::Progress::Hidden,
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let json = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let f = r.summary.figures("apparent_mu").expect("the test's check");
+    assert!((f.analytic - 0.3).abs() < 1e-12, "mu = {}", f.analytic);
+    assert!(
+        (f.value / f.analytic - 1.0).abs() < 0.01,
+        "F/N = {} against mu = {}",
+        f.value,
+        f.analytic
+    );
+    let slip = f.get("slip_force").expect("its further figure");
+    assert!(
+        (slip / 100.0 - f.value).abs() < 1e-12,
+        "slip force {slip} N"
+    );
+    assert!(
+        json.contains("\"apparent_mu\": {") && json.contains("\"mu_apparent\": "),
+        "{json}"
+    );
 }

@@ -473,12 +473,24 @@ fn components_list() -> Outcome {
         say!("  {:<20} {}", k.name, k.summary);
         print_tool_keys(k.keys)?;
     }
-    say!("Scene kinds (scene.kind): the presets, then the reference checks:");
+    say!(
+        "Scene kinds (scene.kind): the presets, then the reference checks with the keys of their [output.KEY] tables:"
+    );
     for p in formsim::scene::kind::PRESETS {
         say!("  {:<20} {}", p.name, p.summary);
     }
     for c in formsim::scene::kind::reference_checks() {
         say!("  {:<20} {}", c.name, c.summary);
+        for k in c.keys {
+            say!(
+                "    {:<14} {:<14} {:<10} {:<22} {}",
+                k.key(),
+                format!("[{}]", k.unit()),
+                k.default_text(),
+                k.range_text(),
+                k.doc()
+            );
+        }
     }
     Ok(ExitCode::SUCCESS)
 }

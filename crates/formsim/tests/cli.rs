@@ -538,4 +538,30 @@ fn components_lists_every_registry() {
     ] {
         assert!(out.contains(head) && out.contains(member), "{out}");
     }
+    // Each reference check's table keys, with unit, default and range.
+    let keys = |check: &str| {
+        out.lines()
+            .skip_while(|l| !l.starts_with(&format!("  {check} ")))
+            .skip(1)
+            .take_while(|l| l.starts_with("    "))
+            .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+            .collect::<Vec<_>>()
+    };
+    let capstan = keys("capstan");
+    assert_eq!(capstan.len(), 5, "{out}");
+    assert!(
+        capstan[2].starts_with("hold_force [N] required > 0 "),
+        "{capstan:?}"
+    );
+    assert!(
+        capstan[1].starts_with("pull_dof [DOF] \"ux\" ux, uy or uz "),
+        "{capstan:?}"
+    );
+    let strip = keys("strip-draw");
+    assert!(
+        strip
+            .iter()
+            .any(|l| l.starts_with("holder [tool] required a tool ")),
+        "{strip:?}"
+    );
 }

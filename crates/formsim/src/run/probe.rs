@@ -43,7 +43,7 @@ pub fn probe(loaded: &LoadedScene) -> Result<Probe, RunError> {
     // A reference check reports its figures once it has sampled: taken as
     // sampled, with nothing in its means.
     let check = crate::scene::kind::reference_check(&loaded.scene.scene.kind);
-    let sampler = check.and_then(|c| (c.start)(loaded, &model));
+    let sampler = check.and_then(|c| c.sampler(loaded, &model));
     let sampled = sampler.as_deref().map(Sampled);
     let summary = Summary::new(Inputs {
         loaded,

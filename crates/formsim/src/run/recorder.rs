@@ -69,7 +69,7 @@ impl<'a> Recorder<'a> {
             axes: tools_report::press_axes(model),
             strokes,
             reference: crate::scene::kind::reference_check(&loaded.scene.scene.kind)
-                .and_then(|check| Some((check, (check.start)(loaded, model)?))),
+                .and_then(|check| Some((check, check.sampler(loaded, model)?))),
             history: Vec::with_capacity(o.history_points + 2),
             tool_history: Vec::with_capacity(o.history_points + 2),
             frames: Vec::new(),

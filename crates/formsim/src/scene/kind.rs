@@ -2,7 +2,8 @@
 //! (`generic`, `square-cup`) or a [`ReferenceCheck`] from the registry
 //! (`inventory`), which compares a run with an analytic reference.
 //!
-//! This module holds what a reference check is and the registry's look-ups;
+//! This module holds what a reference check is and the registry's look-ups
+//! (a check's `[output.KEY]` table is resolved by [`super::check_table`]);
 //! the checks themselves are registered from their own files in
 //! `crates/formsim/src/run/reference_checks/`, where
 //! `run::reference_checks::ensure_linked` keeps them in a binary. [`resolve`]
@@ -10,6 +11,7 @@
 //! that `ensure_linked` once first (`formsim`'s `main` does, and so does
 //! `run::run`).
 
+use super::check_table::{CheckTable, TableKey};
 use super::{LoadedScene, Model, SceneError};
 
 /// A kind that is not a reference check.
@@ -36,8 +38,9 @@ pub const PRESETS: [Preset; 2] = [
 ];
 
 /// A registered reference check: a scene `kind` whose run is compared with
-/// an analytic reference. Its file declares what it needs from the scene,
-/// what it samples during the run and how it turns that into its
+/// an analytic reference. Its file declares its table `[output.KEY]` (the
+/// keys, their units, defaults and ranges), what else it needs from the
+/// scene, what it samples during the run and how it turns that into its
 /// [`Figures`] (`summary.json`'s `KEY{…}` and the line `formsim run`
 /// prints).
 #[derive(Debug)]
@@ -46,19 +49,42 @@ pub struct ReferenceCheck {
     pub name: &'static str,
     /// One line: what it measures against what.
     pub summary: &'static str,
-    /// Its key in `summary.json` (and its table, `[output.KEY]`).
+    /// Its table, `[output.KEY]`, and its key in `summary.json`.
     pub key: &'static str,
+    /// The keys of its table: a scene's table is resolved against them when
+    /// it is read (an unknown key, a missing required one, a value of the
+    /// wrong type or out of range is one line at that key), and the check
+    /// reads the resolved [`CheckTable`].
+    pub keys: &'static [TableKey],
     /// The name of [`Figures::value`] in `summary.json` (the reference is
     /// `analytic`).
     pub value_key: &'static str,
-    /// Check what it needs from the scene, before anything is built: a
-    /// one-line error naming the key.
-    pub needs: fn(&LoadedScene) -> Result<(), SceneError>,
-    /// What it samples: its [`Sampler`] for a run of `model` (`None` when
-    /// the scene lacks what [`ReferenceCheck::needs`] checks).
-    pub start: fn(&LoadedScene, &Model) -> Option<Box<dyn Sampler>>,
+    /// What else it needs from a scene of its kind, given its table, before
+    /// anything is built: a one-line error naming the key
+    /// ([`needs_nothing_else`] when the table's keys say it all).
+    pub needs: fn(&LoadedScene, &CheckTable) -> Result<(), SceneError>,
+    /// What it samples: its [`Sampler`] for a run of `model`, given its
+    /// table (`None` when the model lacks what it reads).
+    pub start: fn(&LoadedScene, &CheckTable, &Model) -> Option<Box<dyn Sampler>>,
     /// The line `formsim run` prints of its figures (without indent).
     pub line: fn(&Figures) -> String,
+}
+
+impl ReferenceCheck {
+    /// Its [`Sampler`] for a run of `model`: [`ReferenceCheck::start`] with
+    /// the scene's table (`None` without one).
+    pub fn sampler(&self, loaded: &LoadedScene, model: &Model) -> Option<Box<dyn Sampler>> {
+        let table = loaded.scene.output.checks.get(self.key)?;
+        (self.start)(loaded, table, model)
+    }
+}
+
+/// [`ReferenceCheck::needs`] of a check whose table's keys say all it needs.
+///
+/// # Errors
+/// None.
+pub fn needs_nothing_else(_: &LoadedScene, _: &CheckTable) -> Result<(), SceneError> {
+    Ok(())
 }
 
 inventory::collect!(ReferenceCheck);

@@ -4,11 +4,13 @@
 //!
 //! Reading a scene goes: text → TOML table (syntax errors carry the line) →
 //! `--set` overrides → typed [`Scene`] (unknown or mistyped keys name the key
-//! and its line) → [`validate`] (ranges, names, units) → [`build()`] (the
+//! and its line), with the reference checks' `[output.KEY]` tables resolved
+//! against the keys each check declares ([`check_table`]) → [`validate`] (ranges, names, units) → [`build()`] (the
 //! solver with its effects).
 
 pub mod blank_mesh;
 pub mod build;
+pub mod check_table;
 pub mod error;
 pub mod estimate;
 pub mod kind;
@@ -103,12 +105,17 @@ pub fn parse(text: &str, path: &Path, overrides: &[String]) -> Result<LoadedScen
         let (key, value) = overrides::parse_assignment(assignment)?;
         overrides::apply(&mut table, &key, value, assignment)?;
     }
-    let scene: Scene =
+    // The reference checks' tables, apart from `[output]`'s own keys.
+    let checks = kind::reference_checks();
+    let tables = check_table::take_tables(&mut table, &checks);
+    let mut scene: Scene =
         serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
             let key = e.path().to_string();
             let message = e.inner().message().trim().to_string();
             key_error(path, text, overrides, &key, message)
         })?;
+    scene.output.checks = check_table::resolve_all(&tables, &checks)
+        .map_err(|e| key_error(path, text, overrides, &e.key, e.message))?;
     let loaded = LoadedScene {
         scene,
         path: path.to_path_buf(),

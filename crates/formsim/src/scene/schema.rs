@@ -784,42 +784,29 @@ pub struct Output {
     /// profile radius starts).
     #[serde(default)]
     pub punch_edge_distance: Option<f64>,
-    /// Capstan post-processing.
-    #[serde(default)]
-    pub capstan: Option<CapstanOutput>,
-    /// Block-on-plane post-processing.
-    #[serde(default)]
-    pub block: Option<BlockOutput>,
-    /// Strip-draw post-processing.
-    #[serde(default)]
-    pub strip: Option<StripOutput>,
-}
-
-/// The pulled end of a capstan, block or strip output: the node set whose
-/// prescribed motion's reaction is averaged.
-#[derive(Debug, Clone, Copy)]
-pub struct PulledEnd<'a> {
-    /// Its key (`output.capstan`, `output.block`, `output.strip`).
-    pub key: &'static str,
-    /// The node set pulled.
-    pub pull_set: &'a str,
-    /// The DOF it is pulled along (`ux`, `uy`, `uz`).
-    pub pull_dof: &'a str,
-    /// Averaging starts at this time (s).
-    pub average_from: f64,
+    /// `[output.KEY]`: the tables of the reference checks, by `KEY`, each
+    /// resolved against the keys its check declares
+    /// ([`super::check_table`]); read from the scene's TOML apart from the
+    /// keys above, and written out with them.
+    #[serde(flatten, skip_deserializing)]
+    pub checks: BTreeMap<String, super::check_table::CheckTable>,
 }
 
 impl Output {
-    /// The pulled ends of the capstan, block and strip outputs present.
-    pub fn pulled_ends(&self) -> impl Iterator<Item = PulledEnd<'_>> {
-        [
-            self.capstan.as_ref().map(CapstanOutput::pulled_end),
-            self.block.as_ref().map(BlockOutput::pulled_end),
-            self.strip.as_ref().map(StripOutput::pulled_end),
-        ]
-        .into_iter()
-        .flatten()
-    }
+    /// `[output]`'s own keys, the fields above: any other key of `[output]`
+    /// is a reference check's table.
+    pub const OWN_KEYS: [&'static str; 10] = [
+        "frames",
+        "history_points",
+        "stroke_tool",
+        "report_strokes",
+        "symmetry_factor",
+        "sections",
+        "draw_in",
+        "plots",
+        "forming_starts_at",
+        "punch_edge_distance",
+    ];
 }
 
 impl Default for Output {
@@ -835,16 +822,11 @@ impl Default for Output {
             plots: true,
             forming_starts_at: 1.0,
             punch_edge_distance: None,
-            capstan: None,
-            block: None,
-            strip: None,
+            checks: BTreeMap::new(),
         }
     }
 }
 
-fn default_pull_dof() -> String {
-    "ux".into()
-}
 fn default_frames() -> usize {
     20
 }
@@ -884,84 +866,22 @@ pub struct DrawIn {
     pub inward: [f64; 2],
 }
 
-/// `[output.capstan]`: tension ratio of the wrapped strip.
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct CapstanOutput {
-    /// Node set pulled (prescribed motion): its reaction is `T_pull`.
-    pub pull_set: String,
-    /// Holding load `T_hold` (N).
-    pub hold_force: f64,
-    /// DOF along which it is pulled (`ux`, `uy`, `uz`); default `ux`.
-    #[serde(default = "default_pull_dof")]
-    pub pull_dof: String,
-    /// Wrap angle θ (degrees).
-    pub angle_deg: f64,
-    /// Steady sliding is averaged from this time on (s).
-    pub average_from: f64,
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-impl CapstanOutput {
-    /// Its pulled end.
-    pub fn pulled_end(&self) -> PulledEnd<'_> {
-        PulledEnd {
-            key: "output.capstan",
-            pull_set: &self.pull_set,
-            pull_dof: &self.pull_dof,
-            average_from: self.average_from,
-        }
-    }
-}
-
-/// `[output.block]`: slip force of a block pressed on a plane and pulled.
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct BlockOutput {
-    /// Node set pulled (prescribed motion): its reaction is the friction force.
-    pub pull_set: String,
-    /// DOF along which it is pulled (`ux`, `uy`).
-    pub pull_dof: String,
-    /// Normal force N (N).
-    pub normal_force: f64,
-    /// Steady sliding is averaged from this time on (s).
-    pub average_from: f64,
-}
-
-impl BlockOutput {
-    /// Its pulled end.
-    pub fn pulled_end(&self) -> PulledEnd<'_> {
-        PulledEnd {
-            key: "output.block",
-            pull_set: &self.pull_set,
-            pull_dof: &self.pull_dof,
-            average_from: self.average_from,
-        }
-    }
-}
-
-/// `[output.strip]`: a strip drawn between a force-controlled holder and a
-/// die; the draw force against `2μF` (friction on both faces).
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct StripOutput {
-    /// Node set pulled (prescribed motion): its reaction is the draw force.
-    pub pull_set: String,
-    /// DOF along which it is pulled (`ux`, `uy`).
-    pub pull_dof: String,
-    /// The force-controlled tool pressing the strip.
-    pub holder: String,
-    /// Steady drawing is averaged from this time on (s).
-    pub average_from: f64,
-}
-
-impl StripOutput {
-    /// Its pulled end.
-    pub fn pulled_end(&self) -> PulledEnd<'_> {
-        PulledEnd {
-            key: "output.strip",
-            pull_set: &self.pull_set,
-            pull_dof: &self.pull_dof,
-            average_from: self.average_from,
-        }
+    /// [`Output::OWN_KEYS`] are the keys serde reads into [`Output`]: the
+    /// list its unknown-key error gives.
+    #[test]
+    fn own_keys_are_the_fields_of_output() {
+        let e = toml::from_str::<Output>("nosuch = 1")
+            .unwrap_err()
+            .to_string();
+        let listed = e
+            .split_once("expected one of")
+            .map(|(_, list)| list)
+            .unwrap_or_else(|| panic!("{e}"));
+        let fields: Vec<&str> = listed.split('`').skip(1).step_by(2).collect();
+        assert_eq!(fields, Output::OWN_KEYS, "{e}");
     }
 }

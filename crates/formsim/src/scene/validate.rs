@@ -35,7 +35,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
 
 /// A value as a message shows it: plain between 1e-4 and 1e6, else in
 /// exponent form (`1e300`, not three hundred digits).
-fn number(v: f64) -> String {
+pub(super) fn number(v: f64) -> String {
     if v == 0.0 || (1e-4..1e6).contains(&v.abs()) || !v.is_finite() {
         format!("{v}")
     } else {
@@ -816,19 +816,23 @@ fn outputs(loaded: &LoadedScene) -> Result<(), SceneError> {
             );
         }
     }
-    // What the scene's reference check needs (its kind is resolved in
-    // `header`).
+    // What the scene's reference check needs: its table, and whatever else
+    // it asks for (its kind is resolved in `header`; every table present
+    // was resolved against its check's keys when the scene was read).
     if let Ok(Some(check)) = super::kind::resolve(&s.scene.kind) {
-        (check.needs)(loaded)?;
-    }
-    for end in o.pulled_ends() {
-        keys.non_negative(&format!("{}.average_from", end.key), end.average_from, "s")?;
-        if !matches!(end.pull_dof, "ux" | "uy" | "uz") {
+        let Some(table) = o.checks.get(check.key) else {
+            let declared: Vec<&str> = check.keys.iter().map(|k| k.key()).collect();
             return keys.err(
-                &format!("{}.pull_dof", end.key),
-                format!("\"{}\": must be ux, uy or uz", end.pull_dof),
+                &format!("output.{}", check.key),
+                format!(
+                    "a {} scene needs [output.{}] {{ {} }}",
+                    check.name,
+                    check.key,
+                    declared.join(", ")
+                ),
             );
-        }
+        };
+        (check.needs)(loaded, table)?;
     }
     Ok(())
 }

@@ -3,19 +3,25 @@
 //! registry (`inventory`) from its own file in this folder. A new check is
 //! one file here (and its reference in [`ensure_linked`]); nothing else
 //! names it: the scene's `kind` is resolved through the registry
-//! ([`crate::scene::kind::resolve`]), the recorder samples what the check
-//! asks for, and `summary.json` and `formsim run`'s output take its figures.
+//! ([`crate::scene::kind::resolve`]), its table `[output.KEY]` is resolved
+//! against the keys it declares ([`crate::scene::check_table`]), the
+//! recorder samples what the check asks for, and `summary.json` and
+//! `formsim run`'s output take its figures.
 //!
 //! A check's file declares:
 //!
 //! - `name`, the scene's `kind`, and a one-line `summary`;
-//! - `key`: its object in `summary.json` (and its table `[output.KEY]`,
-//!   declared with the scene's keys in `crates/formsim/src/scene/schema.rs`
-//!   `Output`, since the scene's tables deny unknown keys);
-//! - `needs`: what it needs from the scene, checked when the scene is
-//!   loaded, a one-line error naming the key;
+//! - `key`: its table `[output.KEY]` and its object in `summary.json`;
+//! - `keys`: its table's keys ([`TableKey`]: a number with its unit,
+//!   default, range and doc, or a name of a node set, tool or DOF); the
+//!   pulled end's are here ([`PULL_SET`], [`PULL_DOF`], [`AVERAGE_FROM`]);
+//! - `needs`: what else it needs from a scene of its kind, given its
+//!   resolved table, checked when the scene is loaded, a one-line error
+//!   naming the key ([`crate::scene::kind::needs_nothing_else`] when the
+//!   keys say it all);
 //! - `start`: its [`Sampler`], what it samples during the run (a pulled
-//!   end's reaction, [`PullMean`], and whatever else it reads);
+//!   end's reaction, [`PullMean`], and whatever else it reads), made from
+//!   its resolved table ([`CheckTable`]);
 //! - [`Sampler::figures`]: its value against the analytic reference, with μ
 //!   the Coulomb coefficient of the scene's law ([`coulomb_mu`]; a law that
 //!   has none gives no figures and a warning), and further figures of its
@@ -30,13 +36,63 @@ mod capstan;
 mod mu;
 mod strip;
 
+pub use crate::scene::check_table::{CheckTable, NameSpec, TableKey};
 pub use crate::scene::kind::{Figures, ReferenceCheck, Sampler, reference_checks};
 pub use mu::{ReferenceError, coulomb_mu};
 
-use crate::scene::schema::PulledEnd;
 use crate::scene::validate::dof_from_name;
 use crate::scene::{LoadedScene, Model, SceneError};
+use plugins_api::ParamSpec;
 use serde::ser::{Serialize, SerializeMap, Serializer};
+
+/// The node set pulled: `pull_set` of a check's table.
+pub const PULL_SET: TableKey = TableKey::Name(NameSpec::required(
+    "pull_set",
+    "node set",
+    "the node set pulled (a prescribed motion): its mean reaction along pull_dof is the measured force",
+));
+
+/// The DOF it is pulled along: `pull_dof` of a check's table (required;
+/// `TableKey::Name(PULL_DOF_SPEC.or("ux"))` gives it a default).
+pub const PULL_DOF: TableKey = TableKey::Name(PULL_DOF_SPEC);
+
+/// [`PULL_DOF`]'s spec.
+pub const PULL_DOF_SPEC: NameSpec =
+    NameSpec::required("pull_dof", "DOF", "the DOF along which pull_set is pulled")
+        .one_of(&["ux", "uy", "uz"]);
+
+/// The start of the mean: `average_from` of a check's table.
+pub const AVERAGE_FROM: TableKey = TableKey::Number(ParamSpec::required(
+    "average_from",
+    "s",
+    0.0,
+    f64::INFINITY,
+    "the reaction is averaged from this time on (steady sliding)",
+));
+
+/// The pulled end of a check's table: [`PULL_SET`], [`PULL_DOF`] and
+/// [`AVERAGE_FROM`].
+#[derive(Debug, Clone, Copy)]
+pub struct PulledEnd<'a> {
+    /// The node set pulled.
+    pub pull_set: &'a str,
+    /// The DOF it is pulled along (`ux`, `uy`, `uz`).
+    pub pull_dof: &'a str,
+    /// Averaging starts at this time (s).
+    pub average_from: f64,
+}
+
+impl<'a> PulledEnd<'a> {
+    /// The pulled end of `table` (`None` when its check does not declare
+    /// the three keys).
+    pub fn of(table: &'a CheckTable) -> Option<Self> {
+        Some(Self {
+            pull_set: table.name(PULL_SET.key())?,
+            pull_dof: table.name(PULL_DOF.key())?,
+            average_from: table.number(AVERAGE_FROM.key())?,
+        })
+    }
+}
 
 /// Keep the registrations of this folder in the final binary (the linker
 /// drops the `inventory` submissions of an object file nothing references).
@@ -183,28 +239,15 @@ impl Sampler for PullOnly {
     }
 }
 
-/// `Ok` when the scene has the check's table `[output.KEY]` (`present`),
-/// else the one-line error at `output.KEY`.
-pub(crate) fn needs_table(
-    loaded: &LoadedScene,
-    present: bool,
-    kind: &str,
-    key: &str,
-) -> Result<(), SceneError> {
-    if present {
-        Ok(())
-    } else {
-        Err(loaded.key_error(
-            &format!("output.{key}"),
-            format!("a {kind} scene needs [output.{key}]"),
-        ))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::kind;
+    use crate::scene::schema::Output;
+
+    fn scenes() -> std::path::PathBuf {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+    }
 
     /// The registry holds the three built-in checks, each name and key
     /// once, each with its one-line summary, and resolves them.
@@ -226,6 +269,143 @@ mod tests {
         );
         assert!(kind::resolve("generic").unwrap().is_none());
         assert!(kind::resolve("square-cup").unwrap().is_none());
+    }
+
+    /// Each check declares its table's keys, each once, with a unit and one
+    /// line of doc; no table is one of `[output]`'s own keys.
+    #[test]
+    fn each_check_declares_its_keys() {
+        ensure_linked();
+        for c in reference_checks() {
+            assert!(!c.keys.is_empty(), "{}", c.name);
+            assert!(!Output::OWN_KEYS.contains(&c.key), "{}", c.name);
+            for (i, k) in c.keys.iter().enumerate() {
+                assert!(
+                    !k.unit().is_empty() && !k.doc().is_empty() && !k.doc().contains('\n'),
+                    "{}.{}",
+                    c.key,
+                    k.key()
+                );
+                assert!(
+                    c.keys[..i].iter().all(|e| e.key() != k.key()),
+                    "{}.{} twice",
+                    c.key,
+                    k.key()
+                );
+            }
+        }
+        let capstan: Vec<&str> = kind::reference_check("capstan")
+            .unwrap()
+            .keys
+            .iter()
+            .map(|k| k.key())
+            .collect();
+        assert_eq!(
+            capstan,
+            [
+                "pull_set",
+                "pull_dof",
+                "hold_force",
+                "angle_deg",
+                "average_from"
+            ]
+        );
+    }
+
+    /// A table in `[output]` that no check reads is refused in one line
+    /// naming it and the tables of the registered checks.
+    #[test]
+    fn a_table_no_check_reads_is_refused() {
+        ensure_linked();
+        let path = scenes().join("block-on-plane.toml");
+        let e = crate::scene::load(&path, &["output.blok.pull_set=\"all\"".into()])
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains('\n'), "{e}");
+        assert!(
+            e.contains("output.blok: no registered reference check reads [output.blok]"),
+            "{e}"
+        );
+        for table in [
+            "[output.block] of block-on-plane",
+            "[output.capstan] of capstan",
+            "[output.strip] of strip-draw",
+        ] {
+            assert!(e.contains(table), "{table} not in: {e}");
+        }
+        // A check's key that is not a table is named as such.
+        let e = crate::scene::load(&path, &["output.capstan=3".into()])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("output.capstan: 3 (an integer): expected a table { pull_set,"),
+            "{e}"
+        );
+    }
+
+    /// A check's table is resolved against its keys when the scene is read:
+    /// an unknown key names the table and the key, at its line in the file;
+    /// a mistyped value names the key and the unit; a value out of range
+    /// names the value and the range; defaults fill in.
+    #[test]
+    fn a_check_table_is_resolved_against_its_keys() {
+        ensure_linked();
+        let path = scenes().join("block-on-plane.toml");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let line = 1 + text
+            .lines()
+            .position(|l| l.starts_with("block = {"))
+            .unwrap();
+        let typo = text.replace("normal_force = 100.0", "normal_forse = 100.0");
+        assert_ne!(typo, text, "the block's table changed");
+        let e = crate::scene::parse(&typo, &path, &[])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!(
+                ":{line}: output.block.normal_forse: unknown key in [output.block] (its keys: pull_set, pull_dof, normal_force, average_from)"
+            )),
+            "{e}"
+        );
+        for (set, says) in [
+            (
+                "output.block.normal_force=\"heavy\"",
+                "output.block.normal_force: \"heavy\" (a string): expected a number in N",
+            ),
+            (
+                "output.block.normal_force=-5",
+                "output.block.normal_force: -5 N: must be finite and > 0",
+            ),
+            (
+                "output.block.pull_set=3",
+                "output.block.pull_set: 3 (an integer): expected a string, the node set's name",
+            ),
+            (
+                "output.block.pull_dof=\"rz\"",
+                "output.block.pull_dof: \"rz\": must be ux, uy or uz",
+            ),
+            (
+                "output.block.pull_dof=",
+                "output.block.pull_dof: missing from [output.block]: pull_dof (DOF)",
+            ),
+            (
+                "output.block.average_from=-1e-3",
+                "output.block.average_from: -0.001 s: must be finite and >= 0",
+            ),
+        ] {
+            let e = crate::scene::load(&path, &[set.to_string()])
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(says) && !e.contains('\n'), "{set}: {e}");
+        }
+        let loaded = crate::scene::load(
+            &scenes().join("capstan.toml"),
+            &["output.capstan.pull_dof=".into()],
+        )
+        .unwrap();
+        let table = &loaded.scene.output.checks["capstan"];
+        assert_eq!(table.name("pull_dof"), Some("ux"));
+        assert_eq!(table.number("hold_force"), Some(200.0));
     }
 
     /// An unknown kind is refused when the scene is loaded, in one line

@@ -3,17 +3,18 @@
 //! with `F` the holder's mean prescribed force, and the force the holder
 //! delivered against `F`.
 //!
-//! - Needs `[output.strip]` (`pull_set`, `pull_dof`, `holder`,
-//!   `average_from`) whose `holder` is a tool, force-controlled in some
-//!   step.
+//! - Its table `[output.strip]`: `pull_set`, `pull_dof`, `holder` (a
+//!   tool), `average_from` (s); needs the `holder` to be a tool,
+//!   force-controlled in some step.
 //! - Samples, from `average_from` on: the pulled set's reaction along
 //!   `pull_dof` (the draw force), the holder's force on the strip along its
 //!   press axis (delivered) and the force prescribed to it.
 //! - Figures: `draw_force`, `analytic = 2 μ F`, `holder_force` (mean
 //!   delivered), `holder_prescribed` (`F`), `mu`.
 
-use super::{PullMean, needs_table};
+use super::{AVERAGE_FROM, PULL_DOF, PULL_SET, PullMean, PulledEnd};
 use crate::run::tools_report::press_axes;
+use crate::scene::check_table::{CheckTable, NameSpec, TableKey};
 use crate::scene::kind::{Figures, ReferenceCheck, Sampler};
 use crate::scene::schema::Motion;
 use crate::scene::{LoadedScene, Model, SceneError};
@@ -24,6 +25,7 @@ inventory::submit! {
         name: "strip-draw",
         summary: "strip drawn between a force-controlled holder and a die: draw force against 2 mu F; [output.strip]",
         key: "strip",
+        keys: KEYS,
         value_key: "draw_force",
         needs,
         start,
@@ -37,29 +39,35 @@ pub(super) fn anchor() -> usize {
     std::hint::black_box(1)
 }
 
-fn needs(loaded: &LoadedScene) -> Result<(), SceneError> {
+/// `[output.strip]`.
+const KEYS: &[TableKey] = &[
+    PULL_SET,
+    PULL_DOF,
+    TableKey::Name(NameSpec::required(
+        "holder",
+        "tool",
+        "the force-controlled tool pressing the strip on the die",
+    )),
+    AVERAGE_FROM,
+];
+
+/// The holder is a tool, force-controlled in some step.
+fn needs(loaded: &LoadedScene, table: &CheckTable) -> Result<(), SceneError> {
     let s = &loaded.scene;
-    needs_table(loaded, s.output.strip.is_some(), "strip-draw", "strip")?;
-    let Some(strip) = &s.output.strip else {
-        return Ok(());
-    };
-    if !s.tools.contains_key(&strip.holder) {
-        return Err(loaded.key_error(
-            "output.strip.holder",
-            format!("\"{}\": no such tool", strip.holder),
-        ));
+    let holder = table.name("holder").unwrap_or_default();
+    if !s.tools.contains_key(holder) {
+        return Err(loaded.key_error("output.strip.holder", format!("\"{holder}\": no such tool")));
     }
     let force_controlled = s
         .steps
         .iter()
         .flat_map(|step| &step.motions)
-        .any(|m| matches!(m, Motion::Force { .. }) && m.tool() == strip.holder);
+        .any(|m| matches!(m, Motion::Force { .. }) && m.tool() == holder);
     if !force_controlled {
         return Err(loaded.key_error(
             "output.strip.holder",
             format!(
-                "\"{}\": the holder must be force-controlled in some step (its force is the reference 2 mu F)",
-                strip.holder
+                "\"{holder}\": the holder must be force-controlled in some step (its force is the reference 2 mu F)"
             ),
         ));
     }
@@ -77,15 +85,15 @@ struct Strip {
     prescribed: f64,
 }
 
-fn start(loaded: &LoadedScene, model: &Model) -> Option<Box<dyn Sampler>> {
-    let strip = loaded.scene.output.strip.as_ref()?;
+fn start(_: &LoadedScene, table: &CheckTable, model: &Model) -> Option<Box<dyn Sampler>> {
+    let holder_name = table.name("holder")?;
     let holder = model
         .tool_names
         .iter()
-        .position(|n| *n == strip.holder)
+        .position(|n| n == holder_name)
         .map(|i| (i, press_axes(model).get(i).copied()));
     Some(Box::new(Strip {
-        pull: PullMean::new(&strip.pulled_end()),
+        pull: PullMean::new(&PulledEnd::of(table)?),
         holder,
         delivered: 0.0,
         prescribed: 0.0,
