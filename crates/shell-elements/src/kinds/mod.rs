@@ -5,7 +5,7 @@
 //!
 //! The element loop is monomorphised over the element and the material, so
 //! a run needs the pair's type, made at compile time. Each side reaches the
-//! other side's built-ins, generated from one list ([`builtin`]):
+//! other side's built-ins, generated from one list (`builtin.rs`):
 //!
 //! - A new **material** is one file: its `MaterialKind` (name, summary,
 //!   declared keys) and a builder that makes the material from a
