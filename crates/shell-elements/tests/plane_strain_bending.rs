@@ -27,10 +27,9 @@
 mod common;
 use std::time::Instant;
 
-use fem_core::{Amplitude, Control, Dof, Dofs, MotionKind, Solver, SolverSettings, rectangle};
+use fem_core::{Amplitude, Control, Dof, MotionKind};
 use shell_elements::{
-    BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, RuleKind, Section, ShellFormulation,
-    ShellSet, ThroughThickness,
+    BelytschkoTsay, FullyIntegrated, Hardening, RuleKind, ShellFormulation, ThroughThickness,
 };
 
 const YOUNG: f64 = 200_000.0;
@@ -43,6 +42,17 @@ const LENGTH: f64 = 4.0;
 const WIDTH: f64 = 1.0;
 const ELEMENTS: usize = 4;
 const RULE_POINTS: usize = 15;
+/// The strip (module docs).
+const STRIP: common::PlaneStrainStrip = common::PlaneStrainStrip {
+    young: YOUNG,
+    poisson: POISSON,
+    density: DENSITY,
+    thickness: THICKNESS,
+    length: LENGTH,
+    width: WIDTH,
+    elements: ELEMENTS,
+    rule_points: RULE_POINTS,
+};
 /// Largest curvature of the run, in units of κ_e.
 const KAPPA_END: f64 = 20.0;
 
@@ -109,34 +119,11 @@ struct Sample {
 /// c ρ t κ̇ L⁴/8, i.e. (c/ω₁)·8.3/(periods) ≈ 0.1 % of S t²/4 here.
 /// Returns a sample every 1/400 of the run.
 fn bend<F: ShellFormulation>(form: F) -> (Vec<Sample>, u64, f64) {
-    let mut mesh = rectangle(LENGTH, WIDTH, ELEMENTS, 1).unwrap();
+    let mut mesh = STRIP.mesh();
     mesh.node_sets
         .insert("mid".into(), vec![(ELEMENTS / 2) as u32]);
-    let mat = J2PlaneStress::new(
-        YOUNG,
-        POISSON,
-        DENSITY,
-        Hardening::swift(YIELD, 1e-3, 0.0).unwrap(),
-    )
-    .unwrap();
-    let section = Section::new(THICKNESS)
-        .unwrap()
-        .with_rule(RuleKind::Lobatto, RULE_POINTS)
-        .unwrap();
-    let set = ShellSet::from_mesh("strip", &mesh, "all", section, form, mat).unwrap();
-    let e_ps = YOUNG / (1.0 - POISSON * POISSON);
-    let omega =
-        2.365f64.powi(2) * (e_ps * THICKNESS.powi(2) / (12.0 * DENSITY)).sqrt() / LENGTH.powi(2);
-    let t_end = 400.0 * 2.0 * std::f64::consts::PI / omega;
-    let settings = SolverSettings {
-        damping: 0.05 * omega,
-        ..Default::default()
-    };
-    let mut s = Solver::new(&mesh, settings).unwrap();
-    s.add_effect(set);
-    s.fix("x0", Dofs::ALL).unwrap();
-    s.fix("all", Dofs::of(&[Dof::Uy, Dof::Rx, Dof::Rz]))
-        .unwrap();
+    let mut s = STRIP.solver(&mesh, form, Hardening::swift(YIELD, 1e-3, 0.0).unwrap());
+    let t_end = 400.0 * 2.0 * std::f64::consts::PI / STRIP.omega();
     let theta_end = KAPPA_END * kappa_e() * LENGTH;
     let amplitude = Amplitude::SmoothStep { t0: 0.0, t1: t_end };
     s.prescribe(

@@ -21,12 +21,11 @@
 //! springback `Δκ/κ` carries that error at most; the rest is the residual
 //! motion after 100 damped periods.
 
-use fem_core::{Amplitude, Control, Dof, Dofs, NodalLoad, Solver, SolverSettings, rectangle};
+mod common;
+
+use fem_core::{Amplitude, Control, Dof, NodalLoad};
 use shell_elements::bending::{PlaneStrainStrip, gardiner_ratio};
-use shell_elements::{
-    BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, RuleKind, Section, ShellFormulation,
-    ShellSet,
-};
+use shell_elements::{BelytschkoTsay, FullyIntegrated, Hardening, ShellFormulation};
 
 const YOUNG: f64 = 200_000.0;
 /// ν → ½ (the plane-strain solution is for incompressible elasticity).
@@ -36,6 +35,17 @@ const THICKNESS: f64 = 1.0;
 const LENGTH: f64 = 4.0;
 const WIDTH: f64 = 1.0;
 const ELEMENTS: usize = 4;
+/// The strip (module docs).
+const STRIP: common::PlaneStrainStrip = common::PlaneStrainStrip {
+    young: YOUNG,
+    poisson: POISSON,
+    density: DENSITY,
+    thickness: THICKNESS,
+    length: LENGTH,
+    width: WIDTH,
+    elements: ELEMENTS,
+    rule_points: 15,
+};
 
 /// What a bend and release measured.
 #[derive(Debug, Clone, Copy)]
@@ -51,27 +61,10 @@ struct Measured {
 /// Bend the strip of `hardening` with `form` by the end moment `moment` (N·mm
 /// per mm of width) and release it (module docs).
 fn bend_and_release<F: ShellFormulation>(form: F, hardening: Hardening, moment: f64) -> Measured {
-    let mesh = rectangle(LENGTH, WIDTH, ELEMENTS, 1).unwrap();
-    let mat = J2PlaneStress::new(YOUNG, POISSON, DENSITY, hardening).unwrap();
-    let section = Section::new(THICKNESS)
-        .unwrap()
-        .with_rule(RuleKind::Lobatto, 15)
-        .unwrap();
-    let set = ShellSet::from_mesh("strip", &mesh, "all", section, form, mat).unwrap();
-    let e_ps = YOUNG / (1.0 - POISSON * POISSON);
-    let omega =
-        2.365f64.powi(2) * (e_ps * THICKNESS.powi(2) / (12.0 * DENSITY)).sqrt() / LENGTH.powi(2);
-    let period = 2.0 * std::f64::consts::PI / omega;
+    let mesh = STRIP.mesh();
+    let mut s = STRIP.solver(&mesh, form, hardening);
+    let period = 2.0 * std::f64::consts::PI / STRIP.omega();
     let (t_up, t_down, t_end) = (200.0 * period, 400.0 * period, 500.0 * period);
-    let settings = SolverSettings {
-        damping: 0.05 * omega,
-        ..Default::default()
-    };
-    let mut s = Solver::new(&mesh, settings).unwrap();
-    s.add_effect(set);
-    s.fix("x0", Dofs::ALL).unwrap();
-    s.fix("all", Dofs::of(&[Dof::Uy, Dof::Rx, Dof::Rz]))
-        .unwrap();
     // Two end nodes share the moment; the second load takes it off again.
     let per_node = moment * WIDTH / 2.0;
     for (value, t0, t1) in [(per_node, 0.0, t_up), (-per_node, t_up, t_down)] {

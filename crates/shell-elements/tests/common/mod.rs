@@ -55,3 +55,71 @@ pub fn to_global_xy(s: [f64; 3], e1: [f64; 3], e2: [f64; 3]) -> [f64; 3] {
     }
     [g[0][0], g[1][1], g[0][1]]
 }
+
+/// The plane-strain strip of the bending tests: `length × width`,
+/// `elements × 1` shells of thickness `thickness` with a Lobatto rule of
+/// `rule_points`, clamped at x = 0 (set `x0`) and in plane strain across
+/// its width: uy = 0 (ε_yy = 0), rx = 0 (κ_yy = 0) and rz = 0 (no drilling)
+/// at every node.
+#[derive(Debug, Clone, Copy)]
+pub struct PlaneStrainStrip {
+    /// Young's modulus (MPa).
+    pub young: f64,
+    /// Poisson's ratio (ν → ½ for Hill's plane-strain solution).
+    pub poisson: f64,
+    /// Density (tonne/mm³).
+    pub density: f64,
+    /// Thickness (mm).
+    pub thickness: f64,
+    /// Length along x (mm).
+    pub length: f64,
+    /// Width along y (mm).
+    pub width: f64,
+    /// Shells along the length.
+    pub elements: usize,
+    /// Lobatto points through the thickness.
+    pub rule_points: usize,
+}
+
+impl PlaneStrainStrip {
+    /// The strip's first circular frequency (clamped–guided,
+    /// ω₁ = 2.365² √(E′I/(ρA))/L², rad/s).
+    pub fn omega(&self) -> f64 {
+        let e_ps = self.young / (1.0 - self.poisson * self.poisson);
+        2.365f64.powi(2) * (e_ps * self.thickness.powi(2) / (12.0 * self.density)).sqrt()
+            / self.length.powi(2)
+    }
+
+    /// A solver of the strip meshed as `mesh` (its `rectangle`, node sets
+    /// added as a test needs) with `form` and J2 of `hardening`, and light
+    /// mass-proportional damping c = ω₁/20.
+    pub fn solver<F: ShellFormulation>(
+        &self,
+        mesh: &fem_core::Mesh,
+        form: F,
+        hardening: Hardening,
+    ) -> fem_core::Solver {
+        use fem_core::{Dof, Dofs, Solver, SolverSettings};
+        let mat = J2PlaneStress::new(self.young, self.poisson, self.density, hardening).unwrap();
+        let section = shell_elements::Section::new(self.thickness)
+            .unwrap()
+            .with_rule(shell_elements::RuleKind::Lobatto, self.rule_points)
+            .unwrap();
+        let set = ShellSet::from_mesh("strip", mesh, "all", section, form, mat).unwrap();
+        let settings = SolverSettings {
+            damping: 0.05 * self.omega(),
+            ..Default::default()
+        };
+        let mut s = Solver::new(mesh, settings).unwrap();
+        s.add_effect(set);
+        s.fix("x0", Dofs::ALL).unwrap();
+        s.fix("all", Dofs::of(&[Dof::Uy, Dof::Rx, Dof::Rz]))
+            .unwrap();
+        s
+    }
+
+    /// The strip's mesh, `rectangle(length, width, elements, 1)`.
+    pub fn mesh(&self) -> fem_core::Mesh {
+        fem_core::rectangle(self.length, self.width, self.elements, 1).unwrap()
+    }
+}
