@@ -70,6 +70,11 @@ fn springback_step_keys_are_checked() {
             "moves no tool",
         ),
         (
+            "steps[2].kind=\"springback\"",
+            "steps[2].kind",
+            "must be the programme's last",
+        ),
+        (
             "steps[2].tolerance=1e-3",
             "steps[2].tolerance",
             "only read by a kind = \"springback\" step",

@@ -513,6 +513,12 @@ fn step_kind(loaded: &LoadedScene, i: usize, step: &Step) -> Result<(), SceneErr
     if step.until.is_some() {
         return keys.err(&key("until"), "a springback step ends when the blank is at rest: give duration, the longest it may take".into());
     }
+    if i + 1 != loaded.scene.steps.len() {
+        return keys.err(
+            &key("kind"),
+            "a springback step must be the programme's last (the DOFs it fixes stay fixed; forming in stages after it is not supported)".into(),
+        );
+    }
     if !step.motions.is_empty() || step.pairs.is_some() {
         return keys.err(
             &key(if step.pairs.is_some() {
