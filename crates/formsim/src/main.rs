@@ -807,12 +807,22 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
         model.contact().map_or(0, |c| c.pairs().len())
     );
     for (i, st) in s.steps.iter().enumerate() {
+        use formsim::scene::schema::{SPRINGBACK_TOLERANCE, StepKind};
+        let springback = st.kind == StepKind::Springback;
         let end = match (&st.duration, &st.until) {
+            (Some(d), _) if springback => format!("at most {d} s"),
             (Some(d), _) => format!("{d} s"),
             (None, Some(u)) => format!("until {} travels {} mm", u.tool, u.distance),
             _ => String::new(),
         };
-        let motions: Vec<String> = st.motions.iter().map(|m| m.describe()).collect();
+        let mut motions: Vec<String> = st.motions.iter().map(|m| m.describe()).collect();
+        if springback {
+            motions.push(format!(
+                "the tools let go; {} until the out-of-balance force is {:e} of its start",
+                st.method.as_deref().unwrap_or("dynamic-relaxation"),
+                st.tolerance.unwrap_or(SPRINGBACK_TOLERANCE)
+            ));
+        }
         say!(
             "  step {}      {} ({end}): {}",
             i + 1,

@@ -11,7 +11,9 @@ use formsim::scene;
 /// The 10 × 10 cup drawn 5 mm, then released: at rest within its
 /// tolerance, one DOF (uz) fixed for the one free mode (the symmetry planes
 /// hold the rest), a springback displacement that is finite and not zero,
-/// `springback.csv` with a row per node, the energy balance closed to 1e-3,
+/// `springback.csv` with a row per node, VTK frames as the tools let go and
+/// at the end with the springback displacement, the energy balance closed
+/// to 1e-3,
 /// and no warning beyond those of the same cup without the release (the
 /// release's motion is not a quasi-static failure).
 #[test]
@@ -44,6 +46,12 @@ fn square_cup_springback_comes_to_rest_and_reports() {
     assert_eq!(s.stroke, formed.summary.stroke);
     let csv = std::fs::read_to_string(dir.path().join("springback.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + s.nodes, "one row per node");
+    // Frames: the start, as the tools let go, …, the end; from the
+    // release on they carry the springback displacement.
+    let vtk = |k: usize| std::fs::read_to_string(dir.path().join(format!("vtk/blank_{k:04}.vtu")));
+    let has = |k: usize| vtk(k).unwrap().contains("springback_displacement");
+    let last = (1..).find(|&k| vtk(k).is_err()).unwrap() - 1;
+    assert!(!has(0) && has(1) && has(last), "{last} frames");
 }
 
 /// A springback step with a motion, an `until`, an unknown method, the

@@ -79,10 +79,21 @@ pub fn frame(path: &Path, model: &Model, time: f64, stroke: f64) -> Result<(), O
         mises.push(shells.von_mises_max(e));
         peeq.push(shells.plastic_strain_max(e));
     }
-    let point_fields = [
+    // In a springback step: the springback displacement since the tools
+    // let go, less its best fit by the free rigid-body modes.
+    let springback: Option<Vec<[f64; 3]>> = model.solver.springback().map(|r| {
+        r.displacement(&state.x)
+            .iter()
+            .map(|d| [d.x, d.y, d.z])
+            .collect()
+    });
+    let mut point_fields = vec![
         ("contact_pressure", FieldData::Scalar(&pressure)),
         ("friction_traction", FieldData::Vector(&traction)),
     ];
+    if let Some(d) = &springback {
+        point_fields.push(("springback_displacement", FieldData::Vector(d)));
+    }
     let cell_fields = [
         ("thickness", FieldData::Scalar(&thickness)),
         ("thinning", FieldData::Scalar(&thinning)),

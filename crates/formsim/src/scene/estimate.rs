@@ -551,6 +551,10 @@ pub fn report_lines(scene: &Scene, est: &Estimate, setup: &SetupReport) -> Vec<S
     };
     let (limit, what) = memory_limit();
     let (_, step) = est.dt_source.key_and_name();
+    let springback = scene
+        .steps
+        .iter()
+        .any(|s| s.kind == super::schema::StepKind::Springback);
     vec![
         format!(
             "mass        {:.4e} tonne; {scaling}; first step {:.3e} s",
@@ -563,11 +567,17 @@ pub fn report_lines(scene: &Scene, est: &Estimate, setup: &SetupReport) -> Vec<S
             format_bytes(est.frames_bytes),
         ),
         format!(
-            "estimate    {:.0} increments of {:.3e} s ({step}) to {:.4e} s; wall time {} at {MICROSECONDS_PER_ELEMENT_CYCLE} µs per element and increment",
+            "estimate    {}{:.0} increments of {:.3e} s ({step}) to {:.4e} s; wall time {} at {MICROSECONDS_PER_ELEMENT_CYCLE} µs per element and increment{}",
+            if springback { "at most " } else { "" },
             est.increments,
             est.dt,
             est.end_time,
             format_duration(est.run_time_s),
+            if springback {
+                " (a springback step ends when the blank is at rest, usually well before its duration)"
+            } else {
+                ""
+            },
         ),
     ]
 }
