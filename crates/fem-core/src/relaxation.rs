@@ -80,15 +80,15 @@ impl SpringbackReport {
 }
 
 impl Relaxation {
-    /// A relaxation of `n` nodes starting at `time` from the positions `x`,
-    /// with the free modes `free_modes` removed by the constraints `fixed`.
+    /// A relaxation starting at `time` from the positions `x`, with the
+    /// free modes `free_modes` removed by the constraints `fixed`.
     pub(crate) fn new(
-        n: usize,
         tolerance: f64,
         time: f64,
         x: &[Vec3],
         (free_modes, fixed): (Vec<RigidMode>, Vec<(u32, Dof)>),
     ) -> Self {
+        let n = x.len();
         Self {
             c: 0.0,
             f_ref: 0.0,
@@ -115,7 +115,6 @@ impl Relaxation {
     /// Rayleigh quotient of the step's motion (`v`, `w` over `dt`), and
     /// whether the blank is at rest. `constrained` masks the DOFs whose
     /// force is a reaction, not a residual.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn update(
         &mut self,
         motion: (&[Vec3], &[Vec3]),

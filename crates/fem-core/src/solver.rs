@@ -1132,13 +1132,11 @@ impl Solver {
         }
         self.constraints.sort_by_key(|c| (c.node, c.dof));
         self.reactions.resize(self.constraints.len(), 0.0);
-        let n = self.state.len();
         self.relaxation = Some(Relaxation::new(
-            n,
             tolerance,
             self.time,
             &self.state.x,
-            (free, fixed.clone()),
+            (free, fixed),
         ));
         Ok(())
     }

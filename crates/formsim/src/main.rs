@@ -807,7 +807,7 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
         model.contact().map_or(0, |c| c.pairs().len())
     );
     for (i, st) in s.steps.iter().enumerate() {
-        use formsim::scene::schema::{SPRINGBACK_TOLERANCE, StepKind};
+        use formsim::scene::schema::StepKind;
         let springback = st.kind == StepKind::Springback;
         let end = match (&st.duration, &st.until) {
             (Some(d), _) if springback => format!("at most {d} s"),
@@ -819,8 +819,8 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
         if springback {
             motions.push(format!(
                 "the tools let go; {} until the out-of-balance force is {:e} of its start",
-                st.method.as_deref().unwrap_or("dynamic-relaxation"),
-                st.tolerance.unwrap_or(SPRINGBACK_TOLERANCE)
+                st.springback_method(),
+                st.springback_tolerance()
             ));
         }
         say!(

@@ -341,6 +341,7 @@ fn finish(
         rec.tool_history.truncate(n);
     }
     let timing = timing::Timing::new(model, rec.output_s, finish.elapsed().as_secs_f64());
+    let springback = springback::summary(model, &loaded.scene);
     let summary = summary::Summary::new(summary::Inputs {
         loaded,
         model,
@@ -361,6 +362,7 @@ fn finish(
         stop: stop.as_ref(),
         dt0: setup.report.dt_initial,
         timing,
+        springback: springback.as_ref().map(|(s, _)| s.clone()),
     });
     let mut result = RunResult {
         summary,
@@ -372,9 +374,9 @@ fn finish(
     };
     let writing = Instant::now();
     write::all(out, &result, model, o.plots, &rec.frames)?;
-    if let Some((_, d)) = springback::summary(model, &loaded.scene) {
+    if let Some((_, d)) = &springback {
         let path = out.join("springback.csv");
-        springback::csv(&path, model, &d).map_err(|e| OutputError::io(&path, e))?;
+        springback::csv(&path, model, d).map_err(|e| OutputError::io(&path, e))?;
     }
     result.write_s = writing.elapsed().as_secs_f64();
     let out = out.display().to_string();

@@ -62,6 +62,8 @@ pub fn probe(loaded: &LoadedScene) -> Result<Probe, RunError> {
         stop: None,
         dt0: setup.dt_initial,
         timing: super::timing::Timing::new(&model, 0.0, 0.0),
+        // Before a step there is no springback to report.
+        springback: None,
     });
     let summary = serde_json::to_value(&summary)
         .map_err(|e| loaded.key_error("output", format!("summary: {e}")))?;

@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use crate::output::csv_text::CsvText;
 use crate::scene::Model;
-use crate::scene::schema::{SPRINGBACK_TOLERANCE, StepKind};
+use crate::scene::schema::StepKind;
 use fem_core::Vec3;
 
 /// `summary.json`'s `springback`.
@@ -63,11 +63,8 @@ pub fn summary(
         );
     let at = r.x_release.get(node).copied().unwrap_or_default();
     let s = SpringbackSummary {
-        method: step
-            .method
-            .clone()
-            .unwrap_or_else(|| "dynamic-relaxation".into()),
-        tolerance: step.tolerance.unwrap_or(SPRINGBACK_TOLERANCE),
+        method: step.springback_method().to_string(),
+        tolerance: step.springback_tolerance(),
         settled: r.settled,
         increments: r.steps,
         duration_s: model.solver.time() - r.t_release,

@@ -231,6 +231,8 @@ pub struct Inputs<'a> {
     pub dt0: f64,
     /// Seconds per stage.
     pub timing: super::timing::Timing,
+    /// What the springback step did, when the scene has one.
+    pub springback: Option<super::springback::SpringbackSummary>,
 }
 
 /// The stroke as a key: `15` for 15.0, `12.5` for 12.5.
@@ -276,7 +278,7 @@ impl Summary {
             &tools,
         ));
         warnings.append(&mut notes);
-        let springback = super::springback::summary(i.model, scene).map(|(s, _)| s);
+        let springback = i.springback;
         if let Some(b) = springback.as_ref().filter(|b| !b.settled) {
             warnings.push(format!(
                 "springback: not at rest after {:.2e} s (residual {:.2e} N, {:.1e} of the {:.2e} N when the tools let go, tolerance {:.0e}): the shape is not the springback shape; give the step a longer duration",

@@ -302,12 +302,12 @@ fn press_programme(
 
 /// How a press step ends, and its duration (the longest, for a travel).
 fn step_end(step: &super::schema::Step, tool_names: &[String]) -> (StepEnd, f64) {
-    use super::schema::{SPRINGBACK_TOLERANCE, StepKind};
+    use super::schema::StepKind;
     if step.kind == StepKind::Springback {
         let d = step.duration.expect("validated");
         return (
             StepEnd::Settled {
-                tolerance: step.tolerance.unwrap_or(SPRINGBACK_TOLERANCE),
+                tolerance: step.springback_tolerance(),
                 max_duration: d,
             },
             d,

@@ -428,6 +428,18 @@ pub struct Step {
     pub pairs: Option<Vec<String>>,
 }
 
+impl Step {
+    /// A springback step's method, its default filled in.
+    pub fn springback_method(&self) -> &str {
+        self.method.as_deref().unwrap_or(SPRINGBACK_METHODS[0])
+    }
+
+    /// A springback step's residual force ratio, its default filled in.
+    pub fn springback_tolerance(&self) -> f64 {
+        self.tolerance.unwrap_or(SPRINGBACK_TOLERANCE)
+    }
+}
+
 /// What a press step does.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
