@@ -32,27 +32,17 @@ use shell_elements::{
     BelytschkoTsay, FullyIntegrated, Hardening, RuleKind, ShellFormulation, ThroughThickness,
 };
 
-const YOUNG: f64 = 200_000.0;
-/// ν → ½ (the plane-strain solution above is for incompressible elasticity).
-const POISSON: f64 = 0.4999;
+/// The strip (module docs; ν → ½, for which the plane-strain solution
+/// above holds).
+const STRIP: common::PlaneStrainStrip = common::STEEL_STRIP;
+const YOUNG: f64 = STRIP.young;
+const POISSON: f64 = STRIP.poisson;
 const YIELD: f64 = 250.0;
-const DENSITY: f64 = 7.85e-9;
-const THICKNESS: f64 = 1.0;
-const LENGTH: f64 = 4.0;
-const WIDTH: f64 = 1.0;
-const ELEMENTS: usize = 4;
-const RULE_POINTS: usize = 15;
-/// The strip (module docs).
-const STRIP: common::PlaneStrainStrip = common::PlaneStrainStrip {
-    young: YOUNG,
-    poisson: POISSON,
-    density: DENSITY,
-    thickness: THICKNESS,
-    length: LENGTH,
-    width: WIDTH,
-    elements: ELEMENTS,
-    rule_points: RULE_POINTS,
-};
+const THICKNESS: f64 = STRIP.thickness;
+const LENGTH: f64 = STRIP.length;
+const WIDTH: f64 = STRIP.width;
+const ELEMENTS: usize = STRIP.elements;
+const RULE_POINTS: usize = STRIP.rule_points;
 /// Largest curvature of the run, in units of κ_e.
 const KAPPA_END: f64 = 20.0;
 

@@ -27,25 +27,13 @@ use fem_core::{Amplitude, Control, Dof, NodalLoad};
 use shell_elements::bending::{PlaneStrainStrip, gardiner_ratio};
 use shell_elements::{BelytschkoTsay, FullyIntegrated, Hardening, ShellFormulation};
 
-const YOUNG: f64 = 200_000.0;
-/// ν → ½ (the plane-strain solution is for incompressible elasticity).
-const POISSON: f64 = 0.4999;
-const DENSITY: f64 = 7.85e-9;
-const THICKNESS: f64 = 1.0;
-const LENGTH: f64 = 4.0;
-const WIDTH: f64 = 1.0;
-const ELEMENTS: usize = 4;
 /// The strip (module docs).
-const STRIP: common::PlaneStrainStrip = common::PlaneStrainStrip {
-    young: YOUNG,
-    poisson: POISSON,
-    density: DENSITY,
-    thickness: THICKNESS,
-    length: LENGTH,
-    width: WIDTH,
-    elements: ELEMENTS,
-    rule_points: 15,
-};
+const STRIP: common::PlaneStrainStrip = common::STEEL_STRIP;
+const YOUNG: f64 = STRIP.young;
+const POISSON: f64 = STRIP.poisson;
+const THICKNESS: f64 = STRIP.thickness;
+const LENGTH: f64 = STRIP.length;
+const WIDTH: f64 = STRIP.width;
 
 /// What a bend and release measured.
 #[derive(Debug, Clone, Copy)]

@@ -81,6 +81,20 @@ pub struct PlaneStrainStrip {
     pub rule_points: usize,
 }
 
+/// The strip both bending tests use: steel-like elasticity with ν → ½ (the
+/// plane-strain solution is for incompressible elasticity), `4 × 1` mm of
+/// 1 mm sheet in 4 shells, 15 Lobatto points.
+pub const STEEL_STRIP: PlaneStrainStrip = PlaneStrainStrip {
+    young: 200_000.0,
+    poisson: 0.4999,
+    density: 7.85e-9,
+    thickness: 1.0,
+    length: 4.0,
+    width: 1.0,
+    elements: 4,
+    rule_points: 15,
+};
+
 impl PlaneStrainStrip {
     /// The strip's first circular frequency (clamped–guided,
     /// ω₁ = 2.365² √(E′I/(ρA))/L², rad/s).
