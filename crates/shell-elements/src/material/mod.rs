@@ -89,6 +89,25 @@ pub trait Material: Clone + Send + Sync + 'static {
     ) -> [PointUpdate<L>; N] {
         update_points_by_lane(self, stress, history, deps)
     }
+    /// The algorithmic (consistent) tangent `∂σ_{n+1}/∂Δε` of
+    /// [`Material::update`] from the committed `stress` and `history` for
+    /// the increment `deps`: row `i`, column `j` is `∂σ_i/∂Δε_j` (MPa; the
+    /// same component order as `update`, tensor shear stress against
+    /// engineering shear strain). The static solver's Newton iterations
+    /// need it; the explicit step never calls it.
+    ///
+    /// By default central finite differences of `update` (step
+    /// [`TANGENT_FD_STEP`]), which any material satisfies; a material with
+    /// a closed-form tangent overrides it (the tests check each override
+    /// against these differences).
+    fn consistent_tangent(
+        &self,
+        stress: &[f64; 3],
+        history: &Self::History,
+        deps: [f64; 3],
+    ) -> [[f64; 3]; 3] {
+        finite_difference_tangent(self, stress, history, deps)
+    }
     /// Equivalent plastic strain of a point (-).
     fn plastic_strain(&self, history: &Self::History) -> f64;
     /// Current flow (yield) stress of a point (MPa).
@@ -135,6 +154,38 @@ pub fn update_points_by_lane<M: Material, L: Lanes4, const N: usize>(
         deps_zz: L::from_array(u.deps_zz),
         dissipation: L::from_array(u.dissipation),
     })
+}
+
+/// Strain step of the finite-difference tangent (-): small against the
+/// strain increments of a Newton iteration (1e-5 and more), large against
+/// the rounding of a stress update (1e-16 relative).
+pub const TANGENT_FD_STEP: f64 = 1.0e-8;
+
+/// `∂σ/∂Δε` of `mat.update` by central differences with step
+/// [`TANGENT_FD_STEP`] (the default [`Material::consistent_tangent`]).
+pub fn finite_difference_tangent<M: Material>(
+    mat: &M,
+    stress: &[f64; 3],
+    history: &M::History,
+    deps: [f64; 3],
+) -> [[f64; 3]; 3] {
+    let h = TANGENT_FD_STEP;
+    let at = |d: [f64; 3]| {
+        let (mut s, mut hist) = (*stress, *history);
+        mat.update(&mut s, &mut hist, d);
+        s
+    };
+    let mut c = [[0.0; 3]; 3];
+    for j in 0..3 {
+        let (mut up, mut down) = (deps, deps);
+        up[j] += h;
+        down[j] -= h;
+        let (su, sd) = (at(up), at(down));
+        for i in 0..3 {
+            c[i][j] = (su[i] - sd[i]) / (2.0 * h);
+        }
+    }
+    c
 }
 
 /// Von Mises stress of a plane-stress state `[σ_xx, σ_yy, σ_xy]` (MPa).
