@@ -773,6 +773,7 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
     use formsim::scene::estimate;
     let loaded = formsim::scene::load(path, set).map_err(|e| e.to_string())?;
     let mut model = formsim::scene::build(&loaded).map_err(|e| e.to_string())?;
+    formsim::run::post::check_lines(&loaded, &model.mesh).map_err(|e| e.to_string())?;
     let setup = model
         .solver
         .initialize()

@@ -18,6 +18,7 @@ pub mod finite;
 pub mod out_dir;
 pub mod post;
 pub mod probe;
+pub mod profile;
 mod recorder;
 pub mod reference_checks;
 pub mod springback;
@@ -174,6 +175,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         source: e,
     })?;
     let mut model = crate::scene::build(loaded)?;
+    post::check_lines(loaded, &model.mesh)?;
     tracing::info!(
         scene = %scene.scene.name,
         nodes = model.mesh.nodes.len(),
@@ -342,6 +344,14 @@ fn finish(
     }
     let timing = timing::Timing::new(model, rec.output_s, finish.elapsed().as_secs_f64());
     let springback = springback::summary(model, &loaded.scene);
+    let profiles = match (model.solver.springback(), &springback) {
+        (Some(r), Some((_, d))) => {
+            let released: Vec<fem_core::Vec3> =
+                r.x_release.iter().zip(d).map(|(x, u)| x + u).collect();
+            profile::measure_all(&model.mesh, &o.profiles, &r.x_release, Some(&released))
+        }
+        _ => profile::measure_all(&model.mesh, &o.profiles, &model.solver.state().x, None),
+    };
     let summary = summary::Summary::new(summary::Inputs {
         loaded,
         model,
@@ -363,6 +373,7 @@ fn finish(
         dt0: setup.report.dt_initial,
         timing,
         springback: springback.as_ref().map(|(s, _)| s.clone()),
+        profiles: &profiles,
     });
     let mut result = RunResult {
         summary,
@@ -378,6 +389,7 @@ fn finish(
         let path = out.join("springback.csv");
         springback::csv(&path, model, d).map_err(|e| OutputError::io(&path, e))?;
     }
+    profile::write(out, &profiles, o.plots)?;
     result.write_s = writing.elapsed().as_secs_f64();
     let out = out.display().to_string();
     match stop {

@@ -81,7 +81,12 @@ pub const RUN_FILES: &[&str] = &[
 ];
 
 /// Folders a run writes, each with the extension of the files it puts there.
-pub const RUN_FOLDERS: &[(&str, &str)] = &[("sections", "csv"), ("vtk", "vtu"), ("plots", "png")];
+pub const RUN_FOLDERS: &[(&str, &str)] = &[
+    ("sections", "csv"),
+    ("profiles", "csv"),
+    ("vtk", "vtu"),
+    ("plots", "png"),
+];
 
 /// Files a comparison writes at the top of its directory (besides `plots/`
 /// and one folder per row).

@@ -3,8 +3,8 @@
 //! allocates; it is not part of the time-step loop).
 
 use super::tools_report::{self, ToolSummary};
-use crate::scene::Model;
 use crate::scene::schema::{DrawIn, SectionLine};
+use crate::scene::{LoadedScene, Model, SceneError};
 use fem_core::Mesh;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -43,6 +43,42 @@ pub fn section_index(mesh: &Mesh, line: &SectionLine) -> SectionIndex {
         name: line.name.clone(),
         elements,
     }
+}
+
+/// Every `[[output.sections]]` line crosses an element of the blank and
+/// every `[[output.profiles]]` line has the seven nodes its fits need
+/// (two in the web, three in the wall, two in the flange): a line that
+/// misses the blank is one line at its key, not a NaN or an empty curve at
+/// the end of the run.
+///
+/// # Errors
+/// The first line that misses, at its key.
+pub fn check_lines(loaded: &LoadedScene, mesh: &Mesh) -> Result<(), SceneError> {
+    let o = &loaded.scene.output;
+    for (i, line) in o.sections.iter().enumerate() {
+        if section_index(mesh, line).elements.is_empty() {
+            return Err(loaded.key_error(
+                &format!("output.sections[{i}]"),
+                format!(
+                    "no element of the blank lies on the line from {:?} to {:?} (within half an element)",
+                    line.from, line.to
+                ),
+            ));
+        }
+    }
+    for (i, line) in o.profiles.iter().enumerate() {
+        let n = super::profile::profile_index(mesh, line).nodes.len();
+        if n < 7 {
+            return Err(loaded.key_error(
+                &format!("output.profiles[{i}]"),
+                format!(
+                    "{n} nodes of the blank lie on the line from {:?} to {:?} (within half an element); its fits need 7",
+                    line.from, line.to
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// One point of a section curve.

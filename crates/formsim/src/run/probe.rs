@@ -27,6 +27,7 @@ pub struct Probe {
 /// The scene does not build or set up.
 pub fn probe(loaded: &LoadedScene) -> Result<Probe, RunError> {
     let mut model = crate::scene::build(loaded)?;
+    super::post::check_lines(loaded, &model.mesh)?;
     let setup = model.solver.initialize().map_err(|e| {
         let message =
             crate::scene::blank_mesh::FileIds::rename(model.file_ids.as_ref(), &e.to_string());
@@ -64,6 +65,8 @@ pub fn probe(loaded: &LoadedScene) -> Result<Probe, RunError> {
         timing: super::timing::Timing::new(&model, 0.0, 0.0),
         // Before a step there is no springback to report.
         springback: None,
+        // Nor a formed shape to measure.
+        profiles: &[],
     });
     let summary = serde_json::to_value(&summary)
         .map_err(|e| loaded.key_error("output", format!("summary: {e}")))?;

@@ -187,6 +187,9 @@ pub struct Summary {
     /// What the springback step did, when the scene has one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub springback: Option<super::springback::SpringbackSummary>,
+    /// The shape measures of each `[[output.profiles]]` line.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub profiles: BTreeMap<String, super::profile::ProfileSummary>,
     /// How the run ended: `completed`, `failed` or `interrupted`.
     pub status: super::Status,
     /// Why a run that did not complete stopped, one line (the first
@@ -233,6 +236,8 @@ pub struct Inputs<'a> {
     pub timing: super::timing::Timing,
     /// What the springback step did, when the scene has one.
     pub springback: Option<super::springback::SpringbackSummary>,
+    /// The `[[output.profiles]]` lines, measured.
+    pub profiles: &'a [super::profile::Measured],
 }
 
 /// The stroke as a key: `15` for 15.0, `12.5` for 12.5.
@@ -289,6 +294,19 @@ impl Summary {
                 b.tolerance
             ));
         }
+        for m in i.profiles {
+            if let Err(why) = &m.segments {
+                warnings.push(format!(
+                    "profile {}: no shape measures: {why}; move output.profiles' web_to, flange_from or shoulder_clear",
+                    m.name
+                ));
+            }
+        }
+        let profiles = i
+            .profiles
+            .iter()
+            .filter_map(|m| Some((m.name.clone(), m.summary()?)))
+            .collect();
         Summary {
             scene: scene.scene.name.clone(),
             description: scene.scene.description.clone(),
@@ -349,6 +367,7 @@ impl Summary {
             settings: settings(scene),
             overrides: i.loaded.overrides.clone(),
             springback,
+            profiles,
             status: i.stop.map_or(super::Status::Completed, |s| s.status),
             cause: i.stop.map(|s| s.cause.clone()),
         }

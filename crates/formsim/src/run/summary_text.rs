@@ -80,6 +80,9 @@ impl fmt::Display for Summary {
                 }
             )?;
         }
+        for (name, p) in &s.profiles {
+            writeln!(f, "  profile {name}: {}", p.line())?;
+        }
         self.fmt_checks(f)?;
         if f.alternate() {
             return Ok(());

@@ -433,7 +433,7 @@ fn punch_title(model: &Model) -> String {
 
 /// An [`OutputError::Plot`] for `path` around a [`crate::plot::PlotError`]:
 /// the file named once (a drawing failure's own text already names it).
-fn plot_err(path: &Path) -> impl Fn(crate::plot::PlotError) -> OutputError + '_ {
+pub(crate) fn plot_err(path: &Path) -> impl Fn(crate::plot::PlotError) -> OutputError + '_ {
     move |e| OutputError::Plot {
         path: path.to_path_buf(),
         message: match e {

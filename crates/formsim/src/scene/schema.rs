@@ -785,6 +785,10 @@ pub struct Output {
     /// `[[output.draw_in]]`: edge points whose inward travel is reported.
     #[serde(default)]
     pub draw_in: Vec<DrawIn>,
+    /// `[[output.profiles]]`: channel cross-sections whose shape measures
+    /// (θ1, θ2, ρ) are reported formed and after springback.
+    #[serde(default)]
+    pub profiles: Vec<ProfileLine>,
     /// PNG plots; default true.
     #[serde(default = "yes")]
     pub plots: bool,
@@ -807,7 +811,7 @@ pub struct Output {
 impl Output {
     /// `[output]`'s own keys, the fields above: any other key of `[output]`
     /// is a reference check's table.
-    pub const OWN_KEYS: [&'static str; 10] = [
+    pub const OWN_KEYS: [&'static str; 11] = [
         "frames",
         "history_points",
         "stroke_tool",
@@ -815,6 +819,7 @@ impl Output {
         "symmetry_factor",
         "sections",
         "draw_in",
+        "profiles",
         "plots",
         "forming_starts_at",
         "punch_edge_distance",
@@ -831,6 +836,7 @@ impl Default for Output {
             symmetry_factor: 1.0,
             sections: Vec::new(),
             draw_in: Vec::new(),
+            profiles: Vec::new(),
             plots: true,
             forming_starts_at: 1.0,
             punch_edge_distance: None,
@@ -863,6 +869,28 @@ pub struct SectionLine {
     pub from: [f64; 2],
     /// End `[x, y]` (mm).
     pub to: [f64; 2],
+}
+
+/// `[[output.profiles]]`: the nodes of the initial blank along the segment
+/// `from → to` (x, y in mm), read as a channel's cross-section in the
+/// vertical plane of the segment (`run::profile` in the code; the shape
+/// measures in docs/springback.md).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProfileLine {
+    /// Name: the CSV is `profiles/NAME.csv`.
+    pub name: String,
+    /// Start `[x, y]` (mm).
+    pub from: [f64; 2],
+    /// End `[x, y]` (mm).
+    pub to: [f64; 2],
+    /// Formed points up to this horizontal distance from `from` are the web (mm).
+    pub web_to: f64,
+    /// Formed points from this horizontal distance on are the flange (mm).
+    pub flange_from: f64,
+    /// Wall points lie more than this below the flange and above the web (mm):
+    /// the shoulders' bends stay out of the fits.
+    pub shoulder_clear: f64,
 }
 
 /// `[[output.draw_in]]`: the node nearest `at` (initial x, y); its draw-in is

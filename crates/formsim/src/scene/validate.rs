@@ -814,6 +814,30 @@ fn outputs(loaded: &LoadedScene) -> Result<(), SceneError> {
             );
         }
     }
+    for (i, p) in o.profiles.iter().enumerate() {
+        let key = |k: &str| format!("output.profiles[{i}].{k}");
+        let d = [p.to[0] - p.from[0], p.to[1] - p.from[1]];
+        if d[0].hypot(d[1]).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return keys.err(&key("to"), "the profile has zero length".into());
+        }
+        keys.positive(&key("web_to"), p.web_to, "mm")?;
+        keys.positive(&key("shoulder_clear"), p.shoulder_clear, "mm")?;
+        if p.flange_from.partial_cmp(&p.web_to) != Some(std::cmp::Ordering::Greater) {
+            return keys.err(
+                &key("flange_from"),
+                format!(
+                    "{} mm: must be beyond web_to = {} mm",
+                    p.flange_from, p.web_to
+                ),
+            );
+        }
+        if o.profiles[..i].iter().any(|q| q.name == p.name) {
+            return keys.err(
+                &key("name"),
+                format!("{:?}: a second profile of that name", p.name),
+            );
+        }
+    }
     for (i, d) in o.draw_in.iter().enumerate() {
         if d.inward[0].hypot(d.inward[1]).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return keys.err(

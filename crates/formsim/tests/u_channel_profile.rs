@@ -1,0 +1,108 @@
+//! The NUMISHEET'93 U-channel (`scenes/u-channel.toml`) end to end on a
+//! coarse strip: formed, released, and its shape measures (θ1, θ2, ρ)
+//! reported (`[[output.profiles]]`); bad profile keys are one-line errors.
+
+mod common;
+
+use common::{root, run_scene};
+use formsim::scene;
+
+/// The strip in 4 mm shells (44 × 2), drawn 30 mm and released.
+///
+/// Formed, the tools hold a square channel: θ1 and θ2 within 2° of 90°
+/// (the die–punch gap leaves the wall 0.08 mm of play over its length)
+/// and a straight wall (radius above 500 mm or none). After springback the
+/// wall has turned (θ1 moves by more than 0.2°) and curled (a radius below
+/// its formed one); which way it turns on so coarse a strip and so short a
+/// draw is not a benchmark figure (docs/springback.md has the full
+/// scene's). `profiles/X.csv` has one row per node of the middle line.
+#[test]
+fn u_channel_is_square_when_formed_and_turns_when_released() {
+    let coarse = [
+        "blank.mesh.divisions=[44, 2]",
+        "solver.mass_scaling_dt=6.0e-7",
+        "steps[2].duration=1.4e-2",
+        "steps[2].motions[1].distance=29.99",
+        "output.report_strokes=[15.0, 30.0]",
+        "output.frames=2",
+        "output.plots=false",
+        // The section X (element centres within half an element of y = 0)
+        // has no element in a strip two elements wide.
+        "output.sections=[]",
+    ];
+    let (dir, r) = run_scene("u-channel", &coarse);
+    let s = &r.summary;
+    let b = s.springback.as_ref().expect("a springback summary");
+    assert!(b.settled, "{b:?}");
+    let p = s.profiles.get("X").expect("profile X");
+    println!("{p:?}\n{:?}", s.warnings);
+    let (f, rel) = (&p.formed, p.released.as_ref().expect("released"));
+    assert!((f.theta1_deg - 90.0).abs() < 2.0, "{f:?}");
+    assert!((f.theta2_deg - 90.0).abs() < 2.0, "{f:?}");
+    assert!(f.wall_radius_mm.is_none_or(|r| r > 500.0), "{f:?}");
+    assert!((rel.theta1_deg - f.theta1_deg).abs() > 0.2, "{rel:?}");
+    let curled = rel.wall_radius_mm.expect("a curled wall");
+    assert!(
+        curled < f.wall_radius_mm.unwrap_or(f64::INFINITY),
+        "{rel:?}"
+    );
+    assert!(p.points["wall"] >= 3 && p.points["web"] >= 2, "{p:?}");
+    let csv = std::fs::read_to_string(dir.path().join("profiles/X.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 45, "one row per node of y = 0");
+}
+
+/// A profile whose flange starts before its web ends, or of zero length,
+/// is refused at its key; so is a profile or a section that misses the
+/// blank's nodes or elements (when the scene is built, before the run).
+#[test]
+fn profile_keys_are_checked() {
+    let path = root().join("scenes/u-channel.toml");
+    for (set, key, says) in [
+        (
+            "output.profiles[0].flange_from=20.0",
+            "output.profiles[0].flange_from",
+            "beyond web_to",
+        ),
+        (
+            "output.profiles[0].to=[0.0, 0.0]",
+            "output.profiles[0].to",
+            "zero length",
+        ),
+        (
+            "output.profiles[0].shoulder_clear=-1.0",
+            "output.profiles[0].shoulder_clear",
+            "> 0",
+        ),
+    ] {
+        let e = scene::load(&path, &[set.to_string()]).expect_err(set);
+        let m = e.to_string();
+        assert!(m.contains(key) && m.contains(says), "{set}: {m}");
+        assert_eq!(m.lines().count(), 1, "{m}");
+    }
+    for (set, key, says) in [
+        (
+            "output.profiles[0].from=[0.0, 30.0]",
+            "output.profiles[0]",
+            "its fits need 7",
+        ),
+        (
+            "output.sections[0].from=[0.0, 30.0]",
+            "output.sections[0]",
+            "no element of the blank",
+        ),
+    ] {
+        let mut sets = vec![set.to_string()];
+        if set.contains("profiles") {
+            sets.push("output.profiles[0].to=[175.0, 30.0]".into());
+        } else {
+            sets.push("output.sections[0].to=[175.0, 30.0]".into());
+        }
+        let loaded = scene::load(&path, &sets).expect(set);
+        let model = scene::build(&loaded).expect(set);
+        let m = formsim::run::post::check_lines(&loaded, &model.mesh)
+            .expect_err(set)
+            .to_string();
+        assert!(m.contains(key) && m.contains(says), "{set}: {m}");
+        assert_eq!(m.lines().count(), 1, "{m}");
+    }
+}
