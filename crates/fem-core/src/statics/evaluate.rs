@@ -16,7 +16,7 @@ pub(super) struct Eval {
     pub r_t: f64,
     /// `‖R‖₂` over the rotation equations (N·mm).
     pub r_r: f64,
-    /// Force reference `max(‖λ F_ext‖, ‖F_int‖)` over translations (N).
+    /// Force reference `max(‖(1 − λ) F_start + λ F_ext‖, ‖F_int‖)` over translations (N).
     pub ref_t: f64,
     /// Moment reference over rotations (N·mm).
     pub ref_r: f64,
@@ -82,8 +82,8 @@ impl StaticSolver {
 
     fn residual(&mut self, tangent: bool) -> Result<Eval, Failure> {
         let lambda = self.lambda_trial;
-        for (r, &g) in self.r.iter_mut().zip(&self.dofs.global) {
-            *r = self.f_int[g as usize] - lambda * self.loads[g as usize];
+        for (i, &g) in self.dofs.global.iter().enumerate() {
+            self.r[i] = self.f_int[g as usize] - self.target(g as usize, lambda);
         }
         if let Some(i) = self.r.iter().position(|r| !r.is_finite()) {
             let (node, dof) = self.dofs.node_dof(i);
@@ -97,12 +97,13 @@ impl StaticSolver {
         }
         let (r_t, r_r) = split_norms(&self.r, &self.dofs.is_rotation);
         let (mut ext, mut int) = ([0.0; 2], [0.0; 2]);
-        for (g, (&f, &l)) in self.f_int.iter().zip(&self.loads).enumerate() {
+        for (g, &f) in self.f_int.iter().enumerate() {
             let k = usize::from(Dof::ALL[g % 6].is_rotation());
+            let l = self.target(g, lambda);
             int[k] += f * f;
             ext[k] += l * l;
         }
-        let reference = |k: usize| (lambda.abs() * ext[k].sqrt()).max(int[k].sqrt());
+        let reference = |k: usize| ext[k].sqrt().max(int[k].sqrt());
         Ok(Eval {
             merit: r_t.hypot(r_r),
             r_t,

@@ -8,7 +8,11 @@
 //! With 6 DOFs per node (translations `ux uy uz`, rotations `rx ry rz`),
 //! [`StaticSolver`] seeks, for `λ` from 0 to 1,
 //!
-//! `R(u) = F_int(u) − λ F_ext = 0` on the free DOFs, every prescribed DOF at `λ ū`.
+//! `R(u) = F_int(u) − λ F_ext = 0` on the free DOFs, every prescribed DOF at `λ ū`;
+//! a stress release ([`StaticProblem::release_start_forces`], springback)
+//! seeks `F_int(u) = (1 − λ) F_int(x_start) + λ F_ext` instead: at `λ = 0`
+//! the start state, whose forces the tools held, at `λ = 1` the state
+//! without them.
 //!
 //! Translations are total displacements; rotations are incremental rotation
 //! vectors from the last converged increment, composed into the nodal

@@ -11,6 +11,13 @@ use crate::{Dof, Dofs, FemError, Vec3};
 /// DOFs, with every prescribed DOF at `λ ū` from its start value (a fixed
 /// DOF is a prescribed one with `ū = 0`). Loads are dead loads (fixed
 /// global direction). A load on a constrained DOF goes to its reaction.
+///
+/// A stress release ([`StaticProblem::release_start_forces`]) starts out of
+/// balance: the internal forces at the start state were held by something
+/// now gone (the tools of a springback), and the solve seeks
+/// `F_int(u) = (1 − λ) F_int(x_start) + λ F_ext`, so that `λ = 0` is the
+/// start state itself and the held forces are let go increment by
+/// increment.
 pub struct StaticProblem {
     pub(super) x_start: Vec<Vec3>,
     pub(super) effects: Vec<Box<dyn StaticTangent>>,
@@ -18,6 +25,9 @@ pub struct StaticProblem {
     pub(super) prescribed: Vec<Option<f64>>,
     /// Per global DOF: the external load at `λ = 1` (N or N·mm).
     pub(super) loads: Vec<f64>,
+    /// Whether the start state's internal forces are let go over the
+    /// increments (a stress release).
+    pub(super) release: bool,
 }
 
 impl StaticProblem {
@@ -44,6 +54,7 @@ impl StaticProblem {
             effects: Vec::new(),
             prescribed: vec![None; n],
             loads: vec![0.0; n],
+            release: false,
         })
     }
 
@@ -61,6 +72,13 @@ impl StaticProblem {
     pub fn add_boxed_effect(&mut self, effect: Box<dyn StaticTangent>) -> usize {
         self.effects.push(effect);
         self.effects.len() - 1
+    }
+
+    /// Make the solve a stress release: the internal forces of the start
+    /// state are in balance at `λ = 0` and let go by `λ = 1` (see the type's
+    /// documentation). A springback from a formed state is one.
+    pub fn release_start_forces(&mut self) {
+        self.release = true;
     }
 
     /// Fix `dofs` of every node in `nodes` (zero displacement from the start).

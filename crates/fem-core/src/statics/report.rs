@@ -15,7 +15,7 @@ pub struct IncrementReport {
     /// Residual norm `‖R‖₂` over the free DOFs (N and N·mm together) at
     /// the start and after every iteration: `iterations + 1` values.
     pub residuals: Vec<f64>,
-    /// The force reference at convergence, `max(‖λ F_ext‖, ‖F_int‖)`
+    /// The force reference at convergence, `max(‖(1 − λ) F_start + λ F_ext‖, ‖F_int‖)`
     /// over translations (N): divide `residuals` by it for relative norms.
     pub force_reference: f64,
     /// Line-search backtracking steps taken, summed over the iterations.

@@ -44,6 +44,10 @@ pub struct StaticSolver {
     pub(super) f_int: Vec<f64>,
     /// Internal forces at the committed state.
     pub(super) f_committed: Vec<f64>,
+    /// Internal forces of the start state let go over the increments (a
+    /// stress release), else zero: the balance sought at `λ` is
+    /// `F_int = (1 − λ) f_start + λ F_ext`.
+    pub(super) f_start: Vec<f64>,
     /// Tangent values on the pattern.
     pub(super) values: Vec<f64>,
     /// Residual on the equations.
@@ -75,9 +79,15 @@ impl StaticSolver {
             mut effects,
             prescribed,
             loads,
+            release,
         } = problem;
         let n_dofs = 6 * x_start.len();
-        let (entries, segments) = record_pattern(&mut effects, &x_start)?;
+        let (entries, segments, f_at_start) = record_pattern(&mut effects, &x_start)?;
+        let f_start = if release {
+            f_at_start
+        } else {
+            vec![0.0; n_dofs]
+        };
         let constrained: Vec<bool> = prescribed.iter().map(Option::is_some).collect();
         let dofs = DofMap::new(n_dofs, &entries, &constrained);
         check_held_loads(&loads, &dofs, &constrained)?;
@@ -124,6 +134,7 @@ impl StaticSolver {
             factor,
             f_int: vec![0.0; n_dofs],
             f_committed: vec![0.0; n_dofs],
+            f_start,
             r: vec![0.0; n_eq],
             du: vec![0.0; n_eq],
             dofs,
@@ -161,12 +172,20 @@ impl StaticSolver {
         self.f_committed[6 * node + dof.index()]
     }
 
-    /// `F_int − λ F_ext` of `dof` at `node` in the converged state: on a
+    /// `F_int − (1 − λ) F_start − λ F_ext` of `dof` at `node` in the
+    /// converged state (`F_start` zero unless the solve is a stress
+    /// release): on a
     /// constrained DOF the reaction, the force (N) or moment (N·mm) the
     /// constraint applies to the node; on a free DOF the residual.
     pub fn reaction(&self, node: usize, dof: Dof) -> f64 {
         let g = 6 * node + dof.index();
-        self.f_committed[g] - self.lambda * self.loads[g]
+        self.f_committed[g] - self.target(g, self.lambda)
+    }
+
+    /// The force `(1 − λ) F_start + λ F_ext` the internal force of global
+    /// DOF `g` balances at load factor `lambda`.
+    pub(super) fn target(&self, g: usize, lambda: f64) -> f64 {
+        (1.0 - lambda) * self.f_start[g] + lambda * self.loads[g]
     }
 
     /// The settings.
@@ -197,8 +216,8 @@ impl StaticSolver {
 }
 
 /// Entries (row, column, value) recorded from every effect at the start
-/// state, and each effect's range among them.
-type Recorded = (Vec<(u32, u32, f64)>, Vec<std::ops::Range<usize>>);
+/// state, each effect's range among them, and the internal forces there.
+type Recorded = (Vec<(u32, u32, f64)>, Vec<std::ops::Range<usize>>, Vec<f64>);
 
 fn record_pattern(
     effects: &mut [Box<dyn StaticTangent>],
@@ -228,7 +247,7 @@ fn record_pattern(
         effect.revert();
         segments.push(start..entries.len());
     }
-    Ok((entries, segments))
+    Ok((entries, segments, f))
 }
 
 fn check_held_loads(
