@@ -505,4 +505,11 @@ impl Effect for ContactEffect {
             ..EnergyTally::default()
         }
     }
+
+    /// Contact has no static form: a static solve comes after the tools
+    /// have let go (a springback step ends every pair), and then it adds
+    /// nothing.
+    fn static_form(&self) -> Result<fem_core::StaticForm, String> {
+        Ok(fem_core::StaticForm::Released)
+    }
 }

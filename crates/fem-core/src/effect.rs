@@ -49,6 +49,15 @@ impl EnergyTally {
     }
 }
 
+/// What an effect is in a static solve (the implicit springback step).
+pub enum StaticForm {
+    /// It adds nothing once the tools have let go (contact).
+    Released,
+    /// Its static form, built from its current state; handed back to
+    /// [`Effect::absorb_static`] after the solve.
+    Tangent(Box<dyn crate::statics::StaticTangent>),
+}
+
 /// A contribution to the nodal forces: an element family, a contact pair, a spring set.
 ///
 /// The solver calls, per step and per effect, [`Effect::add_forces`] once and
@@ -154,5 +163,31 @@ pub trait Effect: Any + Send {
     /// the last `add_forces` call (mJ).
     fn energies(&self) -> EnergyTally {
         EnergyTally::default()
+    }
+
+    /// The effect in a static solve, from its current state (the implicit
+    /// springback, when the tools have let go). The default is an error
+    /// naming the effect: an effect whose forces matter must give one.
+    ///
+    /// # Errors
+    /// The effect has no static form (one line naming it).
+    fn static_form(&self) -> Result<StaticForm, String> {
+        Err(format!("{} has no static form", self.name()))
+    }
+
+    /// Take back the state of a static solve: `solved` is the static form
+    /// [`Effect::static_form`] gave, after the solve (its committed state,
+    /// the last converged increment), and `x` the nodes' positions there
+    /// (mm). The default takes nothing.
+    ///
+    /// # Errors
+    /// `solved` is not this effect's static form.
+    fn absorb_static(
+        &mut self,
+        solved: &dyn crate::statics::StaticTangent,
+        x: &[crate::Vec3],
+    ) -> Result<(), String> {
+        let _ = (solved, x);
+        Ok(())
     }
 }

@@ -92,6 +92,11 @@ pub enum FemError {
     /// An inconsistent set-up that no single parameter explains.
     #[error("invalid set-up: {0}")]
     InvalidSetup(String),
+    /// The static solve of an implicit springback failed (an effect without
+    /// a static form, a singular system, no convergence after the last
+    /// cut-back): the model stays at its last converged increment.
+    #[error("implicit springback: {0}")]
+    ImplicitSpringback(String),
     /// A fixed time step ([`SolverSettings::fixed_dt`](crate::SolverSettings::fixed_dt))
     /// is above the stable limit at some step: the run stops before the
     /// step that would go unstable.

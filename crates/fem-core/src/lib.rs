@@ -89,13 +89,15 @@ pub mod statics;
 pub use amplitude::Amplitude;
 pub use anchor_springs::AnchorSprings;
 pub use boundary::{BoundaryCondition, Dof, Dofs, MotionKind, NodalLoad};
-pub use effect::{Effect, EnergyTally, StableDt};
+pub use effect::{Effect, EnergyTally, StableDt, StaticForm};
 pub use energy::{EnergyLedger, History, HistoryRow};
 pub use error::FemError;
 pub use fields::{FieldAccess, NodalField, SharedFields};
 pub use mesh::{Mesh, MeshQuality, rectangle, wrapped_strip, wrapped_strip_segments};
 pub use mesh_io::{MeshFile, read_inp, read_inp_numbered, read_msh, read_msh_numbered};
-pub use press::{ForceLaw, Press, PressStep, StepChange, StepEnd, ToolLoad, ToolMotion};
+pub use press::{
+    ForceLaw, Press, PressStep, ReleaseMethod, StepChange, StepEnd, ToolLoad, ToolMotion,
+};
 pub use relaxation::SpringbackReport;
 pub use settings::SolverSettings;
 pub use solver::{

@@ -214,7 +214,22 @@ pub enum StepEnd {
         tolerance: f64,
         /// Upper bound on the step's duration (s).
         max_duration: f64,
+        /// How the blank is brought to rest.
+        method: ReleaseMethod,
     },
+}
+
+/// How a springback step ([`StepEnd::Settled`]) brings the blank to rest.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ReleaseMethod {
+    /// Explicit steps with adaptive damping (`crate::relaxation`).
+    #[default]
+    DynamicRelaxation,
+    /// A static Newton solve of the stress release as the tools let go
+    /// (`crate::statics`), the explicit steps after it only confirming
+    /// the rest; every effect with forces then needs a static form
+    /// ([`crate::Effect::static_form`]).
+    Implicit,
 }
 
 impl StepEnd {

@@ -37,6 +37,9 @@ pub(crate) struct Relaxation {
     pub(crate) m_prev: Vec<Vec3>,
     /// What the step reports.
     pub(crate) report: SpringbackReport,
+    /// An implicit springback whose static solve is still to come (once
+    /// the forces of the step the tools let go in are known).
+    pub(crate) implicit_pending: bool,
 }
 
 /// What a springback step did: the constraints it added, its cost and how
@@ -64,6 +67,10 @@ pub struct SpringbackReport {
     /// Whether the residual reached the tolerance (else the step ran to its
     /// maximum duration).
     pub settled: bool,
+    /// The static solve of an implicit springback
+    /// ([`crate::ReleaseMethod::Implicit`]), before the explicit steps that
+    /// confirm its rest.
+    pub implicit: Option<crate::statics::SolveReport>,
 }
 
 impl SpringbackReport {
@@ -102,7 +109,17 @@ impl Relaxation {
                 t_release: time,
                 ..SpringbackReport::default()
             },
+            implicit_pending: false,
         }
+    }
+
+    /// After an implicit release: the out-of-balance force let go (N), the
+    /// reference of the rest tolerance, and the static solve's report.
+    pub(crate) fn preset(&mut self, released: f64, implicit: crate::statics::SolveReport) {
+        self.f_ref = released;
+        self.report.residual_start = released;
+        self.report.implicit = Some(implicit);
+        self.implicit_pending = false;
     }
 
     /// Keep the forces at `t_n` before the solver computes those at `t_{n+1}`.

@@ -38,6 +38,8 @@
 use crate::fields::{Declared, effect_order};
 use crate::nodal_limit::NodalLimit;
 use crate::relaxation::{Relaxation, SpringbackReport};
+
+mod implicit_release;
 use crate::{
     Amplitude, BoundaryCondition, Dof, Dofs, Effect, EnergyLedger, EnergyTally, FemError, Forces,
     Mesh, MotionKind, NodalField, NodalLoad, NodalState, Press, SharedFields, SolverSettings,
@@ -1111,8 +1113,9 @@ impl Solver {
     /// The tools let go: fix the DOFs that remove the free rigid-body modes
     /// (their velocities to zero) and start the relaxation.
     fn start_release(&mut self) -> Result<(), FemError> {
-        let Some(StepEnd::Settled { tolerance, .. }) =
-            self.press.as_ref().map(|p| p.steps()[p.current_step()].end)
+        let Some(StepEnd::Settled {
+            tolerance, method, ..
+        }) = self.press.as_ref().map(|p| p.steps()[p.current_step()].end)
         else {
             return Ok(());
         };
@@ -1138,6 +1141,9 @@ impl Solver {
             &self.state.x,
             (free, fixed),
         ));
+        if let Some(r) = &mut self.relaxation {
+            r.implicit_pending = method == crate::ReleaseMethod::Implicit;
+        }
         Ok(())
     }
 
@@ -1466,6 +1472,15 @@ impl Solver {
         // 4.–5. Forces at t_{n+1}: loads, then each effect, writers of a
         // shared field before its readers (the blank's shells, then contact).
         self.compute_forces(self.time, dt, self.step)?;
+        if self.relaxation.as_ref().is_some_and(|r| r.implicit_pending) {
+            // An implicit springback: the release solved statically from
+            // this state, then the forces where it put the blank.
+            let (report, released) = self.release_implicitly(dt)?;
+            if let Some(r) = &mut self.relaxation {
+                r.preset(released, report);
+            }
+            self.compute_forces(self.time, dt, self.step)?;
+        }
         self.relax(dt);
         // 6. Time step: the next stable step, with mass scaling.
         let mark = Instant::now();

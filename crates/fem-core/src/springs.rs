@@ -199,4 +199,26 @@ impl Effect for Springs {
             ..Default::default()
         }
     }
+
+    /// Elastic springs are their own static form: a copy.
+    fn static_form(&self) -> Result<crate::StaticForm, String> {
+        Ok(crate::StaticForm::Tangent(Box::new(self.clone())))
+    }
+
+    /// Nothing to take back but the energy at the positions `x`.
+    fn absorb_static(
+        &mut self,
+        _solved: &dyn crate::statics::StaticTangent,
+        x: &[Vec3],
+    ) -> Result<(), String> {
+        self.energy = self
+            .springs
+            .iter()
+            .map(|s| {
+                let stretch = (x[s.b as usize] - x[s.a as usize]).norm() - s.length0;
+                0.5 * s.k * stretch * stretch
+            })
+            .sum();
+        Ok(())
+    }
 }

@@ -55,6 +55,21 @@ impl StaticSolver {
         self.apply_prescribed();
         let mut eval = self.evaluate(true)?;
         history.push(eval.merit);
+        if self.in_balance(&eval) {
+            // Already in equilibrium at the new load factor (a release with
+            // nothing left to let go): a Newton step would only stir
+            // round-off, and the energy criterion cannot hold against it.
+            // The first tangent is still factorised: a free rigid-body mode
+            // is an error even where nothing loads it.
+            if !self.factored_once {
+                self.newton_direction()?;
+            }
+            return Ok(Converged {
+                iterations: 0,
+                backtracks: 0,
+                force_reference: eval.ref_t,
+            });
+        }
         let (r0, mut e0, mut backtracks, mut stalls) = (eval.merit, None, 0, 0);
         for iteration in 1..=self.settings.max_iterations {
             self.newton_direction()?;
@@ -151,11 +166,17 @@ impl StaticSolver {
         }
     }
 
+    /// The force criterion alone.
+    fn in_balance(&self, eval: &Eval) -> bool {
+        let s = &self.settings;
+        eval.r_t <= s.force_tolerance * eval.ref_t.max(s.force_floor)
+            && eval.r_r <= s.force_tolerance * eval.ref_r.max(s.force_floor)
+    }
+
     /// The three criteria at the state just reached by the correction `α δu`.
     fn converged(&self, eval: &Eval, alpha: f64, energy: f64, e0: f64) -> bool {
         let s = &self.settings;
-        let force = eval.r_t <= s.force_tolerance * eval.ref_t.max(s.force_floor)
-            && eval.r_r <= s.force_tolerance * eval.ref_r.max(s.force_floor);
+        let force = self.in_balance(eval);
         let (du_t, du_r) = split_norms(&self.du, &self.dofs.is_rotation);
         let (inc_t, inc_r) = self.increment_norms();
         let floor = s.displacement_floor;

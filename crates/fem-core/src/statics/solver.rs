@@ -188,6 +188,28 @@ impl StaticSolver {
         (1.0 - lambda) * self.f_start[g] + lambda * self.loads[g]
     }
 
+    /// The out-of-balance force a stress release lets go, `‖F_int(x_start)
+    /// − F_ext‖` over the free translation DOFs (N); 0 unless the solve is a
+    /// release ([`StaticProblem::release_start_forces`]).
+    pub fn release_residual(&self) -> f64 {
+        if self.f_start.iter().all(|f| *f == 0.0) {
+            return 0.0;
+        }
+        let mut r2 = 0.0;
+        for (&g, &rotation) in self.dofs.global.iter().zip(&self.dofs.is_rotation) {
+            if !rotation {
+                let d = self.f_start[g as usize] - self.loads[g as usize];
+                r2 += d * d;
+            }
+        }
+        r2.sqrt()
+    }
+
+    /// The effect with index `index`, as the static solver holds it.
+    pub fn effect_dyn(&self, index: usize) -> Option<&dyn StaticTangent> {
+        self.effects.get(index).map(AsRef::as_ref)
+    }
+
     /// The settings.
     pub fn settings(&self) -> &NewtonSettings {
         &self.settings

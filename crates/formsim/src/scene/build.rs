@@ -10,7 +10,7 @@ use crate::components::{LawSource, point_integrator};
 use contact::{BlankGeometry, ContactEffect, ContactPair, FRICTIONLESS, PairSpec, PenaltySettings};
 use fem_core::{
     Amplitude, BoundaryCondition, Dofs, EffectId, Mesh, MotionKind, NodalLoad, Press, PressStep,
-    Solver, SolverSettings, StepEnd, ToolMotion, Vec3,
+    ReleaseMethod, Solver, SolverSettings, StepEnd, ToolMotion, Vec3,
 };
 use plugins_api::{Params, TangentMode, ToolSurface};
 pub use shell_elements::ShellView;
@@ -309,6 +309,10 @@ fn step_end(step: &super::schema::Step, tool_names: &[String]) -> (StepEnd, f64)
             StepEnd::Settled {
                 tolerance: step.springback_tolerance(),
                 max_duration: d,
+                method: match step.springback_method() {
+                    "implicit" => ReleaseMethod::Implicit,
+                    _ => ReleaseMethod::DynamicRelaxation,
+                },
             },
             d,
         );

@@ -1,0 +1,153 @@
+//! The implicit springback: when the tools let go in a springback step of
+//! method [`ReleaseMethod::Implicit`](crate::ReleaseMethod), the release is
+//! solved statically (`crate::statics`) in place of the dynamic relaxation's
+//! thousands of damped steps.
+//!
+//! The static problem is the model as the tools let go: every effect's
+//! static form ([`Effect::static_form`](crate::Effect::static_form); contact
+//! adds nothing once released), every constrained DOF of the explicit
+//! solver held (the scene's conditions and the 3-2-1 constraints that remove
+//! the free rigid-body modes), the nodal loads as they stand, and the
+//! internal forces the tools held let go increment by increment
+//! ([`StaticProblem::release_start_forces`]). The converged positions and
+//! the effects' committed states ([`Effect::absorb_static`](crate::Effect::absorb_static))
+//! become the explicit state, at rest; the explicit steps that follow only
+//! confirm it (the step ends when its out-of-balance force is below the
+//! tolerance of the force let go, as with the relaxation).
+//!
+//! Energy: the static release takes the model from one state of rest to
+//! another. The nodal loads' work over the jump is booked as external work,
+//! and what the stored energy lost plus that work (and the kinetic energy
+//! left when the tools let go) as dissipated, like the relaxation's damping
+//! work: the ledger stays closed. An effect whose energy tally cannot
+//! follow the jump (shells, whose strain energy is summed step by step)
+//! keeps its tally; what it released then stays in its internal energy.
+
+use super::Solver;
+use crate::statics::{NewtonSettings, SolveReport, StaticProblem, StaticSolver};
+use crate::{Dof, Dofs, FemError, StaticForm};
+
+impl Solver {
+    /// Solve the release statically and take the result as the explicit
+    /// state (module docs). Called once the tools have let go and the
+    /// 3-2-1 constraints are in place.
+    ///
+    /// # Errors
+    /// [`FemError::ImplicitSpringback`]: an effect without a static form,
+    /// or the solve failed (the model is then at its last converged
+    /// increment, and the message carries the residual history).
+    pub(super) fn release_implicitly(&mut self, dt: f64) -> Result<(SolveReport, f64), FemError> {
+        let fail = |m: String| FemError::ImplicitSpringback(m);
+        let mut problem = StaticProblem::new(&self.state.x)?;
+        let mut forms = Vec::new();
+        for (i, e) in self.effects.iter().enumerate() {
+            match e.static_form().map_err(fail)? {
+                StaticForm::Released => {}
+                StaticForm::Tangent(t) => forms.push((i, problem.add_boxed_effect(t))),
+            }
+        }
+        for c in &self.constraints {
+            problem.fix(&[c.node], Dofs::of(&[Dof::ALL[usize::from(c.dof)]]))?;
+        }
+        for l in &self.loads {
+            let p = l.value * self.amp_values[l.amplitude as usize];
+            problem.add_load(&[l.node], Dof::ALL[usize::from(l.dof)], p)?;
+        }
+        problem.release_start_forces();
+        let mut statics = StaticSolver::new(problem, NewtonSettings::default())
+            .map_err(|e| fail(e.to_string()))?;
+        let released = statics.release_residual();
+        self.book_half_step(dt);
+        let before = self.internal_and_kinetic();
+        let outcome = statics.solve();
+        // The last converged increment, whatever the outcome.
+        let load_work = self.take_positions(statics.positions());
+        for (i, k) in forms {
+            let solved = statics.effect_dyn(k).expect("added above");
+            self.effects[i]
+                .absorb_static(solved, &self.state.x)
+                .map_err(fail)?;
+        }
+        let after = self.internal_and_kinetic();
+        self.work.loads += load_work;
+        self.work.damping_work -= before - after + load_work;
+        let report = outcome.map_err(|e| fail(e.to_string()))?;
+        Ok((report, released))
+    }
+
+    /// Book what the next step would have booked of the step just taken
+    /// (`dt`, s) with the velocities the release stops: the second half of
+    /// the loads' work and of the damping's (the leapfrog books each step's
+    /// work half at its end and half at the next step's).
+    fn book_half_step(&mut self, dt: f64) {
+        let hb = 0.5 * (self.dt_prev + dt);
+        let st = &self.state;
+        let mut loads = 0.0;
+        for l in &self.loads {
+            let p = l.value * self.amp_values[l.amplitude as usize];
+            let (i, axis) = (l.node as usize, usize::from(l.dof % 3));
+            let v = if l.dof >= 3 {
+                st.w[i][axis]
+            } else {
+                st.v[i][axis]
+            };
+            loads += 0.5 * hb * p * v;
+        }
+        let c = self
+            .relaxation
+            .as_ref()
+            .map_or(self.settings.damping, |r| r.c);
+        let moving: f64 = (0..st.len())
+            .map(|i| st.mass[i] * st.v[i].norm_squared() + st.inertia[i] * st.w[i].norm_squared())
+            .sum();
+        self.work.loads += loads;
+        self.work.damping_work -= 0.5 * c * hb * moving;
+    }
+
+    /// Move the nodes to `x`, at rest; the work of the nodal loads over the
+    /// move (mJ = N·mm).
+    fn take_positions(&mut self, x: &[crate::Vec3]) -> f64 {
+        let mut work = 0.0;
+        for l in &self.loads {
+            let (i, d) = (l.node as usize, usize::from(l.dof));
+            if d < 3 {
+                let p = l.value * self.amp_values[l.amplitude as usize];
+                work += p * (x[i][d] - self.state.x[i][d]);
+            }
+        }
+        self.state.x.copy_from_slice(x);
+        self.state
+            .v
+            .iter_mut()
+            .for_each(|v| *v = crate::Vec3::zeros());
+        self.state
+            .w
+            .iter_mut()
+            .for_each(|w| *w = crate::Vec3::zeros());
+        work
+    }
+
+    /// The effects' internal and hourglass energy plus the nodes' kinetic
+    /// energy `½ m v²` of their half-step velocities (mJ; the leapfrog's
+    /// own kinetic energy differs from it by terms of order `Δt`, so the
+    /// booking is exact for a model at rest when the tools let go, and
+    /// close for one that barely moves, as a formed part).
+    fn internal_and_kinetic(&self) -> f64 {
+        let st = &self.state;
+        let kinetic: f64 = (0..st.len())
+            .map(|i| {
+                let (v, w) = (st.v[i].norm_squared(), st.w[i].norm_squared());
+                0.5 * (st.mass[i] * v + st.inertia[i] * w)
+            })
+            .sum();
+        let stored: f64 = self
+            .effects
+            .iter()
+            .map(|e| {
+                let t = e.energies();
+                t.internal + t.hourglass
+            })
+            .sum();
+        kinetic + stored
+    }
+}
