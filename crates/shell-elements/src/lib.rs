@@ -44,7 +44,7 @@ pub use geometry::{V3, corotational_basis};
 pub use lanes::{F4, M4, Real};
 pub use material::{
     Hardening, J2History, J2PlaneStress, Material, PluginMaterial, PointUpdate, TANGENT_FD_STEP,
-    finite_difference_tangent, von_mises,
+    finite_difference_tangent, plane_stress_elasticity, von_mises,
 };
 pub use outputs::{LogStrain, ShellElementOutput};
 pub use section::{RuleKind, Section, ThroughThickness};

@@ -379,9 +379,8 @@ impl Material for Hill48PlaneStress {
     }
 
     fn update(&self, s: &mut [f64; 3], h: &mut Hill48History, de: [f64; 3]) -> PointUpdate {
-        let dse = self.elastic(de);
-        let t = [s[0] + dse[0], s[1] + dse[1], s[2] + dse[2]];
-        if quad(&self.p, &t) <= h.sigma_y * h.sigma_y {
+        let (t, elastic) = self.trial(s, h, de);
+        if elastic {
             *s = t;
             return PointUpdate {
                 deps_zz: -self.nu_ratio * (de[0] + de[1]),
@@ -398,6 +397,65 @@ impl Material for Hill48PlaneStress {
             deps_zz: -self.nu_ratio * (de[0] + de[1] - tr_p) - tr_p,
             dissipation: sy * d,
         }
+    }
+
+    /// The closed-form algorithmic tangent of the closest-point return: the
+    /// plane-stress elasticity `C` if the trial stress lies inside the yield
+    /// surface, else the derivative of the converged return,
+    /// `Ξ − a n nᵀ / (a σᵀPn + H φ²)` with `Ξ = (C⁻¹ + Δλ P)⁻¹`,
+    /// `n = Ξ P σ`, `a = 1 − H Δλ`, `φ = √(σᵀPσ)` and `H` the curve's slope
+    /// at the new ε̄ (`(a σᵀPn + H φ²)/φ` is `−g′(Δλ)` of the return's
+    /// `g = σ̄ − σ_y`). The return is run again here; no allocation.
+    fn consistent_tangent(&self, s: &[f64; 3], h: &Hill48History, de: [f64; 3]) -> [[f64; 3]; 3] {
+        let (t, elastic) = self.trial(s, h, de);
+        if elastic {
+            return [
+                [self.c11, self.c12, 0.0],
+                [self.c12, self.c11, 0.0],
+                [0.0, 0.0, self.shear],
+            ];
+        }
+        let (_, dl, d, _) = self.return_map(t, h);
+        self.plastic_tangent(&t, dl, self.hardening.eval(h.eps_p + d).1)
+    }
+}
+
+impl Hill48PlaneStress {
+    /// The elastic trial stress `σ + C Δε` and whether it lies inside (or
+    /// on) the yield surface of the point's flow stress.
+    fn trial(&self, s: &[f64; 3], h: &Hill48History, de: [f64; 3]) -> ([f64; 3], bool) {
+        let dse = self.elastic(de);
+        let t = [s[0] + dse[0], s[1] + dse[1], s[2] + dse[2]];
+        let elastic = quad(&self.p, &t) <= h.sigma_y * h.sigma_y;
+        (t, elastic)
+    }
+
+    /// `∂σ/∂Δε` of the converged return from the trial stress `t` with
+    /// multiplier `dl` and hardening slope `slope` at the new ε̄.
+    ///
+    /// Differentiating `σ = Ξ(Δλ) C⁻¹ σ_trial` gives `dσ = Ξ dΔε − n dΔλ`
+    /// (`dΞ/dΔλ = −Ξ P Ξ`), and `g = φ − σ_y(ε̄_n + Δλ φ) = 0` gives
+    /// `a (nᵀdΔε − σᵀPn dΔλ) = H φ² dΔλ`. In the spectral basis
+    /// (`Spectral`), with `D = diag(1/(1 + Δλ λ_i))` and `z = D V⁻¹ σ_trial`
+    /// (so `σ = V z`): `Ξ = V D Vᵀ`, `n = V D Λ z`, `σᵀPn = Σ λ_i² D_i z_i²`
+    /// and `φ² = Σ λ_i z_i²`.
+    fn plastic_tangent(&self, t: &[f64; 3], dl: f64, slope: f64) -> [[f64; 3]; 3] {
+        let Spectral { v, v_inv, lam } = &self.spec;
+        let y = mat_vec(v_inv, t);
+        let dk: [f64; 3] = std::array::from_fn(|k| 1.0 / (1.0 + dl * lam[k]));
+        let z: [f64; 3] = std::array::from_fn(|k| y[k] * dk[k]);
+        let w: [f64; 3] = std::array::from_fn(|k| lam[k] * dk[k] * z[k]);
+        let s_pn = (0..3).map(|k| lam[k] * z[k] * w[k]).sum::<f64>();
+        let phi2 = (0..3).map(|k| lam[k] * z[k] * z[k]).sum::<f64>();
+        let a = 1.0 - slope * dl;
+        let c = a / (a * s_pn + slope * phi2);
+        let n = mat_vec(v, &w);
+        std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                let xi = (0..3).map(|k| v[i][k] * dk[k] * v[j][k]).sum::<f64>();
+                xi - c * n[i] * n[j]
+            })
+        })
     }
 }
 

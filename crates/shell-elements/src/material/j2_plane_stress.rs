@@ -498,6 +498,94 @@ impl Material for J2PlaneStress {
     fn equivalent_stress(&self, s: &[f64; 3]) -> f64 {
         von_mises(s)
     }
+
+    /// The closed-form algorithmic tangent of the projected return: the
+    /// plane-stress elasticity `C` if the trial stress lies inside the
+    /// yield surface, else the derivative of the converged return (Simo &
+    /// Taylor 1986), `Ξ − a n nᵀ / (a σᵀPn + b)` with `Ξ = (C⁻¹ + Δλ P)⁻¹`,
+    /// `n = Ξ P σ`, `a = 1 − k Δλ/φ`, `b = k φ`, `k = (⅔)^{3/2} σ_y H`,
+    /// `φ = √(σᵀPσ)`, at the returned σ, Δλ, σ_y and the curve's slope H
+    /// at the new ε_p (`a σᵀPn + b` is `−f′(Δλ)` of the return's yield
+    /// function).
+    /// The return is run again here, with `f64` arithmetic (the lane
+    /// kernel's fused multiply-adds aside, the update's own iteration);
+    /// no allocation.
+    fn consistent_tangent(&self, s: &[f64; 3], h: &J2History, de: [f64; 3]) -> [[f64; 3]; 3] {
+        match self.converged_return(s, h, de) {
+            None => [
+                [self.c11, self.c12, 0.0],
+                [self.c12, self.c11, 0.0],
+                [0.0, 0.0, self.shear],
+            ],
+            Some((sn, r, slope)) => self.plastic_tangent(&sn, &r, slope),
+        }
+    }
+}
+
+impl J2PlaneStress {
+    /// The return of one point from the committed `(s, h)` for `de`, in
+    /// `f64`: the returned stress, the converged [`Projected`] state and the
+    /// curve's slope `dσ_y/dε_p` at the new plastic strain; `None` for an
+    /// elastic step.
+    fn converged_return(
+        &self,
+        s: &[f64; 3],
+        h: &J2History,
+        de: [f64; 3],
+    ) -> Option<([f64; 3], Projected<f64>, f64)> {
+        let (t, elastic) = self.trial(s, h.sigma_y, de);
+        if elastic {
+            return None;
+        }
+        let J2History {
+            eps_p,
+            sigma_y: sy0,
+        } = *h;
+        let (r, slope) = match &self.hardening {
+            Hardening::Swift { k, eps0, n } => {
+                let (curve, hm0, dhm0) = self.swift_curve(*k, *eps0, *n, eps_p, sy0);
+                let r = self.project(t, true, sy0, hm0, dhm0, &curve);
+                (r, n * r.sy / (eps0 + eps_p + r.d))
+            }
+            hard @ Hardening::Table { .. } => {
+                let curve = Table { hard, eps_p };
+                let r = self.project(t, true, sy0, hard.eval(eps_p).1, 0.0, &curve);
+                (r, hard.eval(eps_p + r.d).1)
+            }
+        };
+        Some((self.finish(t, de, &r).0, r, slope))
+    }
+
+    /// `∂σ/∂Δε` of a converged return at the returned stress `sn`.
+    ///
+    /// Differentiating `σ = Ξ(Δλ) C⁻¹ σ_trial` gives `dσ = Ξ dΔε − n dΔλ`
+    /// (`dΞ/dΔλ = −Ξ P Ξ`); the yield function `½ φ² − ⅓ σ_y(ε_p + Δε_p)²`
+    /// with `Δε_p = √⅔ Δλ φ` stays zero, so `a (nᵀdΔε − σᵀPn dΔλ) = b dΔλ`.
+    /// `Ξ` is diagonal in the basis `(σxx+σyy)/√2`, `(σxx−σyy)/√2`, `σxy`:
+    /// `(c11 + c12) f1`, `2G f2`, `G f2` with the return's `f1`, `f2`.
+    fn plastic_tangent(&self, sn: &[f64; 3], r: &Projected<f64>, slope: f64) -> [[f64; 3]; 3] {
+        let xi_p = (self.c11 + self.c12) * r.f1;
+        let xi_q = 2.0 * self.shear * r.f2;
+        let xi = [
+            [0.5 * (xi_p + xi_q), 0.5 * (xi_p - xi_q), 0.0],
+            [0.5 * (xi_p - xi_q), 0.5 * (xi_p + xi_q), 0.0],
+            [0.0, 0.0, self.shear * r.f2],
+        ];
+        // P σ with P = ⅓ [[2, −1, 0], [−1, 2, 0], [0, 0, 6]].
+        let ps = [
+            (2.0 * sn[0] - sn[1]) * (1.0 / 3.0),
+            (2.0 * sn[1] - sn[0]) * (1.0 / 3.0),
+            2.0 * sn[2],
+        ];
+        let n: [f64; 3] =
+            std::array::from_fn(|i| xi[i][0] * ps[0] + xi[i][1] * ps[1] + xi[i][2] * ps[2]);
+        let s_pn = ps[0] * n[0] + ps[1] * n[1] + ps[2] * n[2];
+        let phi = (sn[0] * ps[0] + sn[1] * ps[1] + sn[2] * ps[2]).sqrt();
+        let k = (2.0 / 3.0) * R23 * r.sy * slope;
+        let (a, b) = (1.0 - k * r.dl / phi, k * phi);
+        let c = a / (a * s_pn + b);
+        std::array::from_fn(|i| std::array::from_fn(|j| xi[i][j] - c * n[i] * n[j]))
+    }
 }
 
 impl J2PlaneStress {

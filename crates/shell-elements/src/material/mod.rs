@@ -188,6 +188,18 @@ pub fn finite_difference_tangent<M: Material>(
     c
 }
 
+/// The isotropic plane-stress elasticity `C` of Young's modulus `young`
+/// (MPa) and Poisson's ratio `poisson` (-): `σ = C ε`, tensor shear stress
+/// against engineering shear strain, `C = E/(1−ν²) [[1, ν, 0], [ν, 1, 0],
+/// [0, 0, (1−ν)/2]]` (the `(3, 3)` entry written as `G = E/(2(1+ν))`). The
+/// tangent of every elastic step of the built-in materials.
+pub fn plane_stress_elasticity(young: f64, poisson: f64) -> [[f64; 3]; 3] {
+    let c11 = young / (1.0 - poisson * poisson);
+    let c12 = poisson * c11;
+    let g = young / (2.0 * (1.0 + poisson));
+    [[c11, c12, 0.0], [c12, c11, 0.0], [0.0, 0.0, g]]
+}
+
 /// Von Mises stress of a plane-stress state `[σ_xx, σ_yy, σ_xy]` (MPa).
 #[inline]
 pub fn von_mises(s: &[f64; 3]) -> f64 {
