@@ -39,12 +39,16 @@
 //! unchanged, and no viscous term exists in either. What differs is only
 //! the size of the step: a static increment may rotate an element by a
 //! sizeable angle `α`, and the midpoint configuration of a finite
-//! rotation is shortened by `cos(α/2)`, so the curvature increment of an
-//! element that turns by `α` in one increment carries a relative error of
-//! about `α²/8`, and the transverse shear and drilling increments of its
-//! rigid rotation one of `α − 2 tan(α/2) ≈ −α³/12`. Load increments that
-//! turn an element by at most about 0.1–0.2 rad keep this below 0.5 %
-//! (`docs/springback.md` has the measured effect).
+//! rotation is shortened by `cos(α/2)`, so an element that turns by `α`
+//! in one increment reads its curvature increment `1/cos(α/2)` too large
+//! and, under a given moment, bends by about `α²/8` too little (measured:
+//! an end moment rolling a strip falls short of the exact tip rotation
+//! by `Δθ_tip²/24`, the mean over the strip); and its rigid rotation
+//! leaves transverse shear and drilling increments of
+//! `α − 2 tan(α/2) ≈ −α³/12` (the translations give the midpoint rule's
+//! Cayley angle `2 tan(α/2)`, the nodes the rotation vector `α`). Load
+//! increments that turn an element by at most 0.1–0.2 rad keep the
+//! curvature's error below 0.5 % (`docs/springback.md` has the figures).
 //! `commit` re-evaluates the converged state and keeps its point states;
 //! `revert` drops the trial ones.
 //!
