@@ -82,7 +82,7 @@ fn elastica_reference_reproduces_mattiasson() {
 /// The shells at `k`: errors of deflection, shortening (over L) and tip
 /// rotation (over θ₀).
 fn cantilever(k: f64) -> (f64, f64, f64) {
-    let (mut problem, tip) = clamped_strip(40);
+    let (mut problem, tip) = clamped_strip(40, 1);
     let p = k * EI / (L * L);
     problem
         .add_load(&tip, Dof::Uz, -p / tip.len() as f64)

@@ -24,7 +24,7 @@ use static_common::{EI, L, clamped_strip, fixed_steps};
 
 #[test]
 fn residual_falls_quadratically() {
-    let (mut problem, tip) = clamped_strip(40);
+    let (mut problem, tip) = clamped_strip(40, 1);
     let p = 5.0 * EI / (L * L);
     problem
         .add_load(&tip, Dof::Uz, -p / tip.len() as f64)

@@ -83,12 +83,12 @@ pub const T: f64 = 1.0;
 /// Bending stiffness `E b t³ / 12` (N·mm²).
 pub const EI: f64 = E * B * T * T * T / 12.0;
 
-/// An elastic strip (`E`, ν = 0) of `n × 1` shells along x in the plane
-/// z = 0, clamped at x = 0: the problem (no load yet), its tip nodes
-/// (x = L) and the effect's index.
-pub fn clamped_strip(n: usize) -> (fem_core::statics::StaticProblem, Vec<u32>) {
+/// An elastic strip (`E`, ν = 0) of `n × across` shells along x in the
+/// plane z = 0, clamped at x = 0: the problem (no load yet) and its tip
+/// nodes (x = L, by increasing y).
+pub fn clamped_strip(n: usize, across: usize) -> (fem_core::statics::StaticProblem, Vec<u32>) {
     use fem_core::Dofs;
-    let mesh = fem_core::rectangle(L, B, n, 1).unwrap();
+    let mesh = fem_core::rectangle(L, B, n, across).unwrap();
     let shells = shell_elements::StaticShells::new(
         "strip",
         &mesh.nodes,
@@ -136,4 +136,24 @@ pub fn mean(nodes: &[u32], f: impl Fn(usize) -> Vec3) -> Vec3 {
 /// Angle (rad) of a rotation about the global y axis, `atan2(R_xz, R_xx)`.
 pub fn angle_about_y(r: &Mat3) -> f64 {
     r[(0, 2)].atan2(r[(0, 0)])
+}
+
+/// Load `total` on `dof` of the tip nodes `tip` (by increasing y, equally
+/// spaced) with the trapezoid rule's weights: the end nodes take half a
+/// share (a uniform line load's consistent nodal values).
+pub fn add_edge_load(
+    problem: &mut fem_core::statics::StaticProblem,
+    tip: &[u32],
+    dof: fem_core::Dof,
+    total: f64,
+) {
+    let shares = (tip.len() - 1) as f64;
+    for (k, &n) in tip.iter().enumerate() {
+        let w = if k == 0 || k + 1 == tip.len() {
+            0.5
+        } else {
+            1.0
+        };
+        problem.add_load(&[n], dof, total * w / shares).unwrap();
+    }
 }
