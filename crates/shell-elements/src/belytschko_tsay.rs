@@ -219,7 +219,8 @@ fn to_lanes<L: Lanes4>(a: &[[F4; 3]; 4]) -> [[L; 3]; 4] {
 }
 
 /// The material and section constants the kernel reads.
-struct Moduli {
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Moduli {
     /// Young's modulus E (MPa).
     young: f64,
     /// Shear modulus G (MPa).
@@ -232,7 +233,7 @@ struct Moduli {
 
 impl Moduli {
     #[inline(always)]
-    fn of<M: Material>(mat: &M, sec: &Section) -> Self {
+    pub(crate) fn of<M: Material>(mat: &M, sec: &Section) -> Self {
         Self {
             young: mat.young(),
             shear: mat.shear_modulus(),
@@ -243,8 +244,8 @@ impl Moduli {
 }
 
 /// The element's geometry at `t_{n+1}`, where its forces are assembled.
-struct EndGeometry<T: Real> {
-    fr: Frame<T>,
+pub(crate) struct EndGeometry<T: Real> {
+    pub(crate) fr: Frame<T>,
     b1: [T; 4],
     b2: [T; 4],
     sb: ShearB<T>,
@@ -255,10 +256,10 @@ struct EndGeometry<T: Real> {
 /// What the first half of the kernel hands the second (see
 /// [`BelytschkoTsay::rates`]): the rates in the midpoint configuration
 /// `x_{n+1/2}` and the geometry at `t_{n+1}`.
-struct Rates<T: Real> {
+pub(crate) struct Rates<T: Real> {
     /// Frame of the midpoint configuration.
-    fr: Frame<T>,
-    valid: T::Mask,
+    pub(crate) fr: Frame<T>,
+    pub(crate) valid: T::Mask,
     vl: [[T; 3]; 4],
     wl: [[T; 3]; 4],
     b1: [T; 4],
@@ -271,21 +272,21 @@ struct Rates<T: Real> {
     gxz: T,
     gyz: T,
     /// Membrane strain increments `[Δε_xx, Δε_yy, Δγ_xy]` (-).
-    membrane: [T; 3],
+    pub(crate) membrane: [T; 3],
     /// Curvature increments `[Δκ_xx, Δκ_yy, 2Δκ_xy]` (1/mm).
-    bending: [T; 3],
+    pub(crate) bending: [T; 3],
     /// Where the forces are assembled.
-    end: EndGeometry<T>,
+    pub(crate) end: EndGeometry<T>,
     /// `(cos, sin)` of the in-plane turn from the midpoint frame to the end's.
     turn: (T, T),
 }
 
 /// The element state the kernel updates besides the section's points.
-struct Lanes<'a, T> {
-    thickness: &'a mut T,
-    shear: &'a mut [T; 2],
-    hourglass: &'a mut [T; 5],
-    drilling: &'a mut [T; 4],
+pub(crate) struct Lanes<'a, T> {
+    pub(crate) thickness: &'a mut T,
+    pub(crate) shear: &'a mut [T; 2],
+    pub(crate) hourglass: &'a mut [T; 5],
+    pub(crate) drilling: &'a mut [T; 4],
 }
 
 /// What the nodes of an element are loaded with at t_{n+1}.
@@ -632,7 +633,7 @@ impl BelytschkoTsay {
     /// ratchets into strain energy from nothing (docs/shells.md, "Strain
     /// increments at the midpoint").
     #[inline(always)]
-    fn rates<T: Real>(
+    pub(crate) fn rates<T: Real>(
         &self,
         x: &[[T; 3]; 4],
         v: &[[T; 3]; 4],
@@ -756,7 +757,7 @@ impl BelytschkoTsay {
     /// Second half of the element kernel: transverse shear, hourglass and
     /// drilling updates, nodal forces and energies from the section result.
     #[inline(always)]
-    fn forces<T: Real>(
+    pub(crate) fn forces<T: Real>(
         &self,
         md: &Moduli,
         rt: &Rates<T>,

@@ -31,6 +31,7 @@ pub mod material;
 pub mod outputs;
 pub mod section;
 pub mod shell_set;
+pub mod statics;
 mod view;
 #[cfg(test)]
 mod warped_tests;
@@ -49,4 +50,5 @@ pub use material::{
 pub use outputs::{LogStrain, ShellElementOutput};
 pub use section::{RuleKind, Section, ThroughThickness};
 pub use shell_set::ShellSet;
+pub use statics::StaticShells;
 pub use view::ShellView;

@@ -477,6 +477,17 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             None => self.drilling[e],
         }
     }
+    /// Hourglass generalised force `k` (N or N·mm, `k <
+    /// HOURGLASS_VARS` of the formulation) of element `e`, in the frame
+    /// the formulation keeps it in (Belytschko–Tsay: membrane x, y,
+    /// bending x, y, transverse, in the element's co-rotational frame).
+    pub fn hourglass_force(&self, e: usize, k: usize) -> f64 {
+        let nhg = E::HOURGLASS_VARS.max(1);
+        match self.lane_slot(e) {
+            Some((b, l)) => self.hourglass[4 * nhg * b + 4 * k + l],
+            None => self.hourglass[nhg * e + k],
+        }
+    }
     /// Work stored in the drilling penalty since the start (mJ); part of
     /// the internal energy the set reports.
     pub fn drilling_energy(&self) -> f64 {
