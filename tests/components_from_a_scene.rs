@@ -251,6 +251,7 @@ inventory::submit! {
         relative_cost: 1.0,
         params: ELEMENT_PARAMS,
         add: Some(add_element),
+        static_form: false,
     }
 }
 

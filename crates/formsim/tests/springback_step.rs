@@ -55,8 +55,9 @@ fn square_cup_springback_comes_to_rest_and_reports() {
 }
 
 /// A springback step with a motion, an `until`, an unknown method, the
-/// implicit method (not built) or a tolerance out of (0, 1) is refused at
-/// its key; a press step refuses the springback keys.
+/// implicit method with shells that have no static form, or a tolerance
+/// out of (0, 1) is refused at its key; a press step refuses the
+/// springback keys.
 #[test]
 fn springback_step_keys_are_checked() {
     let path = root().join("scenes/square-cup-springback.toml");
@@ -67,9 +68,9 @@ fn springback_step_keys_are_checked() {
             "not a springback method",
         ),
         (
-            "steps[3].method=\"implicit\"",
+            "blank.element=\"fully-integrated\"",
             "steps[3].method",
-            "not built yet",
+            "the fully-integrated shell has none",
         ),
         ("steps[3].tolerance=1.5", "steps[3].tolerance", "(0, 1)"),
         (

@@ -51,6 +51,51 @@ fn u_channel_is_square_when_formed_and_turns_when_released() {
     assert_eq!(csv.lines().count(), 1 + 45, "one row per node of y = 0");
 }
 
+/// The same coarse strip released by both methods from the same formed
+/// state: the implicit solve (the scene's) reports its increments,
+/// iterations, equations and factor, and the two shapes agree: θ1 and θ2
+/// within 0.5° (the bound; docs/springback.md has the full
+/// scene's figures and why the two releases differ at all).
+#[test]
+fn u_channel_implicit_and_relaxation_agree() {
+    let coarse = [
+        "blank.mesh.divisions=[44, 2]",
+        "solver.mass_scaling_dt=6.0e-7",
+        "steps[2].duration=1.4e-2",
+        "steps[2].motions[1].distance=29.99",
+        "output.report_strokes=[15.0, 30.0]",
+        "output.frames=0",
+        "output.plots=false",
+        "output.sections=[]",
+    ];
+    let (_, implicit) = run_scene("u-channel", &coarse);
+    let mut dr = coarse.to_vec();
+    dr.push("steps[3].method=\"dynamic-relaxation\"");
+    let (_, relaxed) = run_scene("u-channel", &dr);
+    let b = implicit.summary.springback.as_ref().unwrap();
+    let i = b.implicit.as_ref().expect("the static solve's figures");
+    println!("{i:?}");
+    assert!(
+        b.settled && i.increments >= 1 && i.iterations >= i.increments,
+        "{i:?}"
+    );
+    assert!(i.equations > 0 && i.factor_mib > 0.0, "{i:?}");
+    assert!(
+        relaxed
+            .summary
+            .springback
+            .as_ref()
+            .unwrap()
+            .implicit
+            .is_none()
+    );
+    let shape = |r: &formsim::run::RunResult| r.summary.profiles["X"].released.unwrap();
+    let (a, d) = (shape(&implicit), shape(&relaxed));
+    println!("implicit {a:?}\nrelaxation {d:?}");
+    assert!((a.theta1_deg - d.theta1_deg).abs() < 0.5, "{a:?} {d:?}");
+    assert!((a.theta2_deg - d.theta2_deg).abs() < 0.5, "{a:?} {d:?}");
+}
+
 /// A profile whose flange starts before its web ends, or of zero length,
 /// is refused at its key; so is a profile or a section that misses the
 /// blank's nodes or elements (when the scene is built, before the run).

@@ -232,6 +232,34 @@ pub trait ShellFormulation: Clone + Send + Sync + 'static {
         st: ElementState<'_, M::History>,
     ) -> ElementResult;
 
+    /// The static form of a set of these shells at its current state (the
+    /// implicit springback). By default none: one line naming the element.
+    ///
+    /// # Errors
+    /// The formulation has no static form.
+    fn static_form<M: Material>(
+        set: &crate::ShellSet<Self, M>,
+    ) -> Result<fem_core::StaticForm, String> {
+        let _ = set;
+        Err(format!(
+            "the {} shell has no static form (springback method \"dynamic-relaxation\" works with every element)",
+            Self::NAME
+        ))
+    }
+
+    /// Take back into `set` the committed state of the static form
+    /// [`ShellFormulation::static_form`] gave, after its solve.
+    ///
+    /// # Errors
+    /// `solved` is not that static form.
+    fn absorb_static<M: Material>(
+        set: &mut crate::ShellSet<Self, M>,
+        solved: &dyn fem_core::statics::StaticTangent,
+    ) -> Result<(), String> {
+        let _ = (set, solved);
+        Err(format!("the {} shell has no static form", Self::NAME))
+    }
+
     /// Four consecutive elements at once (their nodes in `nodes`), element
     /// `l`'s result into lane `l` of `out`. By default one after the other
     /// through [`compute`](Self::compute); a formulation that overrides it

@@ -488,6 +488,69 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             None => self.hourglass[nhg * e + k],
         }
     }
+    /// Overwrite element `e`'s state (one in-plane point; the static
+    /// shells' committed state after a static solve): its thickness (mm),
+    /// the stress and history of each through-thickness point, the
+    /// transverse shear stresses, the hourglass generalised forces and the
+    /// drilling moments, in the layouts [`ShellSet::stress`] and its
+    /// siblings read. The cached stable step is dropped.
+    pub(crate) fn restore_element(
+        &mut self,
+        e: usize,
+        thickness: f64,
+        point: impl Fn(usize) -> ([f64; 3], M::History),
+        shear: [f64; 2],
+        hourglass: &[f64],
+        drilling: [f64; 4],
+    ) {
+        let (n, nhg) = (self.section.rule.n, E::HOURGLASS_VARS.max(1));
+        self.thickness[e] = thickness;
+        for k in 0..n {
+            let (stress, history) = point(k);
+            let i = self.point_index(e, 0, k);
+            self.history[i] = history;
+            match self.lane_slot(e) {
+                Some((b, l)) => {
+                    let flat =
+                        &mut self.stress.as_flattened_mut()[b * 12 * n * E::IN_PLANE_POINTS..];
+                    for c in 0..3 {
+                        flat[(3 * k + c) * 4 + l] = stress[c];
+                    }
+                }
+                None => self.stress[i] = stress,
+            }
+        }
+        match self.lane_slot(e) {
+            Some((b, l)) => {
+                let flat = &mut self.shear.as_flattened_mut()[b * 8 * E::IN_PLANE_POINTS..];
+                flat[l] = shear[0];
+                flat[4 + l] = shear[1];
+                for (i, m) in drilling.iter().enumerate() {
+                    self.drilling[4 * b + i][l] = *m;
+                }
+                for (k, q) in hourglass.iter().enumerate().take(nhg) {
+                    self.hourglass[4 * nhg * b + 4 * k + l] = *q;
+                }
+            }
+            None => {
+                self.shear[e * E::IN_PLANE_POINTS] = shear;
+                self.drilling[e] = drilling;
+                for (k, q) in hourglass.iter().enumerate().take(nhg) {
+                    self.hourglass[nhg * e + k] = *q;
+                }
+            }
+        }
+        self.cached_dt = None;
+    }
+
+    /// Add the work of a static solve (its committed increments) to the
+    /// set's energies: internal (with its plastic share) and hourglass.
+    pub(crate) fn add_static_work(&mut self, w: &EnergyTally) {
+        self.energy.internal += w.internal;
+        self.energy.hourglass += w.hourglass;
+        self.energy.plastic += w.plastic;
+    }
+
     /// Work stored in the drilling penalty since the start (mJ); part of
     /// the internal energy the set reports.
     pub fn drilling_energy(&self) -> f64 {
@@ -828,6 +891,20 @@ fn inverse_valence(nodes: usize, quads: &[[u32; 4]]) -> Vec<f64> {
 impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
     fn name(&self) -> &str {
         &self.name
+    }
+
+    /// The formulation's static form of the set ([`ShellFormulation::static_form`]).
+    fn static_form(&self) -> Result<fem_core::StaticForm, String> {
+        E::static_form(self)
+    }
+
+    /// The static solve's committed state taken back ([`ShellFormulation::absorb_static`]).
+    fn absorb_static(
+        &mut self,
+        solved: &dyn fem_core::statics::StaticTangent,
+        _x: &[fem_core::Vec3],
+    ) -> Result<(), String> {
+        E::absorb_static(self, solved)
     }
 
     /// The nodal thickness and the outer-fibre flow stress (see [`ShellSet`]).

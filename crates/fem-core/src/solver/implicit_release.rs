@@ -19,9 +19,9 @@
 //! another. The nodal loads' work over the jump is booked as external work,
 //! and what the stored energy lost plus that work (and the kinetic energy
 //! left when the tools let go) as dissipated, like the relaxation's damping
-//! work: the ledger stays closed. An effect whose energy tally cannot
-//! follow the jump (shells, whose strain energy is summed step by step)
-//! keeps its tally; what it released then stays in its internal energy.
+//! work: the ledger stays closed. Each effect's tally follows the jump
+//! (springs from their lengths, shells by the work of the static
+//! increments, plastic dissipation included).
 
 use super::Solver;
 use crate::statics::{NewtonSettings, SolveReport, StaticProblem, StaticSolver};

@@ -42,6 +42,69 @@ pub struct SpringbackSummary {
     pub displacement_max_node: usize,
     /// See `displacement_max_node`.
     pub displacement_max_at: [f64; 3],
+    /// The static solve of the implicit method.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub implicit: Option<ImplicitSummary>,
+}
+
+/// `springback.implicit`: what the static Newton solve did.
+#[derive(Debug, Clone, Serialize)]
+pub struct ImplicitSummary {
+    /// Load (release) increments converged.
+    pub increments: usize,
+    /// Newton iterations over them.
+    pub iterations: usize,
+    /// Increments cut back.
+    pub cutbacks: usize,
+    /// Residual norms `‖R‖` of the last increment, one per iteration (N, N·mm).
+    pub last_residuals: Vec<f64>,
+    /// Equations of the linear systems (free DOFs).
+    pub equations: usize,
+    /// Stored values of the tangent and of its factor.
+    pub matrix_nnz: usize,
+    /// See `matrix_nnz`.
+    pub factor_nnz: usize,
+    /// Memory of the factor (MiB).
+    pub factor_mib: f64,
+    /// Numeric factorisations by kind: `LLᵀ`, `LDLᵀ`, LU.
+    pub factorisations: [usize; 3],
+    /// Seconds: the whole solve, assembly of forces and tangents, symbolic
+    /// analysis, numeric factorisations, triangular solves.
+    pub time_s: f64,
+    /// See `time_s`.
+    pub assembly_s: f64,
+    /// See `time_s`.
+    pub symbolic_s: f64,
+    /// See `time_s`.
+    pub numeric_s: f64,
+    /// See `time_s`.
+    pub solve_s: f64,
+}
+
+impl ImplicitSummary {
+    fn of(r: &fem_core::statics::SolveReport) -> Self {
+        let (s, t) = (&r.system, &r.timing);
+        Self {
+            increments: r.increments.len(),
+            iterations: r.iterations(),
+            cutbacks: r.cutbacks,
+            last_residuals: r
+                .increments
+                .last()
+                .map(|i| i.residuals.clone())
+                .unwrap_or_default(),
+            equations: s.equations,
+            matrix_nnz: s.matrix_nnz,
+            factor_nnz: s.factor_nnz,
+            factor_mib: s.factor_bytes as f64 / (1024.0 * 1024.0),
+            factorisations: [s.llt, s.ldlt, s.lu],
+            time_s: t.total,
+            assembly_s: t.assembly,
+            symbolic_s: t.symbolic,
+            numeric_s: t.numeric,
+            solve_s: t.solve,
+        }
+    }
 }
 
 /// The springback step's report, when the scene has one and the run reached
@@ -79,6 +142,7 @@ pub fn summary(
         displacement_max_mm: max,
         displacement_max_node: node,
         displacement_max_at: [at.x, at.y, at.z],
+        implicit: r.implicit.as_ref().map(ImplicitSummary::of),
     };
     Some((s, d))
 }

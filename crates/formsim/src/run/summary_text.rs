@@ -80,6 +80,21 @@ impl fmt::Display for Summary {
                 }
             )?;
         }
+        if let Some(i) = s.springback.as_ref().and_then(|b| b.implicit.as_ref()) {
+            writeln!(
+                f,
+                "  springback static solve: {} increments, {} iterations, {} cut-backs; {} equations, factor {:.1} MiB; {:.2} s (assembly {:.2}, factorisation {:.2}, solves {:.2})",
+                i.increments,
+                i.iterations,
+                i.cutbacks,
+                i.equations,
+                i.factor_mib,
+                i.time_s,
+                i.assembly_s,
+                i.symbolic_s + i.numeric_s,
+                i.solve_s
+            )?;
+        }
         for (name, p) in &s.profiles {
             writeln!(f, "  profile {name}: {}", p.line())?;
         }

@@ -459,7 +459,8 @@ impl StepKind {
 }
 
 /// The springback methods a `kind = "springback"` step may name.
-pub const SPRINGBACK_METHODS: [&str; 1] = ["dynamic-relaxation"];
+/// The first is the default.
+pub const SPRINGBACK_METHODS: [&str; 2] = ["implicit", "dynamic-relaxation"];
 
 /// A springback step's residual force ratio when it gives none.
 pub const SPRINGBACK_TOLERANCE: f64 = 1e-5;

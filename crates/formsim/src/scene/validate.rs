@@ -492,16 +492,23 @@ fn step_kind(loaded: &LoadedScene, i: usize, step: &Step) -> Result<(), SceneErr
     if let Some(m) = &step.method
         && !SPRINGBACK_METHODS.contains(&m.as_str())
     {
-        let more = if m == "implicit" {
-            " (the static implicit method is not built yet)"
-        } else {
-            ""
-        };
         return keys.err(
             &key("method"),
             format!(
-                "\"{m}\": not a springback method (known: {}){more}",
+                "\"{m}\": not a springback method (known: {})",
                 SPRINGBACK_METHODS.join(", ")
+            ),
+        );
+    }
+    if step.springback_method() == "implicit"
+        && let Some(element) = shell_elements::kinds::element(&loaded.scene.blank.element)
+        && !element.static_form
+    {
+        return keys.err(
+            &key("method"),
+            format!(
+                "\"implicit\" needs shells with a static form, and the {} shell has none (\"dynamic-relaxation\" works with every element)",
+                element.name
             ),
         );
     }

@@ -30,6 +30,7 @@ inventory::submit! {
         relative_cost: 1.0,
         params: &[],
         add: None,
+        static_form: true,
     }
 }
 
@@ -44,6 +45,7 @@ inventory::submit! {
         relative_cost: 1.9,
         params: &[],
         add: None,
+        static_form: false,
     }
 }
 

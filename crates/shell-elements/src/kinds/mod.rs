@@ -85,6 +85,9 @@ pub struct ElementKind {
     /// registered elsewhere, a function that makes its formulation from the
     /// [`ShellRequest`] and hands it to [`with_builtin_material`].
     pub add: Option<AddShells>,
+    /// Whether its shells have a static form (`ShellFormulation::static_form`),
+    /// which a springback step's implicit method needs.
+    pub static_form: bool,
 }
 
 /// Add the blank's shells of a request to a solver (a material's builder,

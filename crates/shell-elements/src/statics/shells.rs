@@ -27,6 +27,10 @@ pub struct StaticShells<M: Material> {
     pub(super) conn: Vec<[u32; 4]>,
     pub(super) committed: ShellState<M::History>,
     pub(super) trial: ShellState<M::History>,
+    /// Work done on the shells over the committed increments (mJ): the
+    /// stresses' and drilling penalty's, the hourglass control's, and the
+    /// plastic dissipation within the first.
+    pub(super) work: fem_core::EnergyTally,
 }
 
 impl<M: Material> StaticShells<M> {
@@ -84,6 +88,7 @@ impl<M: Material> StaticShells<M> {
             conn: set.quads().to_vec(),
             trial: state.clone(),
             committed: state,
+            work: fem_core::EnergyTally::default(),
         }
     }
 
@@ -115,6 +120,13 @@ impl<M: Material> StaticShells<M> {
     /// The formulation's options.
     pub fn formulation(&self) -> &BelytschkoTsay {
         &self.formulation
+    }
+
+    /// Work done on the shells since they were built, over the committed
+    /// increments (mJ): `internal` (stresses and drilling penalty, of
+    /// which `plastic` dissipated) and `hourglass`.
+    pub fn work(&self) -> fem_core::EnergyTally {
+        self.work
     }
 
     /// Committed thickness of element `e` (mm).

@@ -122,7 +122,11 @@ impl<M: Material> StaticTangent for StaticShells<M> {
             // The solver evaluated this state successfully before committing
             // it, so the element cannot degenerate here; if it did, the trial
             // state of the last call stays.
-            let _ = self.run_element(e, state, |v, _| v);
+            if let Ok(r) = self.run_element(e, state, |v, _| v) {
+                self.work.internal += r.d_internal;
+                self.work.hourglass += r.d_hourglass;
+                self.work.plastic += r.d_plastic;
+            }
         }
         self.committed.clone_from(&self.trial);
     }
