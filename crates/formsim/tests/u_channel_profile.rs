@@ -47,6 +47,9 @@ fn u_channel_is_square_when_formed_and_turns_when_released() {
         "{rel:?}"
     );
     assert!(p.points["wall"] >= 3 && p.points["web"] >= 2, "{p:?}");
+    // A straight formed wall has no radius, and summary.json no null for it.
+    let json = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
+    assert!(!json.contains("null"), "{json}");
     let csv = std::fs::read_to_string(dir.path().join("profiles/X.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 45, "one row per node of y = 0");
 }

@@ -129,7 +129,9 @@ pub struct ShapeMeasures {
     pub theta1_deg: f64,
     /// Angle between wall and flange (degrees).
     pub theta2_deg: f64,
-    /// Radius of curvature of the wall (mm); absent for a straight wall.
+    /// Radius of curvature of the wall (mm); absent for a straight wall
+    /// (and from `summary.json`, where a null would read as a NaN).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub wall_radius_mm: Option<f64>,
 }
 
@@ -477,6 +479,20 @@ mod tests {
         assert!((m.theta1_deg - 97.0).abs() < 1e-9, "{m:?}");
         assert!((m.theta2_deg - 101.0).abs() < 1e-9, "{m:?}");
         assert_eq!(m.wall_radius_mm, None);
+    }
+
+    /// A straight wall's absent radius leaves no null in `summary.json`
+    /// (which the run would read as a NaN and refuse).
+    #[test]
+    fn straight_wall_writes_no_null() {
+        let p = u_profile(0.0, 0.0);
+        let m = measure(&p, &classify(&p, &line()).unwrap());
+        assert_eq!(m.wall_radius_mm, None);
+        let json = serde_json::to_string(&m).unwrap();
+        assert!(
+            !json.contains("null") && !json.contains("wall_radius"),
+            "{json}"
+        );
     }
 
     #[test]
