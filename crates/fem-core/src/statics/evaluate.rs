@@ -16,7 +16,9 @@ pub(super) struct Eval {
     pub r_t: f64,
     /// `‖R‖₂` over the rotation equations (N·mm).
     pub r_r: f64,
-    /// Force reference `max(‖(1 − λ) F_start + λ F_ext‖, ‖F_int‖)` over translations (N).
+    /// Force reference over translations (N): `max(‖λ F_ext‖, ‖F_int −
+    /// (1 − λ) F_start‖, ‖F_start − F_ext‖)`, the last the force a stress
+    /// release lets go (zero otherwise).
     pub ref_t: f64,
     /// Moment reference over rotations (N·mm).
     pub ref_r: f64,
@@ -99,11 +101,15 @@ impl StaticSolver {
         let (mut ext, mut int) = ([0.0; 2], [0.0; 2]);
         for (g, &f) in self.f_int.iter().enumerate() {
             let k = usize::from(Dof::ALL[g % 6].is_rotation());
-            let l = self.target(g, lambda);
-            int[k] += f * f;
+            // The internal force net of the held forces still to let go (a
+            // stress release), against the loads applied so far.
+            let net = f - (1.0 - lambda) * self.f_start[g];
+            let l = lambda * self.loads[g];
+            int[k] += net * net;
             ext[k] += l * l;
         }
-        let reference = |k: usize| ext[k].sqrt().max(int[k].sqrt());
+        let scale = self.release_scale;
+        let reference = |k: usize| ext[k].sqrt().max(int[k].sqrt()).max(scale[k]);
         Ok(Eval {
             merit: r_t.hypot(r_r),
             r_t,

@@ -94,7 +94,15 @@ impl StaticSolver {
                     eval.merit / r0
                 )));
             }
-            stalls = if step.descent { 0 } else { stalls + 1 };
+            // A stall is a line search that found no descent; with full
+            // steps (no line search) the residual may rise for an iteration
+            // or two on a yield surface's kink before Newton takes hold, and
+            // only divergence and the iteration limit end the attempt.
+            stalls = if step.descent || self.settings.line_search_steps == 0 {
+                0
+            } else {
+                stalls + 1
+            };
             if stalls == STALLS {
                 return Err(Failure::Soft(format!(
                     "the residual stalled at |R| = {:.3e} ({STALLS} line searches without descent): \

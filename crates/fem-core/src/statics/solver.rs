@@ -48,6 +48,10 @@ pub struct StaticSolver {
     /// stress release), else zero: the balance sought at `λ` is
     /// `F_int = (1 − λ) f_start + λ F_ext`.
     pub(super) f_start: Vec<f64>,
+    /// `‖F_start − F_ext‖` over the free translation and rotation DOFs: the
+    /// force (N) and moment (N·mm) scale of a stress release, zero
+    /// otherwise; a floor of the convergence references.
+    pub(super) release_scale: [f64; 2],
     /// Tangent values on the pattern.
     pub(super) values: Vec<f64>,
     /// Residual on the equations.
@@ -135,6 +139,7 @@ impl StaticSolver {
             f_int: vec![0.0; n_dofs],
             f_committed: vec![0.0; n_dofs],
             f_start,
+            release_scale: [0.0; 2],
             r: vec![0.0; n_eq],
             du: vec![0.0; n_eq],
             dofs,
@@ -142,6 +147,7 @@ impl StaticSolver {
             timing: StaticTiming::default(),
             stats,
         };
+        solver.release_scale = solver.release_norms();
         solver.timing.symbolic = solver.factor.as_ref().map_or(0.0, |f| f.tally.symbolic);
         solver.timing.total = t.elapsed().as_secs_f64();
         Ok(solver)
@@ -192,17 +198,21 @@ impl StaticSolver {
     /// − F_ext‖` over the free translation DOFs (N); 0 unless the solve is a
     /// release ([`StaticProblem::release_start_forces`]).
     pub fn release_residual(&self) -> f64 {
+        self.release_scale[0]
+    }
+
+    /// `‖F_start − F_ext‖` over the free translations and rotations (zero
+    /// unless the solve is a stress release).
+    fn release_norms(&self) -> [f64; 2] {
         if self.f_start.iter().all(|f| *f == 0.0) {
-            return 0.0;
+            return [0.0; 2];
         }
-        let mut r2 = 0.0;
+        let mut r2 = [0.0; 2];
         for (&g, &rotation) in self.dofs.global.iter().zip(&self.dofs.is_rotation) {
-            if !rotation {
-                let d = self.f_start[g as usize] - self.loads[g as usize];
-                r2 += d * d;
-            }
+            let d = self.f_start[g as usize] - self.loads[g as usize];
+            r2[usize::from(rotation)] += d * d;
         }
-        r2.sqrt()
+        r2.map(f64::sqrt)
     }
 
     /// The effect with index `index`, as the static solver holds it.
