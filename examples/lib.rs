@@ -1,9 +1,9 @@
 //! # formsim-examples: teaching examples, one step at a time
 //!
-//! Five small programs, in the spirit of deal.II's step-N tutorials, each
+//! Six small programs, in the spirit of deal.II's step-N tutorials, each
 //! building on the one before. Every example prints what it computes, checks
 //! it against an analytic or published value with a stated tolerance, and is
-//! also a test (`cargo test --release -p formsim-examples` runs all five).
+//! also a test (`cargo test --release -p formsim-examples` runs all six).
 //! The order and what each teaches are in `examples/README.md`:
 //!
 //! 1. `step1_friction_point`: one contact point through a friction law (stick,
@@ -15,7 +15,9 @@
 //! 4. `step4_square_cup_in_code`: the NUMISHEET'93 square cup assembled from
 //!    the engine crates by hand, checked bit for bit against the scene;
 //! 5. `step5_my_friction_law`: a new friction law in about 40 lines, paired
-//!    with every formulation and put through the conformance suite.
+//!    with every formulation and put through the conformance suite;
+//! 6. `step6_springback`: the static Newton solver bends a plastic strip and
+//!    releases it: its springback against the plane-strain closed form.
 //!
 //! Run one with `cargo run --release -p formsim-examples --example NAME`.
 //!
