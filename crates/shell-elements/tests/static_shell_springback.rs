@@ -11,9 +11,10 @@
 //! 4 × 1 mm, t = 1 mm, 4 shells, 15 Lobatto points, clamped at x = 0,
 //! plane strain across the width (uy = rx = rz = 0), bent by `M(1/25 mm)`.
 //! The curvature is the end rotation over the length (uniform moment).
-//! The release lets the bent part's internal forces go gradually: a dead
-//! nodal force `(1 − λ) F₀` (`F₀` the internal forces at the start of the
-//! release) holds the part at `λ = 0` and vanishes at `λ = 1`. Released
+//! The release lets the bent part's internal forces go gradually (a
+//! stress release, `StaticProblem::release_start_forces`): the forces
+//! `(1 − λ) F₀` (`F₀` the internal forces at the start of the release)
+//! hold the part at `λ = 0` and vanish at `λ = 1`. Released
 //! at once, Newton's first iterate overshoots (the tangent of a point on
 //! the yield surface at a zero increment is the material's central
 //! difference, the mean of the elastic and the plastic one), the next
@@ -30,10 +31,8 @@
 
 mod static_common;
 
-use fem_core::statics::{
-    Assembly, NewtonSettings, StaticProblem, StaticSolver, StaticTangent, TrialState, dense_tangent,
-};
-use fem_core::{Dof, Dofs, Effect, FemError, FieldAccess, Forces, NodalState, StepContext, Vec3};
+use fem_core::statics::{NewtonSettings, StaticProblem, StaticSolver};
+use fem_core::{Dof, Dofs, Vec3};
 use shell_elements::bending::PlaneStrainStrip;
 use shell_elements::{BelytschkoTsay, Hardening, J2PlaneStress, RuleKind, Section, StaticShells};
 use static_common::angle_about_y;
@@ -83,52 +82,6 @@ fn settings() -> NewtonSettings {
     }
 }
 
-/// Forces `F₀` held on the part at `λ = 0` and let go linearly with `λ`:
-/// internal forces `−(1 − λ) F₀`, no stiffness.
-struct HeldForces {
-    f0: Vec<f64>,
-}
-
-impl HeldForces {
-    /// The internal forces of `shells` at rest at `x`.
-    fn of(shells: &StaticShells<J2PlaneStress>, x: &[Vec3]) -> Self {
-        let t = static_common::Trial::at(x);
-        let f0 = dense_tangent(&mut shells.clone(), &t.state(), false)
-            .unwrap()
-            .forces;
-        Self { f0 }
-    }
-}
-
-impl Effect for HeldForces {
-    fn name(&self) -> &str {
-        "held-forces"
-    }
-
-    fn add_forces(
-        &mut self,
-        _ctx: &StepContext<'_>,
-        _state: &NodalState,
-        _forces: &mut Forces,
-        _fields: &mut FieldAccess<'_>,
-    ) -> Result<(), FemError> {
-        Ok(())
-    }
-}
-
-impl StaticTangent for HeldForces {
-    fn internal_forces(
-        &mut self,
-        state: &TrialState<'_>,
-        out: &mut Assembly<'_>,
-    ) -> Result<(), FemError> {
-        for (g, f) in self.f0.iter().enumerate() {
-            out.add_force((g / 6) as u32, Dof::ALL[g % 6], -(1.0 - state.lambda) * f);
-        }
-        Ok(())
-    }
-}
-
 #[test]
 fn static_bend_and_release_matches_plane_strain_springback() {
     let strip = PlaneStrainStrip::new(E, NU, T, swift()).unwrap();
@@ -167,9 +120,8 @@ fn static_bend_and_release_matches_plane_strain_springback() {
 
     // Release: the bent shells, their internal forces held at the start
     // and let go as λ rises.
-    let held = HeldForces::of(&bent, bend.positions());
     let mut p = problem(bend.positions(), &mesh, bent, 0.0);
-    p.add_effect(held);
+    p.release_start_forces();
     let mut release = StaticSolver::new(p, settings()).unwrap();
     let r2 = release.solve().unwrap();
     let theta2 = angle_about_y(&release.rotation(tip));

@@ -89,27 +89,16 @@ impl Solver {
     /// work half at its end and half at the next step's).
     fn book_half_step(&mut self, dt: f64) {
         let hb = 0.5 * (self.dt_prev + dt);
-        let st = &self.state;
-        let mut loads = 0.0;
-        for l in &self.loads {
-            let p = l.value * self.amp_values[l.amplitude as usize];
-            let (i, axis) = (l.node as usize, usize::from(l.dof % 3));
-            let v = if l.dof >= 3 {
-                st.w[i][axis]
-            } else {
-                st.v[i][axis]
-            };
-            loads += 0.5 * hb * p * v;
-        }
+        // The loads' half with the current velocities, as the leapfrog
+        // books it; the damping's half `½ c h̄ Σ m v²` is `c h̄` times the
+        // kinetic energy.
+        let (_, loads) = self.load_work_halves(hb);
         let c = self
             .relaxation
             .as_ref()
             .map_or(self.settings.damping, |r| r.c);
-        let moving: f64 = (0..st.len())
-            .map(|i| st.mass[i] * st.v[i].norm_squared() + st.inertia[i] * st.w[i].norm_squared())
-            .sum();
         self.work.loads += loads;
-        self.work.damping_work -= 0.5 * c * hb * moving;
+        self.work.damping_work -= c * hb * self.kinetic_energy();
     }
 
     /// Move the nodes to `x`, at rest; the work of the nodal loads over the
@@ -141,13 +130,7 @@ impl Solver {
     /// booking is exact for a model at rest when the tools let go, and
     /// close for one that barely moves, as a formed part).
     fn internal_and_kinetic(&self) -> f64 {
-        let st = &self.state;
-        let kinetic: f64 = (0..st.len())
-            .map(|i| {
-                let (v, w) = (st.v[i].norm_squared(), st.w[i].norm_squared());
-                0.5 * (st.mass[i] * v + st.inertia[i] * w)
-            })
-            .sum();
+        let kinetic = self.kinetic_energy();
         let stored: f64 = self
             .effects
             .iter()
@@ -157,5 +140,16 @@ impl Solver {
             })
             .sum();
         kinetic + stored
+    }
+
+    /// `½ Σ (m v² + I w²)` of the half-step velocities (mJ).
+    fn kinetic_energy(&self) -> f64 {
+        let st = &self.state;
+        (0..st.len())
+            .map(|i| {
+                let (v, w) = (st.v[i].norm_squared(), st.w[i].norm_squared());
+                0.5 * (st.mass[i] * v + st.inertia[i] * w)
+            })
+            .sum()
     }
 }
