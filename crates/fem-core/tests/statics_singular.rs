@@ -144,6 +144,10 @@ fn newton_settings_out_of_range_are_refused_by_name() {
             pivot_tolerance: 1.0,
             ..Default::default()
         },
+        NewtonSettings {
+            reuse_contraction: 1.0,
+            ..Default::default()
+        },
     ];
     let fields = [
         "force_tolerance",
@@ -152,6 +156,7 @@ fn newton_settings_out_of_range_are_refused_by_name() {
         "min_increment",
         "growth_factor",
         "pivot_tolerance",
+        "reuse_contraction",
     ];
     for (s, field) in cases.iter().zip(fields) {
         let err = s.validate().unwrap_err();

@@ -53,7 +53,7 @@ impl StaticSolver {
         history.clear();
         self.lambda_trial = lambda;
         self.apply_prescribed();
-        let mut eval = self.evaluate(true)?;
+        let mut eval = self.evaluate(!self.keep_factor)?;
         history.push(eval.merit);
         if self.in_balance(&eval) {
             // Already in equilibrium at the new load factor (a release with
@@ -79,6 +79,8 @@ impl StaticSolver {
             let alpha = step.alpha;
             backtracks += step.backtracks;
             history.push(step.eval.merit);
+            let contraction = self.settings.reuse_contraction;
+            self.keep_factor = step.eval.merit <= contraction * eval.merit;
             eval = step.eval;
             if self.converged(&eval, alpha, alpha * energy, e0) {
                 return Ok(Converged {
@@ -110,7 +112,7 @@ impl StaticSolver {
                     eval.merit
                 )));
             }
-            if !step.fresh {
+            if !step.fresh && !self.keep_factor {
                 eval = self.evaluate(true)?;
             }
         }
@@ -133,16 +135,25 @@ impl StaticSolver {
         }
     }
 
-    /// Factorise the tangent and solve `K δu = −R` into `du`.
+    /// Factorise the tangent (unless the factor in hand is kept) and solve
+    /// `K δu = −R` into `du`.
     fn newton_direction(&mut self) -> Result<(), Failure> {
         self.du.copy_from_slice(&self.r);
         let Some(factor) = self.factor.as_mut() else {
             return Ok(());
         };
-        let symmetric = self.symmetric;
-        let result = factor
-            .factor(&self.pattern, &self.values, symmetric)
-            .and_then(|()| factor.solve(&self.pattern, &self.values, &mut self.du));
+        let symmetrize = self.settings.symmetrize && !self.symmetric && !self.keep_factor;
+        if symmetrize {
+            self.pattern.symmetrize(&mut self.values);
+        }
+        let symmetric = self.symmetric || self.settings.symmetrize;
+        let result = if self.keep_factor {
+            factor.solve(&self.pattern, &self.values, &mut self.du)
+        } else {
+            factor
+                .factor(&self.pattern, &self.values, symmetric)
+                .and_then(|()| factor.solve(&self.pattern, &self.values, &mut self.du))
+        };
         self.timing.numeric = factor.tally.numeric;
         self.timing.solve = factor.tally.solve;
         self.timing.symbolic = factor.tally.symbolic;
@@ -205,9 +216,10 @@ impl StaticSolver {
 
     /// Backtrack along `du` from the current state until `‖R‖` decreases
     /// enough, or take the shortest step after `line_search_steps`. The
-    /// full step is evaluated with the tangent (it is accepted near the
-    /// solution, so the next iteration needs no second assembly); shorter
-    /// ones with forces only.
+    /// full step is evaluated with the tangent in full Newton (it is
+    /// accepted near the solution, so the next iteration needs no second
+    /// assembly); shorter ones, and every step when the factor may be
+    /// kept, with forces only.
     fn line_search(&mut self, merit0: f64) -> Result<LineStep, Failure> {
         self.x_base.copy_from_slice(&self.x);
         self.dtheta_base.copy_from_slice(&self.dtheta);
@@ -215,7 +227,9 @@ impl StaticSolver {
         let mut alpha = 1.0;
         for step in 0..=steps {
             self.set_trial(alpha);
-            let tangent = step == 0;
+            // With factor reuse, the tangent is assembled only when the
+            // next iteration needs a new factor (decided on this step's |R|).
+            let tangent = step == 0 && self.settings.reuse_contraction == 0.0;
             match self.evaluate(tangent) {
                 Ok(eval) if step == steps || sufficient(eval.merit, merit0, alpha) => {
                     return Ok(LineStep {

@@ -20,6 +20,8 @@ pub(crate) struct Pattern {
     pub matrix: SymbolicSparseColMat<usize>,
     /// Per equation: the value index of its diagonal entry.
     pub diagonal: Vec<usize>,
+    /// Per value index `(i, j)`: the value index of `(j, i)`.
+    pub transpose: Vec<u32>,
 }
 
 impl Pattern {
@@ -61,6 +63,10 @@ impl Pattern {
             })
             .collect();
         let diagonal = (0..n as u32).map(|i| slot(i, i)).collect();
+        let transpose = (0..n)
+            .flat_map(|j| (col_ptr[j]..col_ptr[j + 1]).map(move |p| (j, p)))
+            .map(|(j, p)| slot(j as u32, row_idx[p] as u32) as u32)
+            .collect();
         let keys = entries.iter().map(|&(r, c, _)| (r, c)).collect();
         let matrix = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         Self {
@@ -69,6 +75,20 @@ impl Pattern {
             slots,
             matrix,
             diagonal,
+            transpose,
+        }
+    }
+
+    /// Replace `values` by the symmetric part `½ (K + Kᵀ)` of the matrix
+    /// they hold.
+    pub fn symmetrize(&self, values: &mut [f64]) {
+        for (p, &q) in self.transpose.iter().enumerate() {
+            let q = q as usize;
+            if q > p {
+                let mean = 0.5 * (values[p] + values[q]);
+                values[p] = mean;
+                values[q] = mean;
+            }
         }
     }
 

@@ -76,6 +76,8 @@ pub struct SolveReport {
     pub timing: StaticTiming,
     /// Sizes of the linear systems and factorisations made.
     pub system: SystemStats,
+    /// The settings the solve ran with.
+    pub settings: super::NewtonSettings,
 }
 
 impl SolveReport {

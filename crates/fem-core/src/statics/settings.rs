@@ -65,6 +65,20 @@ pub struct NewtonSettings {
     /// Backtracking steps of the line search per iteration (0: full Newton
     /// steps). Default `10`.
     pub line_search_steps: usize,
+    /// Keep the factorised tangent while it contracts the residual well
+    /// (modified Newton): after an iteration whose `‖R‖` fell to at most
+    /// this fraction of the previous one, the next iteration (in this
+    /// increment or the next) solves with the same factor and assembles
+    /// forces only; after one that did not, it assembles and factorises
+    /// the tangent anew. `0` factorises every iteration (full Newton,
+    /// quadratic near the solution). In `[0, 1)`. Default `0`.
+    pub reuse_contraction: f64,
+    /// Factorise the symmetric part `½ (K + Kᵀ)` of an unsymmetric
+    /// tangent, by Cholesky (`LLᵀ`, or `LDLᵀ` when it is not positive
+    /// definite), in place of LU of `K`: each factorisation is cheaper,
+    /// and Newton converges linearly rather than quadratically. The
+    /// residual, and so the solution, is the same. Default `false`.
+    pub symmetrize: bool,
     /// An iteration whose residual norm exceeds this multiple of the
     /// increment's first residual norm diverged, `> 1`. Default `1e6`.
     pub divergence_ratio: f64,
@@ -92,6 +106,8 @@ impl Default for NewtonSettings {
             growth_factor: 1.5,
             easy_iterations: 5,
             line_search_steps: 10,
+            reuse_contraction: 0.0,
+            symmetrize: false,
             divergence_ratio: 1e6,
             pivot_tolerance: 1e-12,
         }
@@ -103,7 +119,7 @@ impl NewtonSettings {
     pub fn validate(&self) -> Result<(), FemError> {
         let s = self;
         let open01 = |v: f64| v > 0.0 && v < 1.0;
-        let checks: [(&str, f64, &'static str, &'static str, bool); 13] = [
+        let checks: [(&str, f64, &'static str, &'static str, bool); 14] = [
             (
                 "force_tolerance",
                 s.force_tolerance,
@@ -180,6 +196,13 @@ impl NewtonSettings {
                 "-",
                 "<= max_iterations",
                 s.easy_iterations <= s.max_iterations,
+            ),
+            (
+                "reuse_contraction",
+                s.reuse_contraction,
+                "-",
+                "in [0, 1)",
+                s.reuse_contraction >= 0.0 && s.reuse_contraction < 1.0,
             ),
             (
                 "divergence_ratio",

@@ -63,6 +63,10 @@ pub struct StaticSolver {
     /// Whether a tangent has been factorised (a singular first tangent is
     /// an error at once; a later one is cut back).
     pub(super) factored_once: bool,
+    /// Whether the next iteration solves with the factor in hand
+    /// ([`NewtonSettings::reuse_contraction`]): the values on the pattern
+    /// are then still the ones it factorised.
+    pub(super) keep_factor: bool,
     pub(super) timing: StaticTiming,
     pub(super) stats: SystemStats,
 }
@@ -144,6 +148,7 @@ impl StaticSolver {
             du: vec![0.0; n_eq],
             dofs,
             factored_once: false,
+            keep_factor: false,
             timing: StaticTiming::default(),
             stats,
         };

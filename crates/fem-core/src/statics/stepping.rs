@@ -34,6 +34,7 @@ impl StaticSolver {
         let mut report = result?;
         report.timing = self.timing;
         report.system = self.system();
+        report.settings = self.settings;
         Ok(report)
     }
 
@@ -127,6 +128,7 @@ impl StaticSolver {
 
     /// Back to the committed state.
     fn revert(&mut self) {
+        self.keep_factor = false;
         for effect in &mut self.effects {
             effect.revert();
         }

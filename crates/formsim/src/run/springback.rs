@@ -68,6 +68,15 @@ pub struct ImplicitSummary {
     pub factor_mib: f64,
     /// Numeric factorisations by kind: `LLᵀ`, `LDLᵀ`, LU.
     pub factorisations: [usize; 3],
+    /// The matrix factorised: `"exact"` (the consistent tangent) or
+    /// `"symmetric part"` (`½ (K + Kᵀ)`, by Cholesky).
+    pub tangent: String,
+    /// A factor is kept for the next iteration while `‖R‖` falls to this
+    /// fraction of the previous iteration's or less (0: a new one every
+    /// iteration).
+    pub reuse_contraction: f64,
+    /// Convergence tolerances (relative): force, displacement, energy.
+    pub tolerances: [f64; 3],
     /// Seconds: the whole solve, assembly of forces and tangents, symbolic
     /// analysis, numeric factorisations, triangular solves.
     pub time_s: f64,
@@ -98,6 +107,18 @@ impl ImplicitSummary {
             factor_nnz: s.factor_nnz,
             factor_mib: s.factor_bytes as f64 / (1024.0 * 1024.0),
             factorisations: [s.llt, s.ldlt, s.lu],
+            tangent: if r.settings.symmetrize {
+                "symmetric part"
+            } else {
+                "exact"
+            }
+            .to_string(),
+            reuse_contraction: r.settings.reuse_contraction,
+            tolerances: [
+                r.settings.force_tolerance,
+                r.settings.displacement_tolerance,
+                r.settings.energy_tolerance,
+            ],
             time_s: t.total,
             assembly_s: t.assembly,
             symbolic_s: t.symbolic,
