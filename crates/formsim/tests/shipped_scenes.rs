@@ -147,12 +147,18 @@ fn forming_benchmarks_run_clean() {
 /// while forming (kinetic energy below the bound of the external work);
 /// formed square (θ1, θ2 within 0.5° of 90°) and, released, open
 /// (θ1 above 90°, θ2 below) with a curled wall, as docs/springback.md's
-/// table says; the energy balance closed to 1e-5.
+/// table says; the energy balance closed to 1e-5; the shape measures and
+/// the headline figures match `tests/gold/u-channel.json`.
 #[test]
 fn u_channel_runs_clean_and_springs_back() {
     let sets = ["output.frames=0", "output.plots=false"];
-    let (_, r) = run_scene("u-channel", &sets);
+    let (d, r) = run_scene("u-channel", &sets);
     warns_only("u-channel", &r, &[]);
+    let mut failures = Vec::new();
+    let mut g = Gold::load("u-channel");
+    g.check_summary(&mut failures, &summary_json(&d));
+    g.finish(&mut failures);
+    gold::assert_none(&failures);
     let s = &r.summary;
     assert!(
         s.kinetic_to_work_max < KINETIC_TO_WORK_MAX,

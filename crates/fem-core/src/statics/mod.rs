@@ -54,7 +54,12 @@
 //!   LU is needed); `LLᵀ` is tried first, `LDLᵀ` on
 //!   the same analysis when the tangent is not positive definite (past a
 //!   limit point), LU when an effect's tangent is unsymmetric or `LDLᵀ`
-//!   solves inaccurately. A pivot at round-off of its diagonal names the
+//!   solves inaccurately. Two settings trade the quadratic convergence of
+//!   the exact tangent for cheaper iterations, with the same convergence
+//!   criteria and so the same solution: `symmetrize` factorises the
+//!   symmetric part of an unsymmetric tangent by Cholesky in place of LU,
+//!   and `reuse_contraction` keeps a factor (modified Newton) while the
+//!   iterations it serves contract `‖R‖` enough. A pivot at round-off of its diagonal names the
 //!   free DOF: a singular first tangent (a free rigid-body mode) stops the
 //!   solve at once with [`StaticsError::Singular`].
 //! - **Cost**: the Newton loop reuses its buffers (residual, correction,
