@@ -59,9 +59,10 @@
 //!   criteria and so the same solution: `symmetrize` factorises the
 //!   symmetric part of an unsymmetric tangent by Cholesky in place of LU,
 //!   and `reuse_contraction` keeps a factor (modified Newton) while the
-//!   iterations it serves contract `‖R‖` enough. A pivot at round-off of its diagonal names the
-//!   free DOF: a singular first tangent (a free rigid-body mode) stops the
-//!   solve at once with [`StaticsError::Singular`].
+//!   iterations it serves contract `‖R‖` enough. A pivot at round-off of
+//!   its diagonal names the free DOF: a singular first tangent (a free
+//!   rigid-body mode) stops the solve at once with
+//!   [`StaticsError::Singular`].
 //! - **Cost**: the Newton loop reuses its buffers (residual, correction,
 //!   tangent values, factor values, the factorisation's scratch); only
 //!   the residual history of a converged increment is copied into its

@@ -142,14 +142,13 @@ impl StaticSolver {
         let Some(factor) = self.factor.as_mut() else {
             return Ok(());
         };
-        let symmetrize = self.settings.symmetrize && !self.symmetric && !self.keep_factor;
-        if symmetrize {
-            self.pattern.symmetrize(&mut self.values);
-        }
-        let symmetric = self.symmetric || self.settings.symmetrize;
         let result = if self.keep_factor {
             factor.solve(&self.pattern, &self.values, &mut self.du)
         } else {
+            if self.settings.symmetrize && !self.symmetric {
+                self.pattern.symmetrize(&mut self.values);
+            }
+            let symmetric = self.symmetric || self.settings.symmetrize;
             factor
                 .factor(&self.pattern, &self.values, symmetric)
                 .and_then(|()| factor.solve(&self.pattern, &self.values, &mut self.du))
