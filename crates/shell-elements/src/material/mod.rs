@@ -6,6 +6,7 @@
 //! material's own history) is owned by the caller and passed in by reference,
 //! so the element loop stays monomorphised and allocation-free.
 
+mod curve;
 mod hardening;
 mod hill48_plane_stress;
 mod j2_plane_stress;
