@@ -180,6 +180,11 @@ impl Real for F4x {
         M4x(unsafe { _mm256_andnot_pd(b.0, a.0) })
     }
     #[inline(always)]
+    fn mask_or(a: M4x, b: M4x) -> M4x {
+        // SAFETY: see the module documentation.
+        M4x(unsafe { _mm256_or_pd(a.0, b.0) })
+    }
+    #[inline(always)]
     fn mask_not(a: M4x) -> M4x {
         // SAFETY: see the module documentation.
         M4x(unsafe { _mm256_xor_pd(a.0, _mm256_castsi256_pd(_mm256_set1_epi64x(-1))) })

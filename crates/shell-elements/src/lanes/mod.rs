@@ -100,6 +100,8 @@ pub trait Real:
     fn mask_and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// Lanes set in `a` and clear in `b`.
     fn mask_and_not(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// Lanes set in either.
+    fn mask_or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// Lanes clear in `a`.
     fn mask_not(a: Self::Mask) -> Self::Mask;
     /// `f(self, o)` lane by lane in the lanes of `m`, `self` in the others:
@@ -162,6 +164,10 @@ impl Real for f64 {
     #[inline(always)]
     fn mask_and_not(a: bool, b: bool) -> bool {
         a && !b
+    }
+    #[inline(always)]
+    fn mask_or(a: bool, b: bool) -> bool {
+        a || b
     }
     #[inline(always)]
     fn mask_not(a: bool) -> bool {
@@ -346,6 +352,10 @@ impl Real for F4 {
     #[inline(always)]
     fn mask_and_not(a: M4, b: M4) -> M4 {
         a.and_not(b)
+    }
+    #[inline(always)]
+    fn mask_or(a: M4, b: M4) -> M4 {
+        a.or(b)
     }
     #[inline(always)]
     fn mask_not(a: M4) -> M4 {

@@ -46,9 +46,35 @@
 //! σ_zz = 0 by construction; the thickness strain increment is that of
 //! J2: `Δε_zz = −ν/(1−ν)(Δε_xx + Δε_yy − tr Δε^p) − tr Δε^p`, `tr Δε^p` the
 //! in-plane trace (plastic incompressibility). Dissipation `σ_y Δε̄`.
+//!
+//! ## Four elements in lanes
+//! With Swift hardening, [`Material::update_points_x4`] runs the same
+//! return for four elements at once in SIMD lanes (`swift_x4`; a tabulated
+//! curve goes lane by lane through the scalar `update`, as J2's does). The
+//! criterion and its spectral basis are the material's (one rolling angle
+//! per material, above), so the four lanes share `V`, `V⁻¹` and `λ_i` and
+//! differ only in their stresses and histories. The trial stress and the
+//! elastic test are the scalar update's operations in the same order, so an
+//! elastic lane is the scalar result bit for bit. A plastic lane solves the
+//! same equation on the squared form `F(Δλ) = ½(σ̄² − σ_y²)` with Halley
+//! steps (value, slope and curvature in closed form, one division each; the
+//! first from `Δλ = 0` in closed form, sharing its division with the
+//! evaluation at its end), safeguarded by
+//! bisection inside the same bracket, converged lanes masked; a lane whose
+//! `|F| ≤ LANE_CLOSE σ_y²` takes its last Halley step to second order in
+//! its size without evaluating again (Halley's error is cubic, about
+//! `(LANE_CLOSE)³`), and Swift's curve is read by its binomial series from
+//! the cached flow stress (`curve.rs`), so that a typical explicit increment
+//! costs one evaluation (a division, a square root and the series) instead
+//! of the scalar update's three and a `powf`. Each lane ends on the
+//! scalar update's root to rounding: the lane test in `hill48_tests.rs`
+//! bounds the difference by 1e-12 of each quantity's scale (measured: a
+//! few 1e-15).
 
-use super::{Hardening, Material, PointUpdate};
+use super::curve::{Curve, Swift, swift_binomial};
+use super::{Hardening, Material, PointUpdate, update_points_by_lane};
 use crate::error::{ShellError, check};
+use crate::lanes::Lanes4;
 
 /// Hill'48 plane-stress coefficients `F, G, H, N` with `G + H = 1`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -148,6 +174,8 @@ pub struct Hill48PlaneStress {
     p: [[f64; 3]; 3],
     /// The return's spectral basis (see [`Spectral`]).
     spec: Spectral,
+    /// Swift only: binomial coefficients C(n, k), k = 0..=8, of (1 + x)^n.
+    swift_binomial: [f64; 9],
 }
 
 /// `C P = V Λ V⁻¹` with `V = C^½ Q`, `Q Λ Qᵀ = C^½ P C^½` (symmetric,
@@ -160,6 +188,11 @@ struct Spectral {
     v: [[f64; 3]; 3],
     v_inv: [[f64; 3]; 3],
     lam: [f64; 3],
+    /// `λ_max⁻¹⁰`: makes the four-lane return's first Halley step, a ratio
+    /// of two terms of tenth degree in stress, dimensionless (and so of
+    /// the same size in MPa and in Pa) before their product of four is
+    /// divided once.
+    start_scale: f64,
 }
 
 impl Spectral {
@@ -178,10 +211,12 @@ impl Spectral {
         let q: [[f64; 3]; 3] =
             std::array::from_fn(|i| std::array::from_fn(|j| eig.eigenvectors[(i, j)]));
         let qt: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| q[j][i]));
+        let lam: [f64; 3] = std::array::from_fn(|i| eig.eigenvalues[i].max(0.0));
         Self {
             v: mat_mul(&half, &q),
             v_inv: mat_mul(&qt, &inv_half),
-            lam: std::array::from_fn(|i| eig.eigenvalues[i].max(0.0)),
+            lam,
+            start_scale: lam[0].max(lam[1]).max(lam[2]).powi(-10),
         }
     }
 }
@@ -218,7 +253,6 @@ impl Hill48PlaneStress {
             young,
             poisson,
             density,
-            hardening,
             r_values,
             angle: 0.0,
             shear: young / (2.0 * (1.0 + poisson)),
@@ -232,6 +266,11 @@ impl Hill48PlaneStress {
                 young / (2.0 * (1.0 + poisson)),
                 &coeffs.matrix(),
             ),
+            swift_binomial: match hardening {
+                Hardening::Swift { n, .. } => swift_binomial(n),
+                Hardening::Table { .. } => [0.0; 9],
+            },
+            hardening,
         })
     }
 
@@ -286,7 +325,7 @@ impl Hill48PlaneStress {
     /// Solve the return for a yielding trial stress `t` from history `h`:
     /// `(σ, Δλ, ε̄ increment, σ_y at the new ε̄)`.
     fn return_map(&self, t: [f64; 3], h: &Hill48History) -> ([f64; 3], f64, f64, f64) {
-        let Spectral { v, v_inv, lam } = &self.spec;
+        let Spectral { v, v_inv, lam, .. } = &self.spec;
         let y = mat_vec(v_inv, &t);
         let a: [f64; 3] = std::array::from_fn(|i| lam[i] * y[i] * y[i]);
         // σ̄ and dσ̄/dΔλ at Δλ (one division for the three factors).
@@ -399,6 +438,22 @@ impl Material for Hill48PlaneStress {
         }
     }
 
+    /// Four elements' sections in lanes: with Swift hardening the lane
+    /// return (module documentation, "Four elements in lanes"), each branch
+    /// a lane mask; a tabulated curve lane by lane through [`update`](Self::update).
+    #[inline(always)]
+    fn update_points_x4<L: Lanes4, const N: usize>(
+        &self,
+        s: &mut [[L; 3]; N],
+        h: &mut [[Hill48History; N]; 4],
+        de: &[[L; 3]; N],
+    ) -> [PointUpdate<L>; N] {
+        match self.hardening {
+            Hardening::Swift { k, eps0, n } => self.swift_x4(k, eps0, n, s, h, de),
+            Hardening::Table { .. } => update_points_by_lane(self, s, h, de),
+        }
+    }
+
     /// The closed-form algorithmic tangent of the closest-point return: the
     /// plane-stress elasticity `C` if the trial stress lies inside the yield
     /// surface, else the derivative of the converged return,
@@ -440,7 +495,7 @@ impl Hill48PlaneStress {
     /// (so `σ = V z`): `Ξ = V D Vᵀ`, `n = V D Λ z`, `σᵀPn = Σ λ_i² D_i z_i²`
     /// and `φ² = Σ λ_i z_i²`.
     fn plastic_tangent(&self, t: &[f64; 3], dl: f64, slope: f64) -> [[f64; 3]; 3] {
-        let Spectral { v, v_inv, lam } = &self.spec;
+        let Spectral { v, v_inv, lam, .. } = &self.spec;
         let y = mat_vec(v_inv, t);
         let dk: [f64; 3] = std::array::from_fn(|k| 1.0 / (1.0 + dl * lam[k]));
         let z: [f64; 3] = std::array::from_fn(|k| y[k] * dk[k]);
@@ -456,6 +511,348 @@ impl Hill48PlaneStress {
                 xi - c * n[i] * n[j]
             })
         })
+    }
+}
+
+/// Residual `|F| = |σ̄² − σ_y²| / 2`, relative to `σ_y²` at the start of
+/// the step, below which a lane of the four-lane return takes its last
+/// Halley step to second order in its size δ instead of evaluating again.
+/// Halley's error is then of order `(LANE_CLOSE)³ ≈ 1e-15` relative, the
+/// second-order updates' (`f_i`, `Δε̄`, σ_y) of order `(λ_i δ)³`, smaller
+/// still; a typical explicit increment, whose Halley start from `Δλ = 0`
+/// leaves `|F|/σ_y² ~ 1e-6`, thus needs one evaluation.
+const LANE_CLOSE: f64 = 1e-5;
+
+/// Iterations of the four-lane return before a lane is taken as it is (a
+/// bisection from the largest bracket halves it fifty times within this).
+const LANE_ITERATIONS: usize = 100;
+
+/// Where a lane return ends (four lanes).
+#[derive(Debug, Clone, Copy)]
+struct LaneReturn<L> {
+    /// Plastic multiplier Δλ.
+    dl: L,
+    /// `1 / (1 + Δλ λ_i)`, i = 0, 1, 2.
+    f: [L; 3],
+    /// Equivalent plastic strain increment Δε̄.
+    d: L,
+    /// Flow stress at `ε̄ + Δε̄`.
+    sy: L,
+}
+
+impl Hill48PlaneStress {
+    /// [`Material::update_points_x4`] with Swift hardening: every point's
+    /// trial first (the scalar update's operations in its order, so that
+    /// elastic lanes are its bits), then the return of each point with a
+    /// lane outside the yield surface, elastic or converged lanes masked.
+    /// Plain loops and no closures, so that all of it compiles inside the
+    /// element kernel's target features.
+    #[inline(always)]
+    fn swift_x4<L: Lanes4, const N: usize>(
+        &self,
+        k: f64,
+        eps0: f64,
+        n: f64,
+        s: &mut [[L; 3]; N],
+        h: &mut [[Hill48History; N]; 4],
+        de: &[[L; 3]; N],
+    ) -> [PointUpdate<L>; N] {
+        let mut out = [PointUpdate::<L>::default(); N];
+        let no = L::splat(0.0).gt(L::splat(0.0));
+        let mut plastic = [no; N];
+        let mut any_plastic = false;
+        for p in 0..N {
+            let sy0 = L::from_array([
+                h[0][p].sigma_y,
+                h[1][p].sigma_y,
+                h[2][p].sigma_y,
+                h[3][p].sigma_y,
+            ]);
+            let (t, elastic) = self.trial_x4(&s[p], sy0, &de[p]);
+            s[p] = t;
+            out[p].deps_zz = (de[p][0] + de[p][1]) * -self.nu_ratio;
+            plastic[p] = L::mask_not(elastic);
+            any_plastic |= L::any(plastic[p]);
+        }
+        if !any_plastic {
+            return out;
+        }
+        let Spectral { v, v_inv, lam, .. } = self.spec;
+        // Row sums of P: the in-plane trace of P σ is `tr · σ`.
+        let tr = [
+            self.p[0][0] + self.p[1][0],
+            self.p[0][1] + self.p[1][1],
+            self.p[0][2] + self.p[1][2],
+        ];
+        for p in 0..N {
+            let pl = plastic[p];
+            if !L::any(pl) {
+                continue;
+            }
+            let eps_p = L::from_array([h[0][p].eps_p, h[1][p].eps_p, h[2][p].eps_p, h[3][p].eps_p]);
+            let sy0 = L::from_array([
+                h[0][p].sigma_y,
+                h[1][p].sigma_y,
+                h[2][p].sigma_y,
+                h[3][p].sigma_y,
+            ]);
+            let [t0, t1, t2] = s[p];
+            // y = V⁻¹ σ_trial and a_i = λ_i y_i² (σ̄² = Σ a_i f_i²).
+            let mut y = [t0; 3];
+            let mut a = [t0; 3];
+            for i in 0..3 {
+                y[i] = t2.madd(
+                    L::splat(v_inv[i][2]),
+                    t1.madd(L::splat(v_inv[i][1]), t0 * v_inv[i][0]),
+                );
+                a[i] = y[i] * y[i] * lam[i];
+            }
+            let e = eps_p + eps0;
+            let curve = Swift {
+                c: &self.swift_binomial,
+                k,
+                n,
+                sy0,
+                e,
+                inv_e: L::splat(1.0) / e,
+            };
+            let r = self.swift_return_x4(&curve, a, pl);
+            // σ = V (y_i f_i); the in-plane trace of Δε^p = Δλ P σ.
+            let z = [y[0] * r.f[0], y[1] * r.f[1], y[2] * r.f[2]];
+            let mut sn = [t0; 3];
+            for c in 0..3 {
+                sn[c] = z[2].madd(
+                    L::splat(v[c][2]),
+                    z[1].madd(L::splat(v[c][1]), z[0] * v[c][0]),
+                );
+            }
+            let tr_p =
+                r.dl * sn[2].madd(L::splat(tr[2]), sn[1].madd(L::splat(tr[1]), sn[0] * tr[0]));
+            let deps_zz = (de[p][0] + de[p][1] - tr_p).madd(L::splat(-self.nu_ratio), -tr_p);
+            for c in 0..3 {
+                s[p][c] = L::select(pl, sn[c], s[p][c]);
+            }
+            out[p].deps_zz = L::select(pl, deps_zz, out[p].deps_zz);
+            out[p].dissipation = L::select(pl, r.sy * r.d, L::splat(0.0));
+            let eps_new = L::select(pl, eps_p + r.d, eps_p).to_array();
+            let sy_new = L::select(pl, r.sy, sy0).to_array();
+            for l in 0..4 {
+                h[l][p] = Hill48History {
+                    eps_p: eps_new[l],
+                    sigma_y: sy_new[l],
+                };
+            }
+        }
+        out
+    }
+
+    /// The trial stress `σ + C Δε` of four lanes and whether each lies
+    /// inside (or on) its yield surface: the scalar [`trial`](Self::trial)'s
+    /// operations in its order (no fused products), so the same bits.
+    #[inline(always)]
+    fn trial_x4<L: Lanes4>(&self, s: &[L; 3], sy0: L, de: &[L; 3]) -> ([L; 3], L::Mask) {
+        let (c11, c12) = (self.c11, self.c12);
+        let t = [
+            s[0] + (de[0] * c11 + de[1] * c12),
+            s[1] + (de[0] * c12 + de[1] * c11),
+            s[2] + de[2] * self.shear,
+        ];
+        let pm = &self.p;
+        let mut pt = [t[0]; 3];
+        for i in 0..3 {
+            pt[i] = t[0] * pm[i][0] + t[1] * pm[i][1] + t[2] * pm[i][2];
+        }
+        let quad = t[0] * pt[0] + t[1] * pt[1] + t[2] * pt[2];
+        (t, L::le(quad, sy0 * sy0))
+    }
+
+    /// The return of the lanes of `plastic` (the others are computed and
+    /// not used) for `a_i = λ_i y_i²` of their trial stresses, on Swift's
+    /// `curve` from each lane's ε̄ and cached flow stress.
+    ///
+    /// The root of `F(Δλ) = ½(w − σ_y(Δε̄)²)`, `w = σ̄² = Σ a_i f_i²`,
+    /// `f_i = 1/(1 + Δλ λ_i)`, `Δε̄ = Δλ √w`, by Halley steps
+    /// `δ = −F F′ / (F′² − ½ F F″)`. With `m1 = Σ a_i λ_i f_i³`,
+    /// `m2 = Σ a_i λ_i² f_i⁴` (`w′ = −2 m1`, `w″ = 6 m2`), `φ = √w`,
+    /// `h = ε0 + ε̄ + Δε̄` (Swift: `σ_y′ = n σ_y / h`), `S = h φ`:
+    /// `Δε̄′ = G/φ` with `G = w − Δλ m1`; `Δε̄″ = K/(wφ)` with
+    /// `K = −2 w m1 + Δλ (3 w m2 − m1²)`; `F′ = A/S` with
+    /// `A = −m1 S − n σ_y² G`; `F″ = B/(w S²)` with
+    /// `B = 3 w m2 S² − n (2n − 1) w σ_y² G² − n σ_y² K S`; so
+    /// `δ = q w S` with `q = −2 F A / (2 w A² − F B)`, one division (the
+    /// first, from Δλ = 0 in closed form, shares its division with the
+    /// evaluation at its end, below; Newton's step where Halley's
+    /// denominator is below half of Newton's). The last
+    /// step (`|F| ≤ LANE_CLOSE σ_y,0²`) updates to second order in δ:
+    /// `f_i (1 − ε_i + ε_i²)` with `ε_i = δ λ_i f_i`, and
+    /// `Δε̄ + u h` with `u = (Δε̄′ δ + ½ Δε̄″ δ²) / h = q (G w + ½ K δ)`,
+    /// σ_y by Swift's series in `u` ([`Curve::step`]). A step outside the
+    /// bracket `(lo, hi)` of Δλ (F > 0 at lo, < 0 at hi) is replaced by
+    /// bisection (or doubling while no upper end is known), as in the
+    /// scalar return; a lane with `|F| ≤ HILL_RETURN_TOL σ_y,0²` ends
+    /// where it is.
+    #[inline(always)]
+    fn swift_return_x4<L: Lanes4>(
+        &self,
+        curve: &Swift<'_, L>,
+        a: [L; 3],
+        plastic: L::Mask,
+    ) -> LaneReturn<L> {
+        let lam = self.spec.lam;
+        let n = curve.n;
+        let (zero, one) = (L::splat(0.0), L::splat(1.0));
+        let sy0 = curve.sy0;
+        let sy0sq = sy0 * sy0;
+        let tol = sy0sq * HILL_RETURN_TOL;
+        let close = sy0sq * LANE_CLOSE;
+        // The first Halley step from Δλ = 0, δ0 = N0 / D0, from the closed
+        // form there (f_i = 1, Δε̄ = 0, σ_y = σ_y,0; the terms as in the loop
+        // below), and the first evaluation at it, with one division: with
+        // B_i = D0 + N0 λ_i, `1 + δ0 λ_i = B_i / D0`, so `f_i = D0 / B_i`,
+        // and with R = 1 / (D0 B_0 B_1 B_2): δ0 = N0 B_0 B_1 B_2 R,
+        // f_i = D0² B_j B_k R, σ̄ = D0² R √(Σ a_i (B_j B_k)²) (the square
+        // root beside the division). N0 and D0 are of tenth degree in stress,
+        // so they are scaled by λ_max⁻¹⁰ first (`Spectral::start_scale`).
+        let w0 = a[0] + a[1] + a[2];
+        let s0 = curve.e * w0.sqrt();
+        let p = [a[0] * lam[0], a[1] * lam[1], a[2] * lam[2]];
+        let m1 = p[0] + p[1] + p[2];
+        let m2 = p[2].madd(L::splat(lam[2]), p[1].madd(L::splat(lam[1]), p[0] * lam[0]));
+        let nsy2 = sy0sq * n;
+        let f0 = (w0 - sy0sq) * 0.5;
+        let a0 = (-m1).madd(s0, -(nsy2 * w0));
+        let kk0 = w0 * -2.0 * m1;
+        let bb0 = (w0 * 3.0 * m2 * s0).madd(
+            s0,
+            (-(nsy2 * (2.0 * n - 1.0) * w0 * w0)).madd(w0, -(nsy2 * kk0 * s0)),
+        );
+        let scale = self.spec.start_scale;
+        let newton = w0 * 2.0 * a0 * a0 * scale;
+        let halley = (w0 * 2.0 * a0).madd(a0, -(f0 * bb0)) * scale;
+        // Halley's denominator, or Newton's where Halley's is below half of
+        // it (a step far from the root); 1 where there is no stress (a lane
+        // that is not plastic: δ0 = 0, not 0/0).
+        let den0 = L::select(
+            halley.gt(newton * 0.5),
+            halley,
+            L::select(newton.gt(zero), newton, one),
+        );
+        let num0 = f0 * a0 * w0 * s0 * (-2.0 * scale);
+        let num0 = L::select(num0.gt(zero), num0, zero);
+        let bs = [
+            num0.madd(L::splat(lam[0]), den0),
+            num0.madd(L::splat(lam[1]), den0),
+            num0.madd(L::splat(lam[2]), den0),
+        ];
+        let b01 = bs[0] * bs[1];
+        let b012 = b01 * bs[2];
+        let rr = one / (den0 * b012);
+        let (b12, b02) = (bs[1] * bs[2], bs[0] * bs[2]);
+        let sum = (a[2] * b01).madd(b01, (a[1] * b02).madd(b02, a[0] * b12 * b12));
+        let root = sum.sqrt();
+        let c = den0 * den0 * rr;
+        // The state at Δλ: f_i, w = σ̄², φ, Δε̄ and σ_y there.
+        let mut dl = num0 * b012 * rr;
+        let mut f = [b12 * c, b02 * c, b01 * c];
+        let mut w = sum * c * c;
+        let mut phi = root * c;
+        let mut d = dl * phi;
+        let mut sy = curve.flow(d, plastic);
+        let mut lo = zero;
+        let mut hi = L::splat(f64::INFINITY);
+        let mut r = LaneReturn {
+            dl: zero,
+            f: [one; 3],
+            d: zero,
+            sy: sy0,
+        };
+        let mut active = plastic;
+        for _ in 0..LANE_ITERATIONS {
+            let hd = curve.e + d;
+            let big_s = hd * phi;
+            let lf = [f[0] * lam[0], f[1] * lam[1], f[2] * lam[2]];
+            let p0 = a[0] * f[0] * f[0] * lf[0];
+            let p1 = a[1] * f[1] * f[1] * lf[1];
+            let p2 = a[2] * f[2] * f[2] * lf[2];
+            let m1 = p0 + p1 + p2;
+            let m2 = p2.madd(lf[2], p1.madd(lf[1], p0 * lf[0]));
+            let g = (-dl).madd(m1, w);
+            let kk = (w * 3.0).madd(m2, -(m1 * m1)).madd(dl, w * -2.0 * m1);
+            let sy2 = sy * sy;
+            let nsy2 = sy2 * n;
+            let ff = (w - sy2) * 0.5;
+            let aa = (-m1).madd(big_s, -(nsy2 * g));
+            let bb = (w * 3.0 * m2 * big_s).madd(
+                big_s,
+                (-(nsy2 * (2.0 * n - 1.0) * w * g)).madd(g, -(nsy2 * kk * big_s)),
+            );
+            let den = (w * 2.0 * aa).madd(aa, -(ff * bb));
+            let q = ff * aa * -2.0 / den;
+            let tiny = L::le(ff.abs(), tol);
+            let q = L::select(tiny, zero, q);
+            let delta = q * w * big_s;
+            let next = dl + delta;
+            // The bracket of the root (this lane's F at Δλ).
+            lo = L::select(L::mask_and(active, ff.gt(zero)), dl, lo);
+            hi = L::select(L::mask_and(active, ff.lt(zero)), dl, hi);
+            let inside = L::mask_and(next.gt(lo), next.lt(hi));
+            let ok = L::mask_or(tiny, inside);
+            let last = L::mask_and(L::mask_and(active, ok), L::le(ff.abs(), close));
+            if L::any(last) {
+                // Second order in δ (see above).
+                let u = q * (g * w).madd(one, kk * delta * 0.5);
+                let mut f_last = f;
+                for i in 0..3 {
+                    let eps = delta * lf[i];
+                    f_last[i] = (-(f[i] * eps)).madd(one - eps, f[i]);
+                }
+                let d_last = u.madd(hd, d);
+                let sy_last = curve.step(sy, u, d_last, last);
+                r.dl = L::select(last, next, r.dl);
+                for i in 0..3 {
+                    r.f[i] = L::select(last, f_last[i], r.f[i]);
+                }
+                r.d = L::select(last, d_last, r.d);
+                r.sy = L::select(last, sy_last, r.sy);
+            }
+            active = L::mask_and_not(active, last);
+            if !L::any(active) {
+                return r;
+            }
+            let bad = L::mask_and_not(active, ok);
+            let next = if L::any(bad) {
+                // Bisection inside the bracket, or doubling beyond 1e-3/σ_y
+                // (a strain of 1e-3) while it has no upper end.
+                let grow = lo.max(L::splat(1e-3) / sy0) * 2.0;
+                let halve = (lo + hi) * 0.5;
+                let fallback = L::select(hi.lt(L::splat(f64::INFINITY)), halve, grow);
+                L::select(bad, fallback, next)
+            } else {
+                next
+            };
+            dl = L::select(active, next, dl);
+            // Evaluate at the new Δλ: one division for the three f_i.
+            let b = [
+                dl.madd(L::splat(lam[0]), one),
+                dl.madd(L::splat(lam[1]), one),
+                dl.madd(L::splat(lam[2]), one),
+            ];
+            let b01 = b[0] * b[1];
+            let inv = one / (b01 * b[2]);
+            f = [b[1] * b[2] * inv, b[0] * b[2] * inv, b01 * inv];
+            w = (a[2] * f[2]).madd(f[2], (a[1] * f[1]).madd(f[1], a[0] * f[0] * f[0]));
+            phi = w.sqrt();
+            d = dl * phi;
+            sy = curve.flow(d, active);
+        }
+        // Lanes still open after the iterations: as they are.
+        r.dl = L::select(active, dl, r.dl);
+        for i in 0..3 {
+            r.f[i] = L::select(active, f[i], r.f[i]);
+        }
+        r.d = L::select(active, d, r.d);
+        r.sy = L::select(active, sy, r.sy);
+        r
     }
 }
 

@@ -218,6 +218,10 @@ impl Real for Dual {
         a && !b
     }
     #[inline(always)]
+    fn mask_or(a: bool, b: bool) -> bool {
+        a || b
+    }
+    #[inline(always)]
     fn mask_not(a: bool) -> bool {
         !a
     }
