@@ -13,12 +13,15 @@
 //! small and large increments (the Swift series and its `powf` fallback),
 //! unloading, mixed elastic/plastic lanes, a degenerate element (its state
 //! must stay untouched, bit for bit), both hardening kinds, 3/4/5/7-point
-//! rules and every BT option.
+//! rules and every BT option; and with the Hill'48 material, whose lanes
+//! run their own return (`Hill48PlaneStress::update_points_x4`) while one
+//! element runs the scalar update.
 
 use fem_core::Vec3;
+use shell_elements::material::Hill48PlaneStress;
 use shell_elements::{
     BelytschkoTsay, BlockNodes, ElementBlock, ElementResult, ElementState, F4, FullyIntegrated,
-    Hardening, J2History, J2PlaneStress, RuleKind, Section, ShellFormulation, ThroughThickness, V3,
+    Hardening, J2PlaneStress, Material, RuleKind, Section, ShellFormulation, ThroughThickness, V3,
 };
 
 /// A small deterministic generator (xorshift64*), uniform in [-1, 1).
@@ -33,19 +36,20 @@ impl Rng {
     }
 }
 
-/// Per-element state in the shell set's layout.
+/// Per-element state in the shell set's layout (`(ε_p, σ_y)` of each
+/// point besides the material's history, for the comparison).
 #[derive(Clone, PartialEq, Debug)]
-struct State {
+struct State<H> {
     t: [f64; 4],
     stress: Vec<[f64; 3]>,
-    hist: Vec<J2History>,
+    hist: Vec<H>,
     shear: Vec<[f64; 2]>,
     hg: Vec<f64>,
     dr: [[f64; 4]; 4],
 }
 
 /// The block's state in the lane-major layout of `ElementBlock`.
-fn to_lane_major(s: &State, np: usize, ip: usize, nhg: usize) -> State {
+fn to_lane_major<H: Clone>(s: &State<H>, np: usize, ip: usize, nhg: usize) -> State<H> {
     let mut o = s.clone();
     for l in 0..4 {
         for k in 0..np {
@@ -71,7 +75,7 @@ fn to_lane_major(s: &State, np: usize, ip: usize, nhg: usize) -> State {
 }
 
 /// Back from [`to_lane_major`].
-fn from_lane_major(s: &State, np: usize, ip: usize, nhg: usize) -> State {
+fn from_lane_major<H: Clone>(s: &State<H>, np: usize, ip: usize, nhg: usize) -> State<H> {
     let mut o = s.clone();
     for l in 0..4 {
         for k in 0..np {
@@ -117,12 +121,12 @@ fn result_groups(r: &ElementResult) -> Vec<Vec<f64>> {
 }
 
 /// The quantities of a state, grouped by scale.
-fn state_groups(s: &State) -> Vec<Vec<f64>> {
+fn state_groups<M: Material>(mat: &M, s: &State<M::History>) -> Vec<Vec<f64>> {
     vec![
         s.t.to_vec(),
         s.stress.iter().flatten().copied().collect(),
-        s.hist.iter().map(|h| h.eps_p).collect(),
-        s.hist.iter().map(|h| h.sigma_y).collect(),
+        s.hist.iter().map(|h| mat.plastic_strain(h)).collect(),
+        s.hist.iter().map(|h| mat.flow_stress(h)).collect(),
         s.shear.iter().flatten().copied().collect(),
         s.hg.clone(),
         s.dr.iter().flatten().copied().collect(),
@@ -150,9 +154,9 @@ fn agree(a: &[Vec<f64>], b: &[Vec<f64>], tol: Option<f64>, worst: &mut f64) -> b
 
 /// Run 60 steps of one block, each step both ways from the same state, and
 /// compare (see [`agree`]); returns the largest relative difference.
-fn check<F: ShellFormulation>(
+fn check<F: ShellFormulation, M: Material>(
     form: F,
-    mat: &J2PlaneStress,
+    mat: &M,
     sec: &Section,
     seed: u64,
     degenerate: bool,
@@ -181,7 +185,7 @@ fn check<F: ShellFormulation>(
     let init = State {
         t: [0.8, 0.78, 0.81, 0.79],
         stress: vec![[0.0; 3]; 4 * np],
-        hist: vec![mat.initial_history_of(); 4 * np],
+        hist: vec![mat.initial_history(); 4 * np],
         shear: vec![[0.0; 2]; 4 * F::IN_PLANE_POINTS],
         hg: vec![0.0; 4 * nhg],
         dr: [[0.0; 4]; 4],
@@ -292,7 +296,12 @@ fn check<F: ShellFormulation>(
             }
         }
         assert!(
-            agree(&state_groups(&a), &state_groups(&b), tol, &mut worst),
+            agree(
+                &state_groups(mat, &a),
+                &state_groups(mat, &b),
+                tol,
+                &mut worst
+            ),
             "{} step {step}: states differ\n{a:?}\n{b:?}",
             F::NAME
         );
@@ -303,21 +312,18 @@ fn check<F: ShellFormulation>(
     if degenerate {
         assert_eq!(a.t[2], 0.81, "the degenerate element's thickness changed");
         assert!(a.stress[2 * np..3 * np].iter().flatten().all(|s| *s == 0.0));
-        assert!(a.hist[2 * np..3 * np].iter().all(|h| h.eps_p == 0.0));
+        assert!(
+            a.hist[2 * np..3 * np]
+                .iter()
+                .all(|h| mat.plastic_strain(h) == 0.0)
+        );
     }
     // Plastic flow did happen (the comparison covered the return mapping).
-    assert!(a.hist.iter().any(|h| h.eps_p > 1e-3), "no plastic flow");
+    assert!(
+        a.hist.iter().any(|h| mat.plastic_strain(h) > 1e-3),
+        "no plastic flow"
+    );
     worst
-}
-
-trait Initial {
-    fn initial_history_of(&self) -> J2History;
-}
-impl Initial for J2PlaneStress {
-    fn initial_history_of(&self) -> J2History {
-        use shell_elements::Material;
-        self.initial_history()
-    }
 }
 
 fn swift() -> J2PlaneStress {
@@ -391,6 +397,46 @@ fn bt_four_lanes_with_tabulated_hardening_match_to_rounding() {
         false,
         Some(BT_TOL),
     );
+}
+
+/// Hill'48 (the square cup steel's and the aluminium's r-values, rolling
+/// directions 0, 0.7 and −1.2 rad from the elements' e1, Swift and
+/// tabulated hardening): BT's lane kernel, whose material update runs the
+/// four-lane Hill return, against its one-element kernel, whose update is
+/// the scalar return; the same warped blocks, paths and rules as J2's.
+/// Tolerance: [`BT_TOL`] (the two returns agree to rounding:
+/// `hill48_tests.rs`, `LANE_TOL`).
+#[test]
+fn bt_four_lanes_with_hill48_match_one_element_to_rounding() {
+    let table =
+        Hardening::table(&[(0.0, 300.0), (0.05, 420.0), (0.2, 520.0), (1.0, 700.0)]).unwrap();
+    let swift = Hardening::swift(565.32, 0.007117, 0.2589).unwrap();
+    let mut worst = 0.0f64;
+    for (k, (hard, r, theta)) in [
+        (swift.clone(), [1.79, 1.51, 2.27], 0.0),
+        (swift.clone(), [1.79, 1.51, 2.27], 0.7),
+        (swift, [0.71, 0.58, 0.70], -1.2),
+        (table, [1.79, 1.51, 2.27], 0.7),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let mat = Hill48PlaneStress::new(206_000.0, 0.3, 7.85e-9, hard, r)
+            .unwrap()
+            .with_rolling_angle(theta)
+            .unwrap();
+        for (n, rule) in [
+            (5, RuleKind::Gauss),
+            (3, RuleKind::Gauss),
+            (5, RuleKind::Lobatto),
+        ] {
+            let sec = section(rule, n);
+            let seed = 11 + k as u64 * 7 + n as u64;
+            let bt = BelytschkoTsay::default();
+            worst = worst.max(check(bt, &mat, &sec, seed, false, Some(BT_TOL)));
+        }
+    }
+    println!("largest relative difference: {worst:.2e}");
 }
 
 /// The default four-element path (element by element) is the one-element
