@@ -14,12 +14,22 @@
 //! its fastest cycle: the minimum is the robust estimator of a benchmark's
 //! cost in a noisy environment, interference only ever adding time (Chen &
 //! Revels 2016, "Robust benchmarking in noisy environments",
-//! arXiv:1608.04295). `bt_5pt_plastic_2500` is the plain mean, load included.
-//! Run: `cargo bench -p shell-elements --bench element_loop`.
+//! arXiv:1608.04295). `…_median_cycle` reports each sample's median cycle
+//! (half the cycles faster, half slower: the typical cycle, load included
+//! but not its outliers), and `bt_5pt_plastic_2500` is the plain mean.
+//!
+//! The Hill'48 cases run the same blank, velocity field and pre-strain in
+//! the square cup steel's Hill'48 material: `hill48` through its four-lane
+//! return (`Hill48PlaneStress::update_points_x4`), `hill48_by_lane` through
+//! the default lane-by-lane path of the scalar update
+//! (`update_points_by_lane`, the [`ByLane`] wrapper), so that one run
+//! compares J2, Hill'48 and Hill'48 before its lane kernel.
+//! Run: `cargo bench -p shell-elements --bench element_loop`
+//! (`-- element_loop_1thread` for these cases alone).
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{Bencher, Criterion, Throughput, criterion_group, criterion_main};
 use fem_core::{Effect, Forces, NodalState, StepContext, Vec3, rectangle};
-use shell_elements::material::Hill48PlaneStress;
+use shell_elements::material::{Hill48PlaneStress, PointUpdate};
 use shell_elements::{
     BelytschkoTsay, FullyIntegrated, Hardening, J2PlaneStress, Material, Section, ShellFormulation,
     ShellSet,
@@ -44,18 +54,66 @@ fn blank<F: ShellFormulation>(form: F, n: usize, parallel_min: usize) -> Blank<F
     blank_of(form, mat, n, parallel_min)
 }
 
-/// The same blank in the square cup steel's Hill'48 material (r = 1.79 /
-/// 1.51 / 2.27, rolling direction along the elements' e1).
-fn blank_hill<F: ShellFormulation>(form: F, n: usize) -> Blank<F, Hill48PlaneStress> {
-    let mat = Hill48PlaneStress::new(
+/// The square cup steel's Hill'48 material (r = 1.79 / 1.51 / 2.27,
+/// rolling direction along the elements' e1).
+fn hill48() -> Hill48PlaneStress {
+    Hill48PlaneStress::new(
         206_000.0,
         0.3,
         7.85e-9,
         Hardening::swift(565.32, 0.007117, 0.2589).unwrap(),
         [1.79, 1.51, 2.27],
     )
-    .unwrap();
-    blank_of(form, mat, n, usize::MAX)
+    .unwrap()
+}
+
+/// `M` with the trait's default four-lane path (`update_points_by_lane`:
+/// lane by lane through `M`'s one-element update) instead of its own lane
+/// kernel; everything else is `M`'s.
+#[derive(Clone)]
+struct ByLane<M>(M);
+
+impl<M: Material> Material for ByLane<M> {
+    type History = M::History;
+    fn name(&self) -> &'static str {
+        self.0.name()
+    }
+    fn density(&self) -> f64 {
+        self.0.density()
+    }
+    fn young(&self) -> f64 {
+        self.0.young()
+    }
+    fn poisson(&self) -> f64 {
+        self.0.poisson()
+    }
+    fn shear_modulus(&self) -> f64 {
+        self.0.shear_modulus()
+    }
+    fn initial_history(&self) -> M::History {
+        self.0.initial_history()
+    }
+    fn update(&self, s: &mut [f64; 3], h: &mut M::History, de: [f64; 3]) -> PointUpdate {
+        self.0.update(s, h, de)
+    }
+    #[inline(always)]
+    fn update_points<const N: usize>(
+        &self,
+        s: &mut [[f64; 3]; N],
+        h: &mut [M::History; N],
+        de: &[[f64; 3]; N],
+    ) -> [PointUpdate; N] {
+        self.0.update_points(s, h, de)
+    }
+    fn plastic_strain(&self, h: &M::History) -> f64 {
+        self.0.plastic_strain(h)
+    }
+    fn flow_stress(&self, h: &M::History) -> f64 {
+        self.0.flow_stress(h)
+    }
+    fn equivalent_stress(&self, s: &[f64; 3]) -> f64 {
+        self.0.equivalent_stress(s)
+    }
 }
 
 fn blank_of<F: ShellFormulation, M: Material>(
@@ -130,6 +188,33 @@ impl<F: ShellFormulation, M: Material> Blank<F, M> {
     }
 }
 
+/// Each sample's fastest cycle, as the sample's time per iteration.
+fn fastest_cycle<F: ShellFormulation, M: Material>(b: &mut Bencher, blank: &mut Blank<F, M>) {
+    b.iter_custom(|iters| {
+        let mut fastest = Duration::MAX;
+        for _ in 0..iters {
+            let t = Instant::now();
+            blank.cycle();
+            fastest = fastest.min(t.elapsed());
+        }
+        fastest * iters as u32
+    })
+}
+
+/// Each sample's median cycle, as the sample's time per iteration.
+fn median_cycle<F: ShellFormulation, M: Material>(b: &mut Bencher, blank: &mut Blank<F, M>) {
+    b.iter_custom(|iters| {
+        let mut times = Vec::with_capacity(iters as usize);
+        for _ in 0..iters {
+            let t = Instant::now();
+            blank.cycle();
+            times.push(t.elapsed());
+        }
+        times.sort_unstable();
+        times[times.len() / 2] * iters as u32
+    })
+}
+
 fn single_thread(c: &mut Criterion) {
     let mut g = c.benchmark_group("element_loop_1thread");
     let mut bt = blank(BelytschkoTsay::default(), 50, usize::MAX);
@@ -139,33 +224,29 @@ fn single_thread(c: &mut Criterion) {
     );
     g.throughput(Throughput::Elements(2500));
     g.bench_function("bt_5pt_plastic_2500", |b| b.iter(|| bt.cycle()));
-    // Each sample's fastest cycle, as the sample's time per iteration.
     g.bench_function("bt_5pt_plastic_2500_fastest_cycle", |b| {
-        b.iter_custom(|iters| {
-            let mut fastest = Duration::MAX;
-            for _ in 0..iters {
-                let t = Instant::now();
-                bt.cycle();
-                fastest = fastest.min(t.elapsed());
-            }
-            fastest * iters as u32
-        })
+        fastest_cycle(b, &mut bt)
     });
-    let mut hill = blank_hill(BelytschkoTsay::default(), 50);
+    g.bench_function("bt_5pt_plastic_2500_median_cycle", |b| {
+        median_cycle(b, &mut bt)
+    });
+    let mut hill = blank_of(BelytschkoTsay::default(), hill48(), 50, usize::MAX);
     eprintln!(
         "BT Hill'48 plastic fraction of points: {:.3}",
         hill.plastic_fraction()
     );
     g.bench_function("bt_5pt_plastic_2500_hill48_fastest_cycle", |b| {
-        b.iter_custom(|iters| {
-            let mut fastest = Duration::MAX;
-            for _ in 0..iters {
-                let t = Instant::now();
-                hill.cycle();
-                fastest = fastest.min(t.elapsed());
-            }
-            fastest * iters as u32
-        })
+        fastest_cycle(b, &mut hill)
+    });
+    g.bench_function("bt_5pt_plastic_2500_hill48_median_cycle", |b| {
+        median_cycle(b, &mut hill)
+    });
+    let mut by_lane = blank_of(BelytschkoTsay::default(), ByLane(hill48()), 50, usize::MAX);
+    g.bench_function("bt_5pt_plastic_2500_hill48_by_lane_fastest_cycle", |b| {
+        fastest_cycle(b, &mut by_lane)
+    });
+    g.bench_function("bt_5pt_plastic_2500_hill48_by_lane_median_cycle", |b| {
+        median_cycle(b, &mut by_lane)
     });
     let mut fi = blank(FullyIntegrated::default(), 50, usize::MAX);
     eprintln!(
