@@ -267,9 +267,9 @@ pub(crate) struct Moduli {
     /// Young's modulus E (MPa).
     young: f64,
     /// Shear modulus G (MPa).
-    shear: f64,
+    pub(crate) shear: f64,
     /// Transverse shear correction factor (-).
-    ks: f64,
+    pub(crate) ks: f64,
     /// Hourglass coefficient (-).
     hourglass: f64,
 }

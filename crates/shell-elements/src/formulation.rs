@@ -556,13 +556,13 @@ pub(crate) fn local_velocities<T: Real>(
 /// correction in closed form to the only rates it changes there, the
 /// membrane hourglass rates.
 #[inline(always)]
-pub(crate) fn remove_warp_rotation(
-    z: &[f64; 4],
-    b1: &[f64; 4],
-    b2: &[f64; 4],
-    vl: &mut [V3; 4],
-) -> (f64, f64) {
-    let (mut wx, mut wy) = (0.0, 0.0);
+pub(crate) fn remove_warp_rotation<T: Real>(
+    z: &[T; 4],
+    b1: &[T; 4],
+    b2: &[T; 4],
+    vl: &mut [[T; 3]; 4],
+) -> (T, T) {
+    let (mut wx, mut wy) = (T::splat(0.0), T::splat(0.0));
     for i in 0..4 {
         wx += b2[i] * vl[i][2];
         wy -= b1[i] * vl[i][2];
@@ -581,8 +581,13 @@ pub(crate) fn remove_warp_rotation(
 /// energy ledger stays closed, and the forces balance the moments about the
 /// in-plane axes that in-plane forces at the warped heights exert.
 #[inline(always)]
-pub(crate) fn warp_rotation_forces(z: &[f64; 4], b1: &[f64; 4], b2: &[f64; 4], f: &mut [V3; 4]) {
-    let (mut sx, mut sy) = (0.0, 0.0);
+pub(crate) fn warp_rotation_forces<T: Real>(
+    z: &[T; 4],
+    b1: &[T; 4],
+    b2: &[T; 4],
+    f: &mut [[T; 3]; 4],
+) {
+    let (mut sx, mut sy) = (T::splat(0.0), T::splat(0.0));
     for i in 0..4 {
         sx += f[i][0] * z[i];
         sy += f[i][1] * z[i];

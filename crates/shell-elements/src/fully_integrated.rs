@@ -19,7 +19,12 @@
 //! warped element strained it (0.038 per radian on the twisted beam's
 //! element). The optional warping correction is the Belytschko–Tsay one
 //! (tilted fibres and twisted metric), evaluated at each Gauss point.
+//!
+//! The kernel (`FullyIntegrated::kernel`) is written over [`Real`] with the
+//! section's integration handed in: the explicit step runs it on `f64`
+//! with the material's update ([`ShellFormulation::compute`]).
 
+use crate::belytschko_tsay::Moduli;
 use crate::error::ShellError;
 use crate::formulation::{
     DEFAULT_DRILLING, ElementResult, ElementState, SectionResult, ShellFormulation, check_drilling,
@@ -27,6 +32,7 @@ use crate::formulation::{
     remove_warp_rotation, turn_tensor, turn_vector, warp_rotation_forces,
 };
 use crate::geometry::{Frame, ShearB, V3, assumed_shear, b_matrix};
+use crate::lanes::Real;
 use crate::material::Material;
 use crate::section::Section;
 
@@ -84,23 +90,88 @@ impl ShellFormulation for FullyIntegrated {
         dt: f64,
         st: ElementState<'_, M::History>,
     ) -> ElementResult {
+        let ElementState {
+            thickness,
+            stress,
+            history,
+            shear,
+            drilling,
+            ..
+        } = st;
+        let shear = shear
+            .first_chunk_mut::<4>()
+            .expect("a shell set gives the fully integrated shell its 4 shear stresses");
+        let (t, np) = (*thickness, sec.rule.n);
+        let section = |p: usize, de: [f64; 3], dk: [f64; 3]| {
+            let pts = p * np..(p + 1) * np;
+            integrate_section(
+                mat,
+                &sec.rule,
+                t,
+                de,
+                dk,
+                &mut stress[pts.clone()],
+                &mut history[pts],
+            )
+        };
+        let st = PointLanes {
+            thickness,
+            shear,
+            drilling,
+        };
+        match self.kernel(&Moduli::of(mat, sec), x, v, w, dt, st, section) {
+            Ok(out) => out,
+            Err(length) => ElementResult {
+                length,
+                ..Default::default()
+            },
+        }
+    }
+}
+
+/// The element state the kernel updates besides the sections' points: one
+/// element's, in `f64` (explicit) or in a static scalar.
+pub(crate) struct PointLanes<'a, T> {
+    /// Thickness (mm): read at the start, the updated one written at the end.
+    pub(crate) thickness: &'a mut T,
+    /// Transverse shear stresses `[τ_xz, τ_yz]` (MPa) per Gauss point.
+    pub(crate) shear: &'a mut [[T; 2]; 4],
+    /// Drilling moments (N·mm) per node.
+    pub(crate) drilling: &'a mut [T; 4],
+}
+
+impl FullyIntegrated {
+    /// One step of the element: nodes at `x` (end of the step), velocities
+    /// `v`, `w` over `dt`, its state `st`; `section(p, Δε, Δκ)` integrates
+    /// Gauss point `p`'s stack for the membrane and curvature increments
+    /// (turned into the end frame) and updates its points. Its forces and
+    /// energies, or `Err(length)` (≤ 0 or NaN) when the element degenerates
+    /// in the end or midpoint configuration (the state may then be partly
+    /// updated, as the step stops).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn kernel<T: Real<Mask = bool>>(
+        &self,
+        md: &Moduli,
+        x: &[[T; 3]; 4],
+        v: &[[T; 3]; 4],
+        w: &[[T; 3]; 4],
+        dt: f64,
+        st: PointLanes<'_, T>,
+        mut section: impl FnMut(usize, [T; 3], [T; 3]) -> SectionResult<T>,
+    ) -> Result<ElementResult<T>, T> {
         // Rates in the midpoint configuration x_{n+1/2} = x_{n+1} − ½Δt v
         // (`fr`, `mb1`, `c`, …), forces at t_{n+1} (`fe`, `eb1`, `ce`, …), as
         // in Belytschko–Tsay (docs/shells.md, "Strain increments at the
         // midpoint").
+        let zero = T::splat(0.0);
         let fe = Frame::new(x);
-        if fe.area.is_nan() || fe.area <= 0.0 {
-            return ElementResult {
-                length: fe.area,
-                ..Default::default()
-            };
+        if !fe.area.gt(zero) {
+            return Err(fe.area);
         }
         let fr = Frame::new(&midpoint(x, v, dt));
-        if fr.area.is_nan() || fr.area <= 0.0 {
-            return ElementResult {
-                length: fr.area,
-                ..Default::default()
-            };
+        if !fr.area.gt(zero) {
+            return Err(fr.area);
         }
         let (mut vl, wl) = local_velocities(&fr, v, w);
         // Mean B: the element's rigid rotation (warped elements) and spin (drilling).
@@ -111,11 +182,11 @@ impl ShellFormulation for FullyIntegrated {
         let (c, ce) = if self.warping_correction {
             (fr.twist(), fe.twist())
         } else {
-            (0.0, 0.0)
+            (zero, zero)
         };
         // Warping correction, fibres along the warped surface's normals at the nodes:
         // they turn at θ̂ + c θ̂z (ŷ_I, x̂_I) (the rates the curvature reads).
-        let mut tl = [[0.0f64; 2]; 4];
+        let mut tl = [[zero; 2]; 4];
         for i in 0..4 {
             tl[i] = [
                 wl[i][0] + c * fr.y[i] * wl[i][2],
@@ -123,48 +194,39 @@ impl ShellFormulation for FullyIntegrated {
             ];
         }
         let t = *st.thickness;
-        let np = sec.rule.n;
-        let g = mat.shear_modulus();
-        let ks = sec.shear_factor;
+        let (g, ks) = (md.shear, md.ks);
         let mut acc = Forces {
-            fl: [[0.0f64; 3]; 4],
-            ml: [[0.0f64; 2]; 4],
-            mb: [0.0f64; 4],
+            fl: [[zero; 3]; 4],
+            ml: [[zero; 2]; 4],
+            mb: [zero; 4],
         };
-        let mut out = ElementResult::default();
-        let mut dzz = 0.0;
+        let mut out = ElementResult::<T>::zero();
+        let mut dzz = zero;
         for (p, &(xi, eta)) in GP.iter().enumerate() {
             let (b1, b2, det) = b_matrix(&fr, xi, eta);
             let (fb1, fb2, fdet) = b_matrix(&fe, xi, eta);
-            if det.is_nan() || det <= 0.0 || fdet.is_nan() || fdet <= 0.0 {
-                return ElementResult {
-                    length: -1.0,
-                    ..Default::default()
-                };
+            if !det.gt(zero) || !fdet.gt(zero) {
+                return Err(T::splat(-1.0));
             }
             let (de, dk, [gxz, gyz]) = point_rates(&fr, (xi, eta), (&b1, &b2), &vl, &wl, &tl, c);
             // The stresses are kept in the frame of t_{n+1}.
             let [gxz, gyz] = turn_vector(turn, [gxz, gyz]);
-            let sr = integrate_section(
-                mat,
-                &sec.rule,
-                t,
+            let sr = section(
+                p,
                 turn_tensor(turn, de.map(|r| r * dt)),
                 turn_tensor(turn, dk.map(|r| r * dt)),
-                &mut st.stress[p * np..(p + 1) * np],
-                &mut st.history[p * np..(p + 1) * np],
             );
             let tau_old = st.shear[p];
             let tau = [
-                tau_old[0] + ks * g * gxz * dt,
-                tau_old[1] + ks * g * gyz * dt,
+                tau_old[0] + gxz * (ks * g) * dt,
+                tau_old[1] + gyz * (ks * g) * dt,
             ];
             st.shear[p] = tau;
             let shear_work =
                 t * 0.5 * ((tau_old[0] + tau[0]) * gxz + (tau_old[1] + tau[1]) * gyz) * dt;
             out.d_internal += det * (sr.work + shear_work);
             out.d_plastic += det * sr.dissipation;
-            dzz += 0.25 * sr.deps_zz;
+            dzz += sr.deps_zz * 0.25;
             let q = [t * tau[0], t * tau[1]];
             let point = (fb1, fb2, fdet, assumed_shear(&fe, xi, eta));
             add_point_forces(&fe, ce, point, &sr, q, &mut acc);
@@ -176,8 +238,8 @@ impl ShellFormulation for FullyIntegrated {
         } else {
             None
         };
-        let (md, d_drill, sx, sy) = drilling_penalty(
-            0.25 * self.drilling * g * t * fr.area,
+        let (md_sum, d_drill, sx, sy) = drilling_penalty(
+            t * (0.25 * self.drilling * g) * fr.area,
             &mb1,
             &mb2,
             &vl,
@@ -190,24 +252,24 @@ impl ShellFormulation for FullyIntegrated {
         );
         out.d_internal += d_drill;
         out.d_drilling = d_drill;
-        let drill = (0.5 * md, [sx, sy], &*st.drilling);
+        let drill = (md_sum * 0.5, [sx, sy], &*st.drilling);
         global_forces(&fe, ce, (&eb1, &eb2), drill, acc, &mut out);
         out.length = fe.char_length();
         out.area = fe.area;
         out.normal = fe.r[2];
         *st.thickness = new_thickness(t, dzz);
-        out
+        Ok(out)
     }
 }
 
 /// The local nodal forces and moments summed over the Gauss points.
-struct Forces {
+struct Forces<T> {
     /// Forces `[f̂x, f̂y, f̂z]` per node.
-    fl: [[f64; 3]; 4],
+    fl: [[T; 3]; 4],
     /// In-plane moments `[m̂x, m̂y]` per node.
-    ml: [[f64; 2]; 4],
+    ml: [[T; 2]; 4],
     /// The bending moments' share about the normal (warping correction).
-    mb: [f64; 4],
+    mb: [T; 4],
 }
 
 /// The membrane rates `[ε̇xx, ε̇yy, γ̇xy]`, curvature rates `[κ̇xx, κ̇yy,
@@ -215,18 +277,20 @@ struct Forces {
 /// shear rates `[γ̇xz, γ̇yz]` at a Gauss point `(ξ, η)` of the midpoint frame
 /// `fr`, with that point's `B` (`b`), the local velocities and the fibre
 /// rotation rates `tl`.
+#[allow(clippy::type_complexity)]
 #[inline(always)]
-fn point_rates(
-    fr: &Frame,
+fn point_rates<T: Real>(
+    fr: &Frame<T>,
     (xi, eta): (f64, f64),
-    (b1, b2): (&[f64; 4], &[f64; 4]),
-    vl: &[V3; 4],
-    wl: &[V3; 4],
-    tl: &[[f64; 2]; 4],
-    c: f64,
-) -> ([f64; 3], [f64; 3], [f64; 2]) {
+    (b1, b2): (&[T; 4], &[T; 4]),
+    vl: &[[T; 3]; 4],
+    wl: &[[T; 3]; 4],
+    tl: &[[T; 2]; 4],
+    c: T,
+) -> ([T; 3], [T; 3], [T; 2]) {
+    let zero = T::splat(0.0);
     let (mut dxx, mut dyy, mut vxy, mut vyx, mut kxx, mut kyy, mut kxy) =
-        (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        (zero, zero, zero, zero, zero, zero, zero);
     for i in 0..4 {
         dxx += b1[i] * vl[i][0];
         dyy += b2[i] * vl[i][1];
@@ -242,7 +306,7 @@ fn point_rates(
     kyy += c * vyx;
     kxy += c * (dxx + dyy);
     let sb = assumed_shear(fr, xi, eta);
-    let (mut gxz, mut gyz) = (0.0, 0.0);
+    let (mut gxz, mut gyz) = (zero, zero);
     for i in 0..4 {
         gxz += sb.xz[0][i] * vl[i][2] + sb.xz[1][i] * wl[i][0] + sb.xz[2][i] * wl[i][1];
         gyz += sb.yz[0][i] * vl[i][2] + sb.yz[1][i] * wl[i][0] + sb.yz[2][i] * wl[i][1];
@@ -255,13 +319,13 @@ fn point_rates(
 /// (N_xy + c M_xx) B2), f̂y likewise; transverse shear `q = [Q_x, Q_y]`;
 /// `point` is that point's `(B1, B2, det, B̄_s)` in the frame `fe`.
 #[inline(always)]
-fn add_point_forces(
-    fe: &Frame,
-    c: f64,
-    (b1, b2, det, sb): ([f64; 4], [f64; 4], f64, ShearB),
-    sr: &SectionResult,
-    [qx, qy]: [f64; 2],
-    acc: &mut Forces,
+fn add_point_forces<T: Real>(
+    fe: &Frame<T>,
+    c: T,
+    (b1, b2, det, sb): ([T; 4], [T; 4], T, ShearB<T>),
+    sr: &SectionResult<T>,
+    [qx, qy]: [T; 2],
+    acc: &mut Forces<T>,
 ) {
     let (nr, mr) = (sr.n, sr.m);
     let (nxx, nyy) = (det * (nr[0] + c * mr[2]), det * (nr[1] + c * mr[2]));
@@ -282,14 +346,15 @@ fn add_point_forces(
 /// penalty's (`(½ Σ m_d, [S_x, S_y], the drilling moments)`), the warping
 /// correction's tilt `ce` and the warped element's rigid-rotation terms,
 /// turned into global nodal forces and moments in `out`.
+#[allow(clippy::type_complexity)]
 #[inline(always)]
-fn global_forces(
-    fe: &Frame,
-    ce: f64,
-    (eb1, eb2): (&[f64; 4], &[f64; 4]),
-    (hmd, [sx, sy], drilling): (f64, [f64; 2], &[f64; 4]),
-    acc: Forces,
-    out: &mut ElementResult,
+fn global_forces<T: Real>(
+    fe: &Frame<T>,
+    ce: T,
+    (eb1, eb2): (&[T; 4], &[T; 4]),
+    (hmd, [sx, sy], drilling): (T, [T; 2], &[T; 4]),
+    acc: Forces<T>,
+    out: &mut ElementResult<T>,
 ) {
     let Forces { mut fl, mut ml, mb } = acc;
     for i in 0..4 {

@@ -188,24 +188,25 @@ impl Frame<f64> {
 
 /// Shape-function derivatives ∂N/∂x, ∂N/∂y at (ξ, η) and the Jacobian determinant.
 #[inline(always)]
-pub(crate) fn b_matrix(f: &Frame, xi: f64, eta: f64) -> ([f64; 4], [f64; 4], f64) {
+pub(crate) fn b_matrix<T: Real>(f: &Frame<T>, xi: f64, eta: f64) -> ([T; 4], [T; 4], T) {
     let mut nxi = [0.0; 4];
     let mut neta = [0.0; 4];
     for i in 0..4 {
         nxi[i] = 0.25 * XI[i] * (1.0 + ETA[i] * eta);
         neta[i] = 0.25 * ETA[i] * (1.0 + XI[i] * xi);
     }
-    let (mut x_xi, mut x_eta, mut y_xi, mut y_eta) = (0.0, 0.0, 0.0, 0.0);
+    let zero = T::splat(0.0);
+    let (mut x_xi, mut x_eta, mut y_xi, mut y_eta) = (zero, zero, zero, zero);
     for i in 0..4 {
-        x_xi += nxi[i] * f.x[i];
-        x_eta += neta[i] * f.x[i];
-        y_xi += nxi[i] * f.y[i];
-        y_eta += neta[i] * f.y[i];
+        x_xi += f.x[i] * nxi[i];
+        x_eta += f.x[i] * neta[i];
+        y_xi += f.y[i] * nxi[i];
+        y_eta += f.y[i] * neta[i];
     }
     let det = x_xi * y_eta - x_eta * y_xi;
-    let inv = 1.0 / det;
-    let mut b1 = [0.0; 4];
-    let mut b2 = [0.0; 4];
+    let inv = T::splat(1.0) / det;
+    let mut b1 = [zero; 4];
+    let mut b2 = [zero; 4];
     for i in 0..4 {
         b1[i] = inv * (y_eta * nxi[i] - y_xi * neta[i]);
         b2[i] = inv * (-x_eta * nxi[i] + x_xi * neta[i]);
