@@ -128,9 +128,7 @@ impl ShellFormulation for BelytschkoTsay {
     fn static_form<M: Material>(
         set: &crate::ShellSet<Self, M>,
     ) -> Result<fem_core::StaticForm, String> {
-        let name = fem_core::Effect::name(set).to_string();
-        let shells = crate::statics::StaticShells::from_shell_set(name, set);
-        Ok(fem_core::StaticForm::Tangent(Box::new(shells)))
+        Ok(crate::statics::static_form_of(set))
     }
 
     /// Every element's committed state of the solved static shells.
@@ -138,33 +136,7 @@ impl ShellFormulation for BelytschkoTsay {
         set: &mut crate::ShellSet<Self, M>,
         solved: &dyn fem_core::statics::StaticTangent,
     ) -> Result<(), String> {
-        let any: &dyn std::any::Any = solved;
-        let Some(s) = any.downcast_ref::<crate::statics::StaticShells<M>>() else {
-            return Err(format!(
-                "{}: the static form handed back is not its static shells",
-                fem_core::Effect::name(set)
-            ));
-        };
-        if s.len() != set.len() {
-            return Err(format!(
-                "{}: {} static shells handed back for {} elements",
-                fem_core::Effect::name(set),
-                s.len(),
-                set.len()
-            ));
-        }
-        for e in 0..s.len() {
-            set.restore_element(
-                e,
-                s.thickness(e),
-                |k| (s.stress(e, k), *s.history(e, k)),
-                s.transverse_shear(e),
-                &s.hourglass_forces(e),
-                s.drilling_moments(e),
-            );
-        }
-        set.add_static_work(&s.work());
-        Ok(())
+        crate::statics::absorb_static_into(set, solved)
     }
 
     #[inline]

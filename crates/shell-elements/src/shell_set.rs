@@ -488,43 +488,53 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             None => self.hourglass[nhg * e + k],
         }
     }
-    /// Overwrite element `e`'s state (one in-plane point; the static
-    /// shells' committed state after a static solve): its thickness (mm),
-    /// the stress and history of each through-thickness point, the
-    /// transverse shear stresses, the hourglass generalised forces and the
-    /// drilling moments, in the layouts [`ShellSet::stress`] and its
-    /// siblings read. The cached stable step is dropped.
+    /// Overwrite element `e`'s state (the static shells' committed state
+    /// after a static solve): its thickness (mm), the stress and history
+    /// of each point (`point(p, k)`: in-plane point `p`, through-thickness
+    /// point `k`), the transverse shear stresses of each in-plane point
+    /// (`shear(p)`), the hourglass generalised forces and the drilling
+    /// moments, in the layouts [`ShellSet::stress`] and its siblings read.
+    /// The cached stable step is dropped.
     pub(crate) fn restore_element(
         &mut self,
         e: usize,
         thickness: f64,
-        point: impl Fn(usize) -> ([f64; 3], M::History),
-        shear: [f64; 2],
+        point: impl Fn(usize, usize) -> ([f64; 3], M::History),
+        shear: impl Fn(usize) -> [f64; 2],
         hourglass: &[f64],
         drilling: [f64; 4],
     ) {
-        let (n, nhg) = (self.section.rule.n, E::HOURGLASS_VARS.max(1));
+        let (n, ip, nhg) = (
+            self.section.rule.n,
+            E::IN_PLANE_POINTS,
+            E::HOURGLASS_VARS.max(1),
+        );
         self.thickness[e] = thickness;
-        for k in 0..n {
-            let (stress, history) = point(k);
-            let i = self.point_index(e, 0, k);
-            self.history[i] = history;
-            match self.lane_slot(e) {
-                Some((b, l)) => {
-                    let flat =
-                        &mut self.stress.as_flattened_mut()[b * 12 * n * E::IN_PLANE_POINTS..];
-                    for c in 0..3 {
-                        flat[(3 * k + c) * 4 + l] = stress[c];
+        for p in 0..ip {
+            for k in 0..n {
+                let (stress, history) = point(p, k);
+                let i = self.point_index(e, p, k);
+                self.history[i] = history;
+                match self.lane_slot(e) {
+                    Some((b, l)) => {
+                        let kk = p * n + k;
+                        let flat = &mut self.stress.as_flattened_mut()[b * 12 * n * ip..];
+                        for c in 0..3 {
+                            flat[(3 * kk + c) * 4 + l] = stress[c];
+                        }
                     }
+                    None => self.stress[i] = stress,
                 }
-                None => self.stress[i] = stress,
             }
         }
         match self.lane_slot(e) {
             Some((b, l)) => {
-                let flat = &mut self.shear.as_flattened_mut()[b * 8 * E::IN_PLANE_POINTS..];
-                flat[l] = shear[0];
-                flat[4 + l] = shear[1];
+                let flat = &mut self.shear.as_flattened_mut()[b * 8 * ip..];
+                for p in 0..ip {
+                    let tau = shear(p);
+                    flat[2 * p * 4 + l] = tau[0];
+                    flat[(2 * p + 1) * 4 + l] = tau[1];
+                }
                 for (i, m) in drilling.iter().enumerate() {
                     self.drilling[4 * b + i][l] = *m;
                 }
@@ -533,7 +543,9 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
                 }
             }
             None => {
-                self.shear[e * E::IN_PLANE_POINTS] = shear;
+                for p in 0..ip {
+                    self.shear[e * ip + p] = shear(p);
+                }
                 self.drilling[e] = drilling;
                 for (k, q) in hourglass.iter().enumerate().take(nhg) {
                     self.hourglass[nhg * e + k] = *q;

@@ -1,12 +1,12 @@
-//! One element's internal forces at a trial state: the explicit
-//! Belytschko–Tsay kernel run as a single step from the committed state,
-//! over `f64` (forces) or [`Dual`] (forces and their exact derivatives).
+//! One element's internal forces at a trial state: the explicit kernel
+//! of its formulation run as a single step from the committed state, over
+//! `f64` (forces) or [`Dual`] (forces and their exact derivatives).
 
 use super::dual::{Dual, N_DERIV};
 use super::state::ShellState;
 use crate::BelytschkoTsay;
 use crate::belytschko_tsay::{Lanes, Moduli};
-use crate::formulation::{ElementResult, SectionResult};
+use crate::formulation::{ElementResult, SectionResult, ShellFormulation};
 use crate::lanes::Real;
 use crate::material::{Material, PointUpdate};
 use crate::section::ThroughThickness;
@@ -84,11 +84,12 @@ impl StaticScalar for Dual {
     }
 }
 
-/// Integrate one section from element `e`'s committed points: strain
-/// increment `Δε(z) = de + z dk` at each point of `rule` (`z = ζ t/2`,
-/// committed thickness `t`), the material update from the committed point
-/// state into `trial`, and the resultants and work as the explicit
-/// `section_sums` forms them.
+/// Integrate one section from its committed points `points` (a range
+/// into the state's points, bottom to top): strain increment
+/// `Δε(z) = de + z dk` at each point of `rule` (`z = ζ t/2`, committed
+/// thickness `t`), the material update from the committed point state into
+/// `trial`, and the resultants and work as the explicit `section_sums`
+/// forms them.
 #[allow(clippy::too_many_arguments)]
 fn integrate_section<T: StaticScalar, M: Material>(
     mat: &M,
@@ -96,7 +97,7 @@ fn integrate_section<T: StaticScalar, M: Material>(
     t: f64,
     de: [T; 3],
     dk: [T; 3],
-    e: usize,
+    points: std::ops::Range<usize>,
     committed: &ShellState<M::History>,
     trial: &mut ShellState<M::History>,
 ) -> SectionResult<T> {
@@ -109,7 +110,6 @@ fn integrate_section<T: StaticScalar, M: Material>(
         deps_zz: zero,
     };
     let h = 0.5 * t;
-    let points = committed.points_of(e);
     for (k, p) in points.enumerate() {
         let (z, wk) = (h * rule.zeta[k], h * rule.weight[k]);
         let d: [T; 3] = std::array::from_fn(|c| dk[c] * z + de[c]);
@@ -145,51 +145,82 @@ pub(crate) struct ElementMotion<T> {
     pub dtheta: [[T; 3]; 4],
 }
 
-/// Element `e`'s nodal forces and moments at the trial state `motion`,
-/// in the explicit kernel's convention (`out.f`, `out.m` are `−F_int`,
-/// global), with its trial point state written into `trial`; `None` when
-/// the element degenerates (zero or negative area in the trial or the
-/// midpoint configuration).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn element_forces<T: StaticScalar, M: Material>(
-    bt: &BelytschkoTsay,
-    md: &Moduli,
-    mat: &M,
-    rule: &ThroughThickness,
-    motion: &ElementMotion<T>,
-    e: usize,
-    committed: &ShellState<M::History>,
-    trial: &mut ShellState<M::History>,
-) -> Option<ElementResult<T>> {
-    // One explicit step of length 1 from the committed state: the "rates"
-    // are the increments, the midpoint is ½ (x_committed + x).
-    let rt = bt.rates(&motion.x, &motion.dx, &motion.dtheta, 1.0);
-    if !rt.valid {
-        return None;
+/// A formulation the static shells can run: its explicit kernel as one
+/// step of length 1 from the committed state.
+pub(crate) trait StaticKernel: ShellFormulation {
+    /// Element `e`'s nodal forces and moments at the trial state `motion`,
+    /// in the explicit kernel's convention (`out.f`, `out.m` are `−F_int`,
+    /// global), with its trial state written into `trial`; `None` when the
+    /// element degenerates (zero or negative area in the trial or the
+    /// midpoint configuration).
+    #[allow(clippy::too_many_arguments)]
+    fn element_forces<T: StaticScalar, M: Material>(
+        &self,
+        md: &Moduli,
+        mat: &M,
+        rule: &ThroughThickness,
+        motion: &ElementMotion<T>,
+        e: usize,
+        committed: &ShellState<M::History>,
+        trial: &mut ShellState<M::History>,
+    ) -> Option<ElementResult<T>>;
+}
+
+impl StaticKernel for BelytschkoTsay {
+    fn element_forces<T: StaticScalar, M: Material>(
+        &self,
+        md: &Moduli,
+        mat: &M,
+        rule: &ThroughThickness,
+        motion: &ElementMotion<T>,
+        e: usize,
+        committed: &ShellState<M::History>,
+        trial: &mut ShellState<M::History>,
+    ) -> Option<ElementResult<T>> {
+        // One explicit step of length 1 from the committed state: the
+        // "rates" are the increments, the midpoint is ½ (x_committed + x).
+        let rt = self.rates(&motion.x, &motion.dx, &motion.dtheta, 1.0);
+        if !rt.valid {
+            return None;
+        }
+        let t = committed.thickness[e];
+        let points = committed.points_of(e, 0);
+        let sr = integrate_section(
+            mat,
+            rule,
+            t,
+            rt.membrane,
+            rt.bending,
+            points,
+            committed,
+            trial,
+        );
+        let (ip, hg) = (committed.in_plane_index(e, 0), committed.hourglass_of(e));
+        let mut thickness = T::splat(t);
+        let mut shear = committed.shear[ip].map(T::splat);
+        let mut hourglass: [T; 5] =
+            std::array::from_fn(|k| T::splat(committed.hourglass[hg.start + k]));
+        let mut drilling = committed.drilling[e].map(T::splat);
+        let mut out = ElementResult::<T>::zero();
+        self.forces(
+            md,
+            &rt,
+            sr,
+            1.0,
+            Lanes {
+                thickness: &mut thickness,
+                shear: &mut shear,
+                hourglass: &mut hourglass,
+                drilling: &mut drilling,
+            },
+            &mut out,
+        );
+        trial.thickness[e] = thickness.value();
+        trial.shear[ip] = shear.map(T::value);
+        for (q, h) in trial.hourglass[hg].iter_mut().zip(hourglass) {
+            *q = h.value();
+        }
+        trial.drilling[e] = drilling.map(T::value);
+        Some(out)
     }
-    let t = committed.thickness[e];
-    let sr = integrate_section(mat, rule, t, rt.membrane, rt.bending, e, committed, trial);
-    let mut thickness = T::splat(t);
-    let mut shear = committed.shear[e].map(T::splat);
-    let mut hourglass = committed.hourglass[e].map(T::splat);
-    let mut drilling = committed.drilling[e].map(T::splat);
-    let mut out = ElementResult::<T>::zero();
-    bt.forces(
-        md,
-        &rt,
-        sr,
-        1.0,
-        Lanes {
-            thickness: &mut thickness,
-            shear: &mut shear,
-            hourglass: &mut hourglass,
-            drilling: &mut drilling,
-        },
-        &mut out,
-    );
-    trial.thickness[e] = thickness.value();
-    trial.shear[e] = shear.map(T::value);
-    trial.hourglass[e] = hourglass.map(T::value);
-    trial.drilling[e] = drilling.map(T::value);
-    Some(out)
 }

@@ -78,3 +78,4 @@ mod state;
 mod tangent;
 
 pub use shells::StaticShells;
+pub(crate) use shells::{absorb_static_into, static_form_of};

@@ -4,65 +4,58 @@
 
 use super::StaticShells;
 use super::dual::Dual;
-use super::element::{ElementMotion, StaticScalar, element_forces};
-use crate::formulation::ElementResult;
+use super::element::{ElementMotion, StaticKernel, StaticScalar};
+use crate::formulation::{ElementResult, ShellFormulation};
 use crate::material::Material;
 use fem_core::statics::{Assembly, DofGroup, StaticTangent, TrialState};
 use fem_core::{Effect, FemError, FieldAccess, Forces, Mat3, NodalState, StepContext, Vec3};
 
-impl<M: Material> StaticShells<M> {
-    /// Element `e`'s kernel at `state` over the scalar `T`, made by `seed`
-    /// from a value and its DOF index (`6 · local node + dof`).
-    fn run_element<T: StaticScalar>(
-        &mut self,
-        e: usize,
-        state: &TrialState<'_>,
-        seed: impl Fn(f64, usize) -> T,
-    ) -> Result<ElementResult<T>, FemError> {
-        let q = self.conn[e];
-        let mut motion = ElementMotion {
-            x: [[T::splat(0.0); 3]; 4],
-            dx: [[T::splat(0.0); 3]; 4],
-            dtheta: [[T::splat(0.0); 3]; 4],
-        };
-        for (i, &n) in q.iter().enumerate() {
-            let n = n as usize;
-            if n >= state.len() {
-                return Err(FemError::NodeOutOfRange {
-                    element: e,
-                    node: n as u64,
-                    n_nodes: state.len(),
-                });
-            }
-            for c in 0..3 {
-                let x = seed(state.x[n][c], 6 * i + c);
-                motion.x[i][c] = x;
-                motion.dx[i][c] = x - state.x_committed[n][c];
-                motion.dtheta[i][c] = seed(state.dtheta[n][c], 6 * i + 3 + c);
-            }
+/// Element `e` of `shells`: its kernel at `state` over the scalar `T`, made
+/// by `seed` from a value and its DOF index (`6 · local node + dof`).
+fn run_element<T: StaticScalar, M: Material, F: StaticKernel>(
+    shells: &mut StaticShells<M, F>,
+    e: usize,
+    state: &TrialState<'_>,
+    seed: impl Fn(f64, usize) -> T,
+) -> Result<ElementResult<T>, FemError> {
+    let q = shells.conn[e];
+    let mut motion = ElementMotion {
+        x: [[T::splat(0.0); 3]; 4],
+        dx: [[T::splat(0.0); 3]; 4],
+        dtheta: [[T::splat(0.0); 3]; 4],
+    };
+    for (i, &n) in q.iter().enumerate() {
+        let n = n as usize;
+        if n >= state.len() {
+            return Err(FemError::NodeOutOfRange {
+                element: e,
+                node: n as u64,
+                n_nodes: state.len(),
+            });
         }
-        let (bt, md, mat, rule) = (
-            &self.formulation,
-            &self.moduli,
-            &self.material,
-            &self.section.rule,
-        );
-        element_forces(
-            bt,
-            md,
-            mat,
-            rule,
+        for c in 0..3 {
+            let x = seed(state.x[n][c], 6 * i + c);
+            motion.x[i][c] = x;
+            motion.dx[i][c] = x - state.x_committed[n][c];
+            motion.dtheta[i][c] = seed(state.dtheta[n][c], 6 * i + 3 + c);
+        }
+    }
+    shells
+        .formulation
+        .element_forces(
+            &shells.moduli,
+            &shells.material,
+            &shells.section.rule,
             &motion,
             e,
-            &self.committed,
-            &mut self.trial,
+            &shells.committed,
+            &mut shells.trial,
         )
         .ok_or_else(|| FemError::Element {
-            effect: self.name.clone(),
+            effect: shells.name.clone(),
             element: e,
             message: "zero or negative area in the trial or the midpoint configuration".to_string(),
         })
-    }
 }
 
 /// `F_int` of a node from the kernel's `−F_int`.
@@ -91,7 +84,7 @@ fn assemble_dual(q: &[u32; 4], r: &ElementResult<Dual>, out: &mut Assembly<'_>) 
     }
 }
 
-impl<M: Material> StaticTangent for StaticShells<M> {
+impl<M: Material, F: StaticKernel> StaticTangent for StaticShells<M, F> {
     fn internal_forces(
         &mut self,
         state: &TrialState<'_>,
@@ -102,10 +95,10 @@ impl<M: Material> StaticTangent for StaticShells<M> {
         for e in 0..self.conn.len() {
             let q = self.conn[e];
             if tangent {
-                let r = self.run_element(e, state, Dual::variable)?;
+                let r = run_element(self, e, state, Dual::variable)?;
                 assemble_dual(&q, &r, out);
             } else {
-                let r = self.run_element(e, state, |v, _| v)?;
+                let r = run_element(self, e, state, |v, _| v)?;
                 for i in 0..4 {
                     out.add_force3(q[i], T, &internal(&r.f[i]));
                     out.add_force3(q[i], R, &internal(&r.m[i]));
@@ -122,7 +115,7 @@ impl<M: Material> StaticTangent for StaticShells<M> {
             // The solver evaluated this state successfully before committing
             // it, so the element cannot degenerate here; if it did, the trial
             // state of the last call stays.
-            if let Ok(r) = self.run_element(e, state, |v, _| v) {
+            if let Ok(r) = run_element(self, e, state, |v, _| v) {
                 self.work.internal += r.d_internal;
                 self.work.hourglass += r.d_hourglass;
                 self.work.plastic += r.d_plastic;
@@ -143,7 +136,7 @@ impl<M: Material> StaticTangent for StaticShells<M> {
     }
 }
 
-impl<M: Material> Effect for StaticShells<M> {
+impl<M: Material, F: ShellFormulation> Effect for StaticShells<M, F> {
     fn name(&self) -> &str {
         &self.name
     }
