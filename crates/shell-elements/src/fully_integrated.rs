@@ -20,9 +20,11 @@
 //! element). The optional warping correction is the Belytschko–Tsay one
 //! (tilted fibres and twisted metric), evaluated at each Gauss point.
 //!
-//! The kernel (`FullyIntegrated::kernel`) is written over [`Real`] with the
-//! section's integration handed in: the explicit step runs it on `f64`
-//! with the material's update ([`ShellFormulation::compute`]).
+//! The kernel ([`FullyIntegrated::kernel`]) is written once over [`Real`]
+//! with the section's integration handed in: the explicit step runs it on
+//! `f64` with the material's update ([`ShellFormulation::compute`]); the
+//! static shells ([`crate::statics`]) run it as one step from the committed
+//! state, on `f64` or on dual numbers for the exact tangent.
 
 use crate::belytschko_tsay::Moduli;
 use crate::error::ShellError;
@@ -77,6 +79,21 @@ impl ShellFormulation for FullyIntegrated {
 
     fn drilling(&self) -> f64 {
         self.drilling
+    }
+
+    /// [`StaticShells`](crate::statics::StaticShells) from the set's state.
+    fn static_form<M: Material>(
+        set: &crate::ShellSet<Self, M>,
+    ) -> Result<fem_core::StaticForm, String> {
+        Ok(crate::statics::static_form_of(set))
+    }
+
+    /// Every element's committed state of the solved static shells.
+    fn absorb_static<M: Material>(
+        set: &mut crate::ShellSet<Self, M>,
+        solved: &dyn fem_core::statics::StaticTangent,
+    ) -> Result<(), String> {
+        crate::statics::absorb_static_into(set, solved)
     }
 
     #[inline]

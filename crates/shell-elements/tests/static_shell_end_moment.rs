@@ -25,49 +25,13 @@
 
 mod static_common;
 
-use fem_core::Dof;
-use fem_core::statics::StaticSolver;
-use static_common::{EI, L, add_edge_load, angle_about_y, clamped_strip, fixed_steps, mean};
+use shell_elements::BelytschkoTsay;
 
-/// Roll the strip of `40 × across` shells with `M = factor · EI / L` in
+/// Roll the strip of `40 × across` BT shells with `M = factor · EI / L` in
 /// increments of `dl`; the tip's position error over L and rotation error
 /// over θ.
 fn roll(factor: f64, dl: f64, across: usize) -> (f64, f64) {
-    let (mut problem, tip) = clamped_strip(40, across);
-    let m = factor * EI / L;
-    add_edge_load(&mut problem, &tip, Dof::Ry, m);
-    let mut solver = StaticSolver::new(problem, fixed_steps(dl)).unwrap();
-    // The tip's rotation, unwrapped increment by increment.
-    let (mut theta, mut last) = (0.0, 0.0);
-    let report = solver
-        .solve_observed(&mut |s| {
-            let a = angle_about_y(&s.rotation(tip[0] as usize));
-            let mut d = a - last;
-            d -= (d / std::f64::consts::TAU).round() * std::f64::consts::TAU;
-            theta += d;
-            last = a;
-        })
-        .unwrap();
-    let exact_theta = m * L / EI;
-    let r = EI / m;
-    let exact = fem_core::Vec3::new(r * exact_theta.sin(), 0.0, -r * (1.0 - exact_theta.cos()));
-    let x = mean(&tip, |k| solver.positions()[k]);
-    let tip_y = fem_core::Vec3::new(0.0, static_common::B / 2.0, 0.0);
-    let pos_err = (x - tip_y - exact).norm() / L;
-    let rot_err = (theta - exact_theta).abs() / exact_theta;
-    println!(
-        "40 × {across} shells, M = {factor:.4} EI/L, Δλ = {dl}: {} increments, {} iterations; tip at \
-         ({:.4}, {:.4}, {:.4}) mm, exact ({:.4}, 0, {:.4}); |Δx|/L = {pos_err:.3e}; \
-         θ = {theta:.5} rad, exact {exact_theta:.5}, error {rot_err:.3e}",
-        report.increments.len(),
-        report.iterations(),
-        x.x,
-        x.y - tip_y.y,
-        x.z,
-        exact.x,
-        exact.z,
-    );
-    (pos_err, rot_err)
+    static_common::roll_strip(BelytschkoTsay::default(), factor, dl, across)
 }
 
 #[test]

@@ -1,15 +1,17 @@
 //! One element's internal forces at a trial state: the explicit kernel
-//! of its formulation run as a single step from the committed state, over
-//! `f64` (forces) or [`Dual`] (forces and their exact derivatives).
+//! (Belytschko–Tsay or fully integrated) run as a single step from the
+//! committed state, over `f64` (forces) or [`Dual`] (forces and their
+//! exact derivatives).
 
 use super::dual::{Dual, N_DERIV};
 use super::state::ShellState;
-use crate::BelytschkoTsay;
 use crate::belytschko_tsay::{Lanes, Moduli};
 use crate::formulation::{ElementResult, SectionResult, ShellFormulation};
+use crate::fully_integrated::PointLanes;
 use crate::lanes::Real;
 use crate::material::{Material, PointUpdate};
 use crate::section::ThroughThickness;
+use crate::{BelytschkoTsay, FullyIntegrated};
 
 /// A scalar the static kernel runs on: `f64` for the forces alone,
 /// [`Dual`] for the forces and their derivatives.
@@ -219,6 +221,45 @@ impl StaticKernel for BelytschkoTsay {
         trial.shear[ip] = shear.map(T::value);
         for (q, h) in trial.hourglass[hg].iter_mut().zip(hourglass) {
             *q = h.value();
+        }
+        trial.drilling[e] = drilling.map(T::value);
+        Some(out)
+    }
+}
+
+impl StaticKernel for FullyIntegrated {
+    fn element_forces<T: StaticScalar, M: Material>(
+        &self,
+        md: &Moduli,
+        mat: &M,
+        rule: &ThroughThickness,
+        motion: &ElementMotion<T>,
+        e: usize,
+        committed: &ShellState<M::History>,
+        trial: &mut ShellState<M::History>,
+    ) -> Option<ElementResult<T>> {
+        let t = committed.thickness[e];
+        let ip = committed.in_plane_index(e, 0);
+        let mut thickness = T::splat(t);
+        let mut shear: [[T; 2]; 4] = std::array::from_fn(|p| committed.shear[ip + p].map(T::splat));
+        let mut drilling = committed.drilling[e].map(T::splat);
+        // Each Gauss point's stack from its committed points.
+        let section = |p: usize, de: [T; 3], dk: [T; 3]| {
+            let points = committed.points_of(e, p);
+            integrate_section(mat, rule, t, de, dk, points, committed, trial)
+        };
+        let st = PointLanes {
+            thickness: &mut thickness,
+            shear: &mut shear,
+            drilling: &mut drilling,
+        };
+        // One explicit step of length 1 from the committed state, as above.
+        let out = self
+            .kernel(md, &motion.x, &motion.dx, &motion.dtheta, 1.0, st, section)
+            .ok()?;
+        trial.thickness[e] = thickness.value();
+        for (s, tau) in trial.shear[ip..ip + 4].iter_mut().zip(shear) {
+            *s = tau.map(T::value);
         }
         trial.drilling[e] = drilling.map(T::value);
         Some(out)

@@ -1,18 +1,23 @@
-//! Belytschko–Tsay shells for the static Newton solver
-//! ([`fem_core::statics`]): [`StaticShells`], internal forces at a trial
-//! state from the committed state, and their exact consistent tangent.
+//! Belytschko–Tsay and fully integrated shells for the static Newton
+//! solver ([`fem_core::statics`]): [`StaticShells`], internal forces at a
+//! trial state from the committed state, and their exact consistent
+//! tangent.
 //!
 //! # Formulation: one explicit step from the committed state
 //!
 //! Each element keeps, committed, its thickness, the stress and history
-//! of every through-thickness point (in its co-rotational frame), its
-//! transverse shear stresses, hourglass generalised forces and drilling
-//! moments; the committed geometry is the solver's committed positions
+//! of every integration point (in its co-rotational frame; one in-plane
+//! point for Belytschko–Tsay, the 2×2 Gauss points of the fully integrated
+//! shell, each with its through-thickness stack), its transverse shear
+//! stresses (per in-plane point), hourglass generalised forces
+//! (Belytschko–Tsay only) and drilling moments; the committed geometry is
+//! the solver's committed positions
 //! ([`TrialState::x_committed`](fem_core::statics::TrialState)). At a trial
 //! state (positions `x`, rotation vectors `Δθ` since the commit) the
-//! element runs the explicit [`BelytschkoTsay`](crate::BelytschkoTsay)
-//! kernel as one step of length 1 whose "velocities" are the increments
-//! `Δx = x − x_committed` and `Δθ`:
+//! element runs its explicit kernel
+//! ([`BelytschkoTsay`](crate::BelytschkoTsay) or
+//! [`FullyIntegrated`](crate::FullyIntegrated)) as one step of length 1
+//! whose "velocities" are the increments `Δx = x − x_committed` and `Δθ`:
 //!
 //! - the strain increments (membrane from the in-plane translation
 //!   increments, curvature from the rotation increments, with the warping
@@ -20,14 +25,18 @@
 //!   **midpoint configuration** `½ (x_committed + x)`, in its
 //!   co-rotational frame (`corotational_basis`), and turned into the trial
 //!   configuration's frame (Hughes–Winget: the increments of a rigid
-//!   rotation of any size are zero);
+//!   rotation of any size are zero); Belytschko–Tsay reads them at the
+//!   centre, the fully integrated shell at each of its 2×2 Gauss points
+//!   (exact bilinear B, the warped element's rigid rotation removed);
 //! - every through-thickness point is updated by [`Material::update`]
 //!   from its committed stress and history (the section's rule, committed
-//!   thickness), giving `N` and `M`;
+//!   thickness), giving `N` and `M` (per Gauss point for the fully
+//!   integrated shell);
 //! - transverse shear (elastic, shear correction factor of the section),
-//!   hourglass control (`Q = Q_committed + C q(Δ)`, the explicit element's
-//!   stiffness-type control with its coefficients `r E t A ΣB²/8`, …) and
-//!   the relative drilling penalty (`k = γ G t A / 4` per node) are
+//!   hourglass control of Belytschko–Tsay (`Q = Q_committed + C q(Δ)`, the
+//!   explicit element's stiffness-type control with its coefficients
+//!   `r E t A ΣB²/8`, …; the fully integrated shell has none) and the
+//!   relative drilling penalty (`k = γ G t A / 4` per node) are
 //!   incremental from their committed values;
 //! - the nodal forces and moments are the explicit element's, with the
 //!   trial configuration's frame and B-matrices.
@@ -54,7 +63,7 @@
 //!
 //! # Tangent: forward-mode automatic differentiation
 //!
-//! The kernel is generic over the scalar ([`Real`](crate::Real)): run on a
+//! Each kernel is generic over the scalar ([`Real`](crate::Real)): run on a
 //! dual number carrying the derivatives with respect to the element's 24
 //! DOFs (trial positions and rotation increments of its 4 nodes), it gives
 //! the forces' exact derivatives — material and geometric (initial-stress)
@@ -64,7 +73,8 @@
 //! `∂σ = C_alg ∂Δε` with `C_alg` = [`Material::consistent_tangent`] at the
 //! point's committed state and trial increment. The tangent is exact to
 //! rounding wherever the material's `C_alg` is (`tests/static_shell_tangent.rs`
-//! checks it against central differences). It is not symmetric (the
+//! and `tests/static_fi_shell_tangent.rs` check it against central
+//! differences). It is not symmetric (the
 //! co-rotational frame, the rotation increments as parameters), so the
 //! solver factorises it by LU.
 //!

@@ -2,9 +2,11 @@
 //! strip clamped at one end, solver settings.
 #![allow(dead_code)]
 
-use fem_core::statics::TrialState;
+pub mod fd;
+
+use fem_core::statics::{StaticTangent, TrialState};
 use fem_core::{Mat3, Vec3};
-use shell_elements::{Hardening, J2PlaneStress, Section};
+use shell_elements::{Hardening, J2PlaneStress, Section, ShellFormulation, StaticShells};
 
 /// Elastic material (flow stress 1e30 MPa), density of steel.
 pub fn elastic(e: f64, nu: f64) -> J2PlaneStress {
@@ -83,18 +85,30 @@ pub const T: f64 = 1.0;
 /// Bending stiffness `E b t³ / 12` (N·mm²).
 pub const EI: f64 = E * B * T * T * T / 12.0;
 
-/// An elastic strip (`E`, ν = 0) of `n × across` shells along x in the
-/// plane z = 0, clamped at x = 0: the problem (no load yet) and its tip
-/// nodes (x = L, by increasing y).
+/// An elastic strip (`E`, ν = 0) of `n × across` Belytschko–Tsay shells
+/// along x in the plane z = 0, clamped at x = 0: the problem (no load yet)
+/// and its tip nodes (x = L, by increasing y).
 pub fn clamped_strip(n: usize, across: usize) -> (fem_core::statics::StaticProblem, Vec<u32>) {
+    clamped_strip_of(n, across, shell_elements::BelytschkoTsay::default())
+}
+
+/// [`clamped_strip`] with the shells of formulation `form`.
+pub fn clamped_strip_of<F: ShellFormulation>(
+    n: usize,
+    across: usize,
+    form: F,
+) -> (fem_core::statics::StaticProblem, Vec<u32>)
+where
+    StaticShells<J2PlaneStress, F>: StaticTangent,
+{
     use fem_core::Dofs;
     let mesh = fem_core::rectangle(L, B, n, across).unwrap();
-    let shells = shell_elements::StaticShells::new(
+    let shells = StaticShells::new(
         "strip",
         &mesh.nodes,
         &mesh.quads,
         section(T, 5),
-        shell_elements::BelytschkoTsay::default(),
+        form,
         elastic(E, 0.0),
     )
     .unwrap();
@@ -156,4 +170,51 @@ pub fn add_edge_load(
         };
         problem.add_load(&[n], dof, total * w / shares).unwrap();
     }
+}
+
+/// Roll the clamped strip of `40 × across` shells of `form` with an end
+/// moment `M = factor · EI / L` about +y (a dead moment shared by the tip
+/// nodes, trapezoid weights) in fixed increments `dl`: the tip's position
+/// error over L and rotation error over `θ = M L / EI` against pure
+/// bending (`R = EI / M`, tip at `x = R sin θ`, `z = −R (1 − cos θ)`).
+pub fn roll_strip<F: ShellFormulation>(form: F, factor: f64, dl: f64, across: usize) -> (f64, f64)
+where
+    StaticShells<J2PlaneStress, F>: StaticTangent,
+{
+    let (mut problem, tip) = clamped_strip_of(40, across, form);
+    let m = factor * EI / L;
+    add_edge_load(&mut problem, &tip, fem_core::Dof::Ry, m);
+    let mut solver = fem_core::statics::StaticSolver::new(problem, fixed_steps(dl)).unwrap();
+    // The tip's rotation, unwrapped increment by increment.
+    let (mut theta, mut last) = (0.0, 0.0);
+    let report = solver
+        .solve_observed(&mut |s| {
+            let a = angle_about_y(&s.rotation(tip[0] as usize));
+            let mut d = a - last;
+            d -= (d / std::f64::consts::TAU).round() * std::f64::consts::TAU;
+            theta += d;
+            last = a;
+        })
+        .unwrap();
+    let exact_theta = m * L / EI;
+    let r = EI / m;
+    let exact = Vec3::new(r * exact_theta.sin(), 0.0, -r * (1.0 - exact_theta.cos()));
+    let x = mean(&tip, |k| solver.positions()[k]);
+    let tip_y = Vec3::new(0.0, B / 2.0, 0.0);
+    let pos_err = (x - tip_y - exact).norm() / L;
+    let rot_err = (theta - exact_theta).abs() / exact_theta;
+    println!(
+        "{}: 40 × {across} shells, M = {factor:.4} EI/L, Δλ = {dl}: {} increments, {} \
+         iterations; tip at ({:.4}, {:.4}, {:.4}) mm, exact ({:.4}, 0, {:.4}); |Δx|/L = \
+         {pos_err:.3e}; θ = {theta:.5} rad, exact {exact_theta:.5}, error {rot_err:.3e}",
+        F::NAME,
+        report.increments.len(),
+        report.iterations(),
+        x.x,
+        x.y - tip_y.y,
+        x.z,
+        exact.x,
+        exact.z,
+    );
+    (pos_err, rot_err)
 }
