@@ -493,6 +493,31 @@ fn a_registered_element_checks_its_key_and_pairs_with_a_built_in_material() {
     assert_eq!((h.element, h.material), ("test-bt", "j2"));
 }
 
+/// A springback step's implicit method needs shells with a static form;
+/// the registered element has none (`static_form: false`), so a scene that
+/// asks for it with this element is refused at `steps[i].method`, in one
+/// line naming the element and the method that works with every element.
+#[test]
+fn a_registered_element_without_a_static_form_is_refused_the_implicit_springback() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let scene = root.join("scenes/square-cup-springback.toml");
+    let element = "blank.element=\"test-bt\"".to_string();
+    let e = formsim::scene::load(&scene, std::slice::from_ref(&element)).expect_err(&element);
+    let m = e.to_string();
+    assert!(
+        m.contains("steps[3].method")
+            && m.contains("the test-bt shell has none")
+            && m.contains("dynamic-relaxation"),
+        "{m}"
+    );
+    assert_eq!(m.lines().count(), 1, "{m}");
+    let relaxed = [
+        element,
+        "steps[3].method=\"dynamic-relaxation\"".to_string(),
+    ];
+    formsim::scene::load(&scene, &relaxed).unwrap_or_else(|e| panic!("{e}"));
+}
+
 /// The check's table is read against the keys it declares: an unknown key
 /// names the table and the key at its line, a mistyped value names the key
 /// and the unit, a scene of its kind without it names the table, and a

@@ -45,7 +45,7 @@ inventory::submit! {
         relative_cost: 1.9,
         params: &[],
         add: None,
-        static_form: false,
+        static_form: true,
     }
 }
 
