@@ -20,7 +20,7 @@
 //! element). The optional warping correction is the Belytschko–Tsay one
 //! (tilted fibres and twisted metric), evaluated at each Gauss point.
 //!
-//! The kernel ([`FullyIntegrated::kernel`]) is written once over [`Real`]
+//! The kernel (`FullyIntegrated::kernel`) is written once over [`Real`]
 //! with the section's integration handed in: the explicit step runs it on
 //! `f64` with the material's update ([`ShellFormulation::compute`]); the
 //! static shells ([`crate::statics`]) run it as one step from the committed
