@@ -88,3 +88,42 @@ fn unsymmetric_tangent_is_solved_with_lu() {
     assert!(e0.abs() < 1e-12 && e1.abs() < 1e-12);
     assert!(report.increments.iter().all(|i| i.iterations <= 6));
 }
+
+/// `StaticSolver::tangent_matrix` gives the tangent the solver factorises,
+/// over its equations (`equation_dof`), at the converged state: on the
+/// one-way pair (the loads and constants above), `[[k, −a], [0, k]]` at the
+/// start and `[[k, −a], [3 b u_0², k]]` after the solve, the (1, 0) entry
+/// stored at the start though zero (the pattern holds both triangles).
+/// Asking for it leaves the converged state as it was. Tolerance: exact
+/// at the start; 1e-12 relative after the solve.
+#[test]
+fn tangent_matrix_is_the_factorised_tangent() {
+    let (k, a, b, p) = (100.0, 60.0, 50.0, 20.0);
+    let mut problem = StaticProblem::new(&[Vec3::zeros(), Vec3::new(10.0, 0.0, 0.0)]).unwrap();
+    problem.add_effect(OneWay { k, a, b });
+    problem.fix(&[0, 1], Dofs::of(&[Dof::Uy, Dof::Uz])).unwrap();
+    problem.add_load(&[0], Dof::Ux, p).unwrap();
+    let mut solver = StaticSolver::new(problem, NewtonSettings::default()).unwrap();
+    assert_eq!(solver.equation_dof(0), Some((0, Dof::Ux)));
+    assert_eq!(solver.equation_dof(1), Some((1, Dof::Ux)));
+    assert_eq!(solver.equation_dof(2), None);
+    let start = solver.tangent_matrix().unwrap();
+    assert_eq!((start.nrows(), start.ncols()), (2, 2));
+    assert_eq!(start.col_ptr(), &[0, 2, 4]);
+    assert_eq!(start.row_idx(), &[0, 1, 0, 1]);
+    assert_eq!(start.val(), &[k, 0.0, -a, k]);
+    solver.solve().unwrap();
+    let (u0, u1) = (solver.displacement(0).x, solver.displacement(1).x);
+    let end = solver.tangent_matrix().unwrap();
+    let expected = [k, 3.0 * b * u0 * u0, -a, k];
+    for (got, want) in end.val().iter().zip(expected) {
+        assert!(
+            (got - want).abs() <= 1e-12 * want.abs(),
+            "{got} against {want}"
+        );
+    }
+    assert_eq!(
+        (solver.displacement(0).x, solver.displacement(1).x),
+        (u0, u1)
+    );
+}

@@ -63,6 +63,9 @@
 //!   its diagonal names the free DOF: a singular first tangent (a free
 //!   rigid-body mode) stops the solve at once with
 //!   [`StaticsError::Singular`].
+//!   [`StaticSolver::tangent_matrix`] gives the assembled tangent as a
+//!   `faer` matrix, to measure factorisations on it
+//!   (`crates/shell-elements/benches/static_factor.rs`).
 //! - **Cost**: the Newton loop reuses its buffers (residual, correction,
 //!   tangent values, factor values, the factorisation's scratch); only
 //!   the residual history of a converged increment is copied into its
@@ -98,6 +101,7 @@ mod dof_map;
 mod error;
 mod evaluate;
 mod factor;
+mod matrix;
 mod newton;
 mod pattern;
 mod pivots;
