@@ -127,3 +127,43 @@ fn tangent_matrix_is_the_factorised_tangent() {
         (u0, u1)
     );
 }
+
+/// The symmetric part of a strongly unsymmetric tangent does not make a
+/// contracting iteration: on the one-way pair with `a = 300` N/mm (`k =
+/// 100`, `b = 50`, `P_0 = 20 N`), `S = ½ (K + Kᵀ)` at the start is
+/// `[[100, −150], [−150, 100]]` and Newton on it multiplies the error by
+/// `S⁻¹ (S − K)`, whose eigenvalues are `±1.34`: it diverges at any load
+/// increment, so cutting back cannot help. With `symmetrize` (and the
+/// factor kept, as the springback step sets it) the solver must retry
+/// the failed increment with the exact tangent by LU, and converge to
+/// the closed-form equilibrium (the cubic above) within 1e-12 mm without
+/// a cut-back.
+#[test]
+fn symmetric_part_that_diverges_falls_back_to_the_exact_tangent() {
+    let (k, a, b, p) = (100.0, 300.0, 50.0, 20.0);
+    let mut u0: f64 = p / k;
+    for _ in 0..60 {
+        u0 -= (k * u0 + a * b * u0.powi(3) / k - p) / (k + 3.0 * a * b * u0 * u0 / k);
+    }
+    let u1 = -b * u0.powi(3) / k;
+    let mut problem = StaticProblem::new(&[Vec3::zeros(), Vec3::new(10.0, 0.0, 0.0)]).unwrap();
+    problem.add_effect(OneWay { k, a, b });
+    problem.fix(&[0, 1], Dofs::of(&[Dof::Uy, Dof::Uz])).unwrap();
+    problem.add_load(&[0], Dof::Ux, p).unwrap();
+    let settings = NewtonSettings {
+        force_tolerance: 1e-12,
+        symmetrize: true,
+        reuse_contraction: 0.5,
+        line_search_steps: 0,
+        ..Default::default()
+    };
+    let mut solver = StaticSolver::new(problem, settings).unwrap();
+    let report = solver.solve().unwrap();
+    print!("{report}");
+    let (e0, e1) = (solver.displacement(0).x - u0, solver.displacement(1).x - u1);
+    println!("u0 = {u0:.12} mm, u1 = {u1:.12} mm; errors {e0:.3e}, {e1:.3e}");
+    assert!(report.exact_retries >= 1, "{report}");
+    assert_eq!(report.cutbacks, 0, "{report}");
+    assert!(report.system.lu >= 1, "{:?}", report.system);
+    assert!(e0.abs() < 1e-12 && e1.abs() < 1e-12);
+}

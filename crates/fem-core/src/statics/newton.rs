@@ -145,10 +145,11 @@ impl StaticSolver {
         let result = if self.keep_factor {
             factor.solve(&self.pattern, &self.values, &mut self.du)
         } else {
-            if self.settings.symmetrize && !self.symmetric {
+            let symmetrize = self.settings.symmetrize && !self.exact_tangent;
+            if symmetrize && !self.symmetric {
                 self.pattern.symmetrize(&mut self.values);
             }
-            let symmetric = self.symmetric || self.settings.symmetrize;
+            let symmetric = self.symmetric || symmetrize;
             factor
                 .factor(&self.pattern, &self.values, symmetric)
                 .and_then(|()| factor.solve(&self.pattern, &self.values, &mut self.du))

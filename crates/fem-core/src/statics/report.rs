@@ -70,7 +70,12 @@ pub struct SolveReport {
     pub increments: Vec<IncrementReport>,
     /// Increment attempts that failed and were cut back.
     pub cutbacks: usize,
-    /// Why each of them failed (`λ = …: reason`), in order.
+    /// Increment attempts with the symmetric part of the tangent
+    /// ([`super::NewtonSettings::symmetrize`]) that failed and were tried
+    /// again, at the same load increment, with the exact tangent.
+    pub exact_retries: usize,
+    /// Why each failed attempt failed (`λ = …: reason`), in order: the
+    /// cut-backs and the exact-tangent retries.
     pub cutback_reasons: Vec<String>,
     /// Where the time went.
     pub timing: StaticTiming,
@@ -92,11 +97,12 @@ impl fmt::Display for SolveReport {
         let (s, t) = (&self.system, &self.timing);
         writeln!(
             f,
-            "{} increments, {} iterations, {} cut-backs; {} equations ({} constrained, {} dropped), \
+            "{} increments, {} iterations, {} cut-backs, {} exact-tangent retries; {} equations ({} constrained, {} dropped), \
              K nnz {}, L nnz {} ({:.2} MiB); factorisations LLt {}, LDLt {}, LU {}",
             self.increments.len(),
             self.iterations(),
             self.cutbacks,
+            self.exact_retries,
             s.equations,
             s.constrained,
             s.dropped,
@@ -124,7 +130,7 @@ impl fmt::Display for SolveReport {
             writeln!(f)?;
         }
         for reason in &self.cutback_reasons {
-            writeln!(f, "cut back: {reason}")?;
+            writeln!(f, "failed: {reason}")?;
         }
         Ok(())
     }

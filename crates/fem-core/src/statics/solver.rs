@@ -67,6 +67,10 @@ pub struct StaticSolver {
     /// ([`NewtonSettings::reuse_contraction`]): the values on the pattern
     /// are then still the ones it factorised.
     pub(super) keep_factor: bool,
+    /// Whether this attempt factorises the exact tangent although
+    /// [`NewtonSettings::symmetrize`] is set: the retry of an increment
+    /// that the symmetric part failed.
+    pub(super) exact_tangent: bool,
     pub(super) timing: StaticTiming,
     pub(super) stats: SystemStats,
 }
@@ -138,6 +142,7 @@ impl StaticSolver {
                 .collect(),
             loads,
             values: vec![0.0; pattern.nnz()],
+            exact_tangent: false,
             pattern,
             factor,
             f_int: vec![0.0; n_dofs],

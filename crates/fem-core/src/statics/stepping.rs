@@ -53,7 +53,9 @@ impl StaticSolver {
                 target = 1.0;
             }
             let step = target - self.lambda;
-            match self.attempt_increment(target, &mut history) {
+            let attempt = self.attempt_increment(target, &mut history);
+            let exact = std::mem::take(&mut self.exact_tangent);
+            match attempt {
                 Ok(c) => {
                     self.commit();
                     report.increments.push(IncrementReport {
@@ -74,6 +76,18 @@ impl StaticSolver {
                 Err(Failure::Hard(e)) => {
                     self.revert();
                     return Err(e);
+                }
+                Err(Failure::Soft(reason)) if s.symmetrize && !self.symmetric && !exact => {
+                    // The symmetric part is not the tangent: far from it,
+                    // its Newton iteration need not contract. The same
+                    // increment is tried once more with the exact tangent
+                    // (LU) before it is cut back.
+                    self.revert();
+                    self.exact_tangent = true;
+                    report.exact_retries += 1;
+                    report.cutback_reasons.push(format!(
+                        "λ = {target}: {reason}; retried with the exact tangent"
+                    ));
                 }
                 Err(Failure::Soft(reason)) => {
                     self.revert();

@@ -56,6 +56,9 @@ pub struct ImplicitSummary {
     pub iterations: usize,
     /// Increments cut back.
     pub cutbacks: usize,
+    /// Increments that failed with the symmetric part of the tangent and
+    /// were tried again with the exact one (LU) before any cut-back.
+    pub exact_retries: usize,
     /// Residual norms `‖R‖` of the last increment, one per iteration (N, N·mm).
     pub last_residuals: Vec<f64>,
     /// Equations of the linear systems (free DOFs).
@@ -97,6 +100,7 @@ impl ImplicitSummary {
             increments: r.increments.len(),
             iterations: r.iterations(),
             cutbacks: r.cutbacks,
+            exact_retries: r.exact_retries,
             last_residuals: r
                 .increments
                 .last()

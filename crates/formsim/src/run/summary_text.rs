@@ -83,10 +83,14 @@ impl fmt::Display for Summary {
         if let Some(i) = s.springback.as_ref().and_then(|b| b.implicit.as_ref()) {
             writeln!(
                 f,
-                "  springback static solve: {} increments, {} iterations, {} cut-backs, {} factorisations ({}); {} equations, factor {:.1} MiB; {:.2} s (assembly {:.2}, factorisation {:.2}, solves {:.2})",
+                "  springback static solve: {} increments, {} iterations, {} cut-backs{}, {} factorisations ({}); {} equations, factor {:.1} MiB; {:.2} s (assembly {:.2}, factorisation {:.2}, solves {:.2})",
                 i.increments,
                 i.iterations,
                 i.cutbacks,
+                match i.exact_retries {
+                    0 => String::new(),
+                    n => format!(", {n} retried with the exact tangent"),
+                },
                 i.factorisations.iter().sum::<usize>(),
                 if i.tangent == "exact" {
                     "exact tangent"
