@@ -53,7 +53,8 @@ pub struct SystemStats {
     pub matrix_nnz: usize,
     /// Stored values of the Cholesky factor `L` (after fill-in).
     pub factor_nnz: usize,
-    /// Bytes of the Cholesky factor: values and indices.
+    /// Bytes of the Cholesky factor: values and indices. (An LU of an
+    /// unsymmetric tangent holds more; faer does not give its size.)
     pub factor_bytes: usize,
     /// Numeric `LLᵀ` factorisations.
     pub llt: usize,

@@ -67,7 +67,9 @@ pub struct ImplicitSummary {
     pub matrix_nnz: usize,
     /// See `matrix_nnz`.
     pub factor_nnz: usize,
-    /// Memory of the factor (MiB).
+    /// Memory of the Cholesky factor (MiB): the factor of the symmetric
+    /// part. An LU (counted in `factorisations`) holds more, which faer
+    /// does not report.
     pub factor_mib: f64,
     /// Numeric factorisations by kind: `LLᵀ`, `LDLᵀ`, LU.
     pub factorisations: [usize; 3],
