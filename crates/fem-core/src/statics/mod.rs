@@ -58,8 +58,8 @@
 //!   the exact tangent for cheaper iterations, with the same convergence
 //!   criteria and so the same solution: `symmetrize` factorises the
 //!   symmetric part of an unsymmetric tangent by Cholesky in place of LU
-//!   (an increment it fails is retried with the exact tangent before it
-//!   is cut back),
+//!   (where it fails an increment after every cut-back allowed, the
+//!   solve goes on with the exact tangent),
 //!   and `reuse_contraction` keeps a factor (modified Newton) while the
 //!   iterations it serves contract `‖R‖` enough. A pivot at round-off of
 //!   its diagonal names the free DOF: a singular first tangent (a free

@@ -71,12 +71,13 @@ pub struct SolveReport {
     pub increments: Vec<IncrementReport>,
     /// Increment attempts that failed and were cut back.
     pub cutbacks: usize,
-    /// Increment attempts with the symmetric part of the tangent
-    /// ([`super::NewtonSettings::symmetrize`]) that failed and were tried
-    /// again, at the same load increment, with the exact tangent.
-    pub exact_retries: usize,
+    /// Whether the solve went over to the exact tangent: with
+    /// [`super::NewtonSettings::symmetrize`], an increment that the
+    /// symmetric part failed after the last cut-back allowed is tried
+    /// again with the exact tangent, which then serves to the end.
+    pub exact_fallback: bool,
     /// Why each failed attempt failed (`λ = …: reason`), in order: the
-    /// cut-backs and the exact-tangent retries.
+    /// cut-backs and the fall-back to the exact tangent.
     pub cutback_reasons: Vec<String>,
     /// Where the time went.
     pub timing: StaticTiming,
@@ -98,12 +99,16 @@ impl fmt::Display for SolveReport {
         let (s, t) = (&self.system, &self.timing);
         writeln!(
             f,
-            "{} increments, {} iterations, {} cut-backs, {} exact-tangent retries; {} equations ({} constrained, {} dropped), \
+            "{} increments, {} iterations, {} cut-backs{}; {} equations ({} constrained, {} dropped), \
              K nnz {}, L nnz {} ({:.2} MiB); factorisations LLt {}, LDLt {}, LU {}",
             self.increments.len(),
             self.iterations(),
             self.cutbacks,
-            self.exact_retries,
+            if self.exact_fallback {
+                ", then the exact tangent"
+            } else {
+                ""
+            },
             s.equations,
             s.constrained,
             s.dropped,

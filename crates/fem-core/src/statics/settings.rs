@@ -78,10 +78,11 @@ pub struct NewtonSettings {
     /// definite), in place of LU of `K`: each factorisation is cheaper,
     /// and Newton converges linearly rather than quadratically. The
     /// residual, and so the solution, is the same. Far from the tangent
-    /// (a strongly unsymmetric one) that iteration need not contract: an
-    /// increment that fails with the symmetric part is tried once more,
-    /// at the same `Δλ`, with the exact tangent by LU before it is cut
-    /// back (`SolveReport::exact_retries`). Default `false`.
+    /// (a strongly unsymmetric one) that iteration need not contract at
+    /// any increment: an increment that the symmetric part still fails
+    /// after the last cut-back allowed is tried again, from its first
+    /// size, with the exact tangent by LU, which then serves to the end
+    /// of the solve (`SolveReport::exact_fallback`). Default `false`.
     pub symmetrize: bool,
     /// An iteration whose residual norm exceeds this multiple of the
     /// increment's first residual norm diverged, `> 1`. Default `1e6`.

@@ -45,17 +45,16 @@ impl StaticSolver {
         let s = self.settings;
         let mut report = SolveReport::default();
         let mut history = Vec::with_capacity(s.max_iterations + 1);
-        // Cut-backs in a row on the current increment.
-        let (mut dl, mut in_a_row) = (s.initial_increment, 0);
+        // Cut-backs in a row on the current increment, and its size when
+        // the first of them failed.
+        let (mut dl, mut in_a_row, mut first_failed) = (s.initial_increment, 0, 0.0);
         while self.lambda < 1.0 {
             let mut target = (self.lambda + dl).min(1.0);
             if 1.0 - target < LAMBDA_SNAP {
                 target = 1.0;
             }
             let step = target - self.lambda;
-            let attempt = self.attempt_increment(target, &mut history);
-            let exact = std::mem::take(&mut self.exact_tangent);
-            match attempt {
+            match self.attempt_increment(target, &mut history) {
                 Ok(c) => {
                     self.commit();
                     report.increments.push(IncrementReport {
@@ -77,38 +76,43 @@ impl StaticSolver {
                     self.revert();
                     return Err(e);
                 }
-                Err(Failure::Soft(reason)) if s.symmetrize && !self.symmetric && !exact => {
-                    // The symmetric part is not the tangent: far from it,
-                    // its Newton iteration need not contract. The same
-                    // increment is tried once more with the exact tangent
-                    // (LU) before it is cut back.
-                    self.revert();
-                    self.exact_tangent = true;
-                    report.exact_retries += 1;
-                    report.cutback_reasons.push(format!(
-                        "λ = {target}: {reason}; retried with the exact tangent"
-                    ));
-                }
                 Err(Failure::Soft(reason)) => {
                     self.revert();
-                    let stop = stop_reason(&s, in_a_row, step);
-                    if let Some(stop) = stop {
-                        return Err(StaticsError::NotConverged {
-                            lambda_converged: self.lambda,
-                            lambda_target: target,
-                            increment: step,
-                            cutbacks: report.cutbacks,
-                            reason,
-                            stop,
-                            residuals: history.clone(),
-                        });
+                    if in_a_row == 0 {
+                        first_failed = step;
                     }
-                    in_a_row += 1;
-                    report.cutbacks += 1;
-                    report
-                        .cutback_reasons
-                        .push(format!("λ = {target}: {reason}"));
-                    dl = 0.5 * step;
+                    let Some(stop) = stop_reason(&s, in_a_row, step) else {
+                        in_a_row += 1;
+                        report.cutbacks += 1;
+                        report
+                            .cutback_reasons
+                            .push(format!("λ = {target}: {reason}"));
+                        dl = 0.5 * step;
+                        continue;
+                    };
+                    if s.symmetrize && !self.symmetric && !self.exact_tangent {
+                        // The symmetric part is not the tangent: far from
+                        // it, its Newton iteration need not contract at
+                        // any increment. Before giving up, the solve goes
+                        // on with the exact tangent (LU), from the
+                        // increment that first failed.
+                        self.exact_tangent = true;
+                        report.exact_fallback = true;
+                        report.cutback_reasons.push(format!(
+                            "λ = {target}: {reason}; {stop}: the exact tangent from here on"
+                        ));
+                        (dl, in_a_row) = (first_failed, 0);
+                        continue;
+                    }
+                    return Err(StaticsError::NotConverged {
+                        lambda_converged: self.lambda,
+                        lambda_target: target,
+                        increment: step,
+                        cutbacks: report.cutbacks,
+                        reason,
+                        stop,
+                        residuals: history.clone(),
+                    });
                 }
             }
         }

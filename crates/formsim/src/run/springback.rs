@@ -56,9 +56,9 @@ pub struct ImplicitSummary {
     pub iterations: usize,
     /// Increments cut back.
     pub cutbacks: usize,
-    /// Increments that failed with the symmetric part of the tangent and
-    /// were tried again with the exact one (LU) before any cut-back.
-    pub exact_retries: usize,
+    /// Whether the solve went over to the exact tangent (LU) after the
+    /// symmetric part failed an increment at every cut-back allowed.
+    pub exact_fallback: bool,
     /// Residual norms `‖R‖` of the last increment, one per iteration (N, N·mm).
     pub last_residuals: Vec<f64>,
     /// Equations of the linear systems (free DOFs).
@@ -102,7 +102,7 @@ impl ImplicitSummary {
             increments: r.increments.len(),
             iterations: r.iterations(),
             cutbacks: r.cutbacks,
-            exact_retries: r.exact_retries,
+            exact_fallback: r.exact_fallback,
             last_residuals: r
                 .increments
                 .last()

@@ -87,9 +87,10 @@ impl fmt::Display for Summary {
                 i.increments,
                 i.iterations,
                 i.cutbacks,
-                match i.exact_retries {
-                    0 => String::new(),
-                    n => format!(", {n} retried with the exact tangent"),
+                if i.exact_fallback {
+                    ", then the exact tangent"
+                } else {
+                    ""
                 },
                 i.factorisations.iter().sum::<usize>(),
                 if i.tangent == "exact" {
