@@ -55,6 +55,27 @@ impl StaticTangent for OneWay {
     }
 }
 
+/// The one-way pair along x (node 1 10 mm from node 0), y and z held,
+/// `P_0 = p` on node 0.
+fn one_way_problem(k: f64, a: f64, b: f64, p: f64) -> StaticProblem {
+    let mut problem = StaticProblem::new(&[Vec3::zeros(), Vec3::new(10.0, 0.0, 0.0)]).unwrap();
+    problem.add_effect(OneWay { k, a, b });
+    problem.fix(&[0, 1], Dofs::of(&[Dof::Uy, Dof::Uz])).unwrap();
+    problem.add_load(&[0], Dof::Ux, p).unwrap();
+    problem
+}
+
+/// The pair's equilibrium `(u_0, u_1)` (mm) under `P_0 = p`: `u_1 = −b
+/// u_0³ / k` and the cubic `k u_0 + a b u_0³ / k = p`, by scalar Newton
+/// to round-off.
+fn equilibrium(k: f64, a: f64, b: f64, p: f64) -> (f64, f64) {
+    let mut u0: f64 = p / k;
+    for _ in 0..60 {
+        u0 -= (k * u0 + a * b * u0.powi(3) / k - p) / (k + 3.0 * a * b * u0 * u0 / k);
+    }
+    (u0, -b * u0.powi(3) / k)
+}
+
 /// Loads `P_0 = 20 N`, `P_1 = 0` on the one-way pair (`k = 100`, `a = 60`
 /// N/mm, `b = 50` N/mm³): equilibrium needs `u_1 = −b u_0³ / k` and
 /// `k u_0 + a b u_0³ / k = P_0`, a cubic in `u_0` solved here by scalar
@@ -65,15 +86,8 @@ impl StaticTangent for OneWay {
 #[test]
 fn unsymmetric_tangent_is_solved_with_lu() {
     let (k, a, b, p) = (100.0, 60.0, 50.0, 20.0);
-    let mut u0: f64 = p / k;
-    for _ in 0..60 {
-        u0 -= (k * u0 + a * b * u0.powi(3) / k - p) / (k + 3.0 * a * b * u0 * u0 / k);
-    }
-    let u1 = -b * u0.powi(3) / k;
-    let mut problem = StaticProblem::new(&[Vec3::zeros(), Vec3::new(10.0, 0.0, 0.0)]).unwrap();
-    problem.add_effect(OneWay { k, a, b });
-    problem.fix(&[0, 1], Dofs::of(&[Dof::Uy, Dof::Uz])).unwrap();
-    problem.add_load(&[0], Dof::Ux, p).unwrap();
+    let (u0, u1) = equilibrium(k, a, b, p);
+    let problem = one_way_problem(k, a, b, p);
     let settings = NewtonSettings {
         force_tolerance: 1e-12,
         ..Default::default()
@@ -99,10 +113,7 @@ fn unsymmetric_tangent_is_solved_with_lu() {
 #[test]
 fn tangent_matrix_is_the_factorised_tangent() {
     let (k, a, b, p) = (100.0, 60.0, 50.0, 20.0);
-    let mut problem = StaticProblem::new(&[Vec3::zeros(), Vec3::new(10.0, 0.0, 0.0)]).unwrap();
-    problem.add_effect(OneWay { k, a, b });
-    problem.fix(&[0, 1], Dofs::of(&[Dof::Uy, Dof::Uz])).unwrap();
-    problem.add_load(&[0], Dof::Ux, p).unwrap();
+    let problem = one_way_problem(k, a, b, p);
     let mut solver = StaticSolver::new(problem, NewtonSettings::default()).unwrap();
     assert_eq!(solver.equation_dof(0), Some((0, Dof::Ux)));
     assert_eq!(solver.equation_dof(1), Some((1, Dof::Ux)));
@@ -141,15 +152,8 @@ fn tangent_matrix_is_the_factorised_tangent() {
 #[test]
 fn symmetric_part_that_diverges_falls_back_to_the_exact_tangent() {
     let (k, a, b, p) = (100.0, 300.0, 50.0, 20.0);
-    let mut u0: f64 = p / k;
-    for _ in 0..60 {
-        u0 -= (k * u0 + a * b * u0.powi(3) / k - p) / (k + 3.0 * a * b * u0 * u0 / k);
-    }
-    let u1 = -b * u0.powi(3) / k;
-    let mut problem = StaticProblem::new(&[Vec3::zeros(), Vec3::new(10.0, 0.0, 0.0)]).unwrap();
-    problem.add_effect(OneWay { k, a, b });
-    problem.fix(&[0, 1], Dofs::of(&[Dof::Uy, Dof::Uz])).unwrap();
-    problem.add_load(&[0], Dof::Ux, p).unwrap();
+    let (u0, u1) = equilibrium(k, a, b, p);
+    let problem = one_way_problem(k, a, b, p);
     let settings = NewtonSettings {
         force_tolerance: 1e-12,
         symmetrize: true,
