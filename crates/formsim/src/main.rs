@@ -207,8 +207,26 @@ struct StudyArgs {
     /// A knob and its values, most accurate first, e.g.
     /// `--vary blank.mesh.divisions=100,50,25` (repeatable); the value
     /// `default` removes the key (`--vary solver.mass_scaling_dt=5e-7,default`).
-    #[arg(long = "vary", value_name = "KEY=V1,V2,…", required = true)]
+    #[arg(
+        long = "vary",
+        value_name = "KEY=V1,V2,…",
+        required_unless_present = "model"
+    )]
     vary: Vec<String>,
+    /// A model and its values, e.g. `--model contact.law=ac,wvs,wh,levanov`
+    /// (repeatable): varied like a knob, but reported apart, since its
+    /// values are other models, not approximations of one answer; no part
+    /// in the combination, the recommendation or the Pareto front.
+    #[arg(long = "model", value_name = "KEY=V1,V2,…")]
+    model: Vec<String>,
+    /// A refinement sequence, coarse to fine, every key refined by one
+    /// ratio at each level (repeatable), e.g. `--converge
+    /// blank.mesh.divisions=25,50,100 --converge
+    /// solver.mass_scaling_dt=1e-6,5e-7,2.5e-7`: the study runs each level,
+    /// extrapolates the converged answer (Richardson) and measures every
+    /// variant, the reference too, against it.
+    #[arg(long = "converge", value_name = "KEY=V1,V2,V3,…")]
+    converge: Vec<String>,
     /// Reference values when not the first listed, e.g. `"blank.mesh.divisions=50;contact.law=ac"`.
     #[arg(long, value_name = "KEY=V;…")]
     reference: Option<String>,
@@ -987,11 +1005,16 @@ fn compare(args: &CompareArgs) -> Outcome {
 
 fn study(args: &StudyArgs) -> Outcome {
     use formsim::study::{self, Knob, Spec, quantity::Quantity};
-    let knobs = args
+    let mut knobs = args
         .vary
         .iter()
         .map(|k| Knob::parse(k))
         .collect::<Result<Vec<_>, _>>()?;
+    for m in &args.model {
+        let mut k = Knob::parse(m)?;
+        k.model = true;
+        knobs.push(k);
+    }
     let reference = study::parse_reference(args.reference.as_deref().unwrap_or(""))?;
     let quantities = args
         .quantities
@@ -1006,6 +1029,11 @@ fn study(args: &StudyArgs) -> Outcome {
         repeat: args.repeat,
         tolerance: args.tolerance,
         sets: args.batch.set.clone(),
+        converge: args
+            .converge
+            .iter()
+            .map(|k| Knob::parse(k))
+            .collect::<Result<Vec<_>, _>>()?,
     };
     let progress = cli_io::bars_wanted();
     let plan = study::plan(&args.scene, spec)?;
@@ -1037,6 +1065,11 @@ fn study(args: &StudyArgs) -> Outcome {
     study::report::write(&args.batch.out, &results)?;
     study::pareto::draw(&args.batch.out, &results)?;
     study::bars::draw(&args.batch.out, &results)?;
+    if let Some(c) = &results.converged {
+        for w in c.warnings(results.spec.tolerance) {
+            note!("warning: {w}");
+        }
+    }
     match study::recommendation(&results) {
         Some(o) => say!(
             "recommended: {} ({:.2} x the reference's speed, largest error {})",

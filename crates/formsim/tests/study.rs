@@ -168,6 +168,112 @@ fn study_of_the_coarse_cup_gives_each_variant_its_errors_and_costs() {
     assert!(String::from_utf8_lossy(&again.stderr).contains("--force"));
 }
 
+/// A study with a refinement sequence (`--converge`, 4 → 8 → 16 divisions
+/// of the coarse cup's quarter) and a model (`--model contact.law`): the
+/// converged answer of `draw_in.DX` is recomputed here from the levels' own
+/// `summary.json` (Richardson with the observed order, or the finest level
+/// where the levels are not asymptotic), every variant's error, the
+/// reference's too, is against it, and the model is reported apart and
+/// never recommended.
+#[test]
+fn a_refinement_sequence_gives_the_converged_answer_every_error_is_against() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let o = formsim(&[
+        "--threads",
+        "1",
+        "study",
+        "scenes/square-cup.toml",
+        "--set",
+        "blank.mesh.divisions=8",
+        "--set",
+        "output.frames=0",
+        "--vary",
+        "blank.integration_points=5,3",
+        "--model",
+        "contact.law=ac,wvs",
+        "--converge",
+        "blank.mesh.divisions=4,8,16",
+        "--quantities",
+        "draw_in.DX,OD:major",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    let s = json(&out.join("study.json"));
+    let labels: Vec<&str> = s["variants"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v["label"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            "reference",
+            "integration_points-3",
+            "law-wvs",
+            "level-1",
+            "level-2",
+            "level-3"
+        ]
+    );
+    assert_eq!(s["knobs"][1]["model"], true);
+    let c = &s["converged"];
+    assert_eq!(c["ratio"], 2.0);
+    assert_eq!(c["levels"].as_array().unwrap().len(), 3);
+    assert_eq!(
+        json(&out.join("level-3/summary.json"))["elements"],
+        256,
+        "the finest level is 16 × 16"
+    );
+
+    // The converged draw-in, recomputed from the levels' summaries.
+    let dx = |label: &str| {
+        json(&out.join(label).join("summary.json"))["draw_in"]["DX"]
+            .as_f64()
+            .unwrap()
+    };
+    let (f1, f2, f3) = (dx("level-1"), dx("level-2"), dx("level-3"));
+    let q = &c["quantities"][0];
+    let estimate = q["estimate"]["value"].as_f64().unwrap();
+    let (d21, d32) = (f1 - f2, f2 - f3);
+    let p = (d21 / d32).ln() / 2f64.ln();
+    if d21 * d32 > 0.0 && (0.5..=4.0).contains(&p) {
+        let expected = f3 + (f3 - f2) / (2f64.powf(p) - 1.0);
+        assert!((estimate - expected).abs() <= 1e-12 * expected.abs(), "{q}");
+        assert!(q["not_asymptotic"].is_null(), "{q}");
+    } else {
+        assert_eq!(estimate, f3, "{q}");
+        assert!(q["not_asymptotic"].is_string(), "{q}");
+    }
+    // The level at the reference's settings is the reference's run.
+    assert_eq!(dx("level-2"), dx("reference"));
+
+    // Every error, the reference's too, is against the converged answer.
+    for v in s["variants"].as_array().unwrap() {
+        let label = v["label"].as_str().unwrap();
+        let expected = ((dx(label) - estimate) / estimate).abs();
+        assert_eq!(
+            v["errors"][0]["error"].as_f64().unwrap(),
+            expected,
+            "{label}"
+        );
+        assert!(v["errors"][1]["error"].as_f64().unwrap() >= 0.0, "{label}");
+    }
+    assert_ne!(s["recommendation"], "law-wvs");
+    let md = std::fs::read_to_string(out.join("study.md")).unwrap();
+    for needle in [
+        "## The converged answer",
+        "relative to the converged answer",
+        "A model, not an accuracy knob",
+    ] {
+        assert!(md.contains(needle), "{needle}\n{md}");
+    }
+}
+
 /// An unknown law in the second variant is found while planning: one line
 /// naming the variant, and no run (no output folder).
 #[test]
@@ -197,7 +303,7 @@ fn a_bad_value_stops_the_study_before_any_run() {
 /// Command-line mistakes are one-line errors naming the option.
 #[test]
 fn bad_study_options_are_named() {
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 7] = [
         (&["--vary", "contact.law"], "--vary"),
         (&["--vary", "contact.law=ac,ac"], "twice"),
         (
@@ -216,6 +322,24 @@ fn bad_study_options_are_named() {
         (
             &["--vary", "contact.law=ac,wvs", "--tolerance=-1"],
             "--tolerance",
+        ),
+        (
+            &[
+                "--vary",
+                "contact.law=ac,wvs",
+                "--converge",
+                "blank.mesh.divisions=4,8",
+            ],
+            "three or more",
+        ),
+        (
+            &[
+                "--vary",
+                "contact.law=ac,wvs",
+                "--converge",
+                "blank.mesh.divisions=4,8,12",
+            ],
+            "one ratio",
         ),
     ];
     for (args, word) in cases {

@@ -26,9 +26,11 @@
 //! relative CPU times `times.png`.
 
 pub mod bars;
+pub mod converged;
 pub mod pareto;
 pub mod quantity;
 pub mod report;
+pub mod richardson;
 pub mod schedule;
 
 use crate::run::{RunError, RunResult};
@@ -162,6 +164,48 @@ pub enum StudyError {
     /// A run failed.
     #[error(transparent)]
     Run(#[from] RunError),
+    /// A refinement sequence with fewer than three levels, or keys with
+    /// different numbers of levels.
+    #[error("--converge `{key}`: {levels} levels; a refinement sequence needs {expected}")]
+    ConvergeLevels {
+        /// The key.
+        key: String,
+        /// Its levels.
+        levels: usize,
+        /// What it needs (at least three, as many as the first key).
+        expected: String,
+    },
+    /// A refinement sequence that is not geometric.
+    #[error(
+        "--converge `{key}`: the values must be positive numbers refined by one ratio, coarse to fine (25,50,100 or 1e-6,5e-7,2.5e-7)"
+    )]
+    ConvergeRatio {
+        /// The key.
+        key: String,
+    },
+    /// Two refined keys with different ratios.
+    #[error(
+        "--converge `{key}`: ratio {ratio}, but the first key's is {first}: every key refines by one ratio"
+    )]
+    ConvergeRatiosDiffer {
+        /// The key.
+        key: String,
+        /// Its ratio.
+        ratio: f64,
+        /// The first key's.
+        first: f64,
+    },
+    /// A level of the refinement sequence failed: no converged answer.
+    #[error("the refinement sequence's {label} failed, so there is no converged answer: {message}")]
+    LevelFailed {
+        /// The level's label.
+        label: String,
+        /// Why.
+        message: String,
+    },
+    /// The levels' quantities cannot be extrapolated together.
+    #[error("the converged answer: {0}")]
+    Converge(String),
     /// `study.json` cannot be made.
     #[error(transparent)]
     Json(#[from] serde_json::Error),
@@ -175,6 +219,11 @@ pub struct Knob {
     /// Values, as written after `=` (the first is the default reference);
     /// [`DEFAULT`] removes the key.
     pub values: Vec<String>,
+    /// A model (`--model`: the friction law, the formulation) rather than
+    /// an accuracy knob: its values are other models, not approximations
+    /// of one answer, so its variants are reported apart and take no part
+    /// in the combination, the recommendation or the Pareto front.
+    pub model: bool,
 }
 
 impl Knob {
@@ -205,6 +254,7 @@ impl Knob {
         Ok(Self {
             key: key.into(),
             values,
+            model: false,
         })
     }
 }
@@ -244,6 +294,13 @@ pub struct Spec {
     pub tolerance: f64,
     /// Overrides for every run, applied before the knobs.
     pub sets: Vec<String>,
+    /// The refinement sequence (`--converge KEY=V1,V2,V3`, coarse to fine,
+    /// every key with the same levels and ratio): when given, the study
+    /// runs each level with every refined key at that level's value, the
+    /// knobs at their reference, extrapolates the converged answer
+    /// ([`converged`]) and measures every variant, the reference too,
+    /// against it.
+    pub converge: Vec<Knob>,
 }
 
 /// One variant: a value for every knob.
@@ -255,6 +312,9 @@ pub struct Variant {
     pub settings: Vec<(String, String)>,
     /// Which knobs differ from the reference.
     pub changed: Vec<usize>,
+    /// The level (0 = coarsest) when the variant is one of the refinement
+    /// sequence's.
+    pub level: Option<usize>,
     loaded: scene::LoadedScene,
 }
 
@@ -325,8 +385,11 @@ pub struct Outcome {
     pub label: String,
     /// `(key, value)` for every knob.
     pub settings: Vec<(String, String)>,
-    /// Keys of the knobs that differ from the reference.
+    /// Keys of the knobs that differ from the reference (for a level of
+    /// the refinement sequence: the refined keys).
     pub changed: Vec<String>,
+    /// The level of the refinement sequence (0 = coarsest), if it is one.
+    pub level: Option<usize>,
     /// Increments of the run.
     pub increments: u64,
     /// Timed runs (the reference runs several times per round).
@@ -346,9 +409,11 @@ pub struct Outcome {
     pub warnings: Vec<String>,
     /// Each quantity's value (numbers) or `None` (curves).
     pub values: Vec<Option<f64>>,
-    /// Each quantity's error against the reference (`None` for the reference).
+    /// Each quantity's error against the converged answer when the study
+    /// has one, else against the reference (`None` for the reference).
     pub errors: Vec<Option<QuantityError>>,
-    /// The largest error over the quantities (0 for the reference).
+    /// The largest error over the quantities (0 for the reference without
+    /// a converged answer).
     pub worst: f64,
     /// Speed-up over the reference, run by run: the reference's CPU time
     /// at the moment of the run (interpolated between its runs) over the
@@ -382,6 +447,8 @@ pub struct Results {
     pub outcomes: Vec<Outcome>,
     /// Failed variants.
     pub failed: Vec<Failed>,
+    /// The converged answer, when the study has a refinement sequence.
+    pub converged: Option<converged::Converged>,
 }
 
 /// Check the spec and build every variant's scene without running any.
@@ -421,10 +488,20 @@ pub fn plan(scene_path: &Path, spec: Spec) -> Result<Plan, StudyError> {
     }
     let mut variants = Vec::with_capacity(picks.len());
     for pick in picks {
-        let v = variant(scene_path, &spec, &reference, pick)?;
+        let v = variant(scene_path, &spec, &reference, pick, &[])?;
         if variants.iter().any(|w: &Variant| w.label == v.label) {
             return Err(StudyError::SharedFolder { label: v.label });
         }
+        variants.push(v);
+    }
+    let levels = spec.converge.first().map_or(0, |k| k.values.len());
+    for l in 0..levels {
+        let extra: Vec<(String, String)> = (spec.converge.iter())
+            .map(|k| (k.key.clone(), k.values[l].clone()))
+            .collect();
+        let mut v = variant(scene_path, &spec, &reference, reference.clone(), &extra)?;
+        v.label = format!("level-{}", l + 1);
+        v.level = Some(l);
         variants.push(v);
     }
     Ok(Plan {
@@ -459,7 +536,42 @@ fn check_spec(spec: &Spec) -> Result<(), StudyError> {
             tolerance: spec.tolerance,
         });
     }
-    Ok(())
+    converge_ratio(&spec.converge).map(|_| ())
+}
+
+/// The refinement ratio of the sequence (1 without one), after checking
+/// it: three levels or more, as many for every key, one ratio.
+pub fn converge_ratio(converge: &[Knob]) -> Result<f64, StudyError> {
+    let Some(first) = converge.first() else {
+        return Ok(1.0);
+    };
+    let n = first.values.len();
+    let mut ratio = None;
+    for k in converge {
+        let m = k.values.len();
+        if m < 3 || m != n {
+            return Err(StudyError::ConvergeLevels {
+                key: k.key.clone(),
+                levels: m,
+                expected: if m < 3 {
+                    "three or more".into()
+                } else {
+                    format!("{n}, as many as `{}`", first.key)
+                },
+            });
+        }
+        let r = richardson::ratio_of(&k.values)
+            .ok_or_else(|| StudyError::ConvergeRatio { key: k.key.clone() })?;
+        let first = *ratio.get_or_insert(r);
+        if (r / first - 1.0).abs() > 1e-6 {
+            return Err(StudyError::ConvergeRatiosDiffer {
+                key: k.key.clone(),
+                ratio: r,
+                first,
+            });
+        }
+    }
+    Ok(ratio.unwrap_or(1.0))
 }
 
 /// Every combination of the knobs' values, the first knob varying slowest.
@@ -486,6 +598,7 @@ fn variant(
     spec: &Spec,
     reference: &[String],
     pick: Vec<String>,
+    extra: &[(String, String)],
 ) -> Result<Variant, StudyError> {
     let changed: Vec<usize> = (0..pick.len())
         .filter(|&k| pick[k] != reference[k])
@@ -498,7 +611,7 @@ fn variant(
         .map(|(k, v)| (k.key.clone(), v.clone()))
         .collect();
     let mut sets = spec.sets.clone();
-    sets.extend(settings.iter().map(|(k, v)| {
+    sets.extend(settings.iter().chain(extra).map(|(k, v)| {
         if v == DEFAULT {
             format!("{k}=")
         } else {
@@ -533,6 +646,7 @@ fn variant(
         label,
         settings,
         changed,
+        level: None,
         loaded,
     })
 }
@@ -603,7 +717,7 @@ pub fn execute(
         && let Some(pick) = combination(&spec, &variants[0].settings, &results)
     {
         let reference: Vec<String> = variants[0].settings.iter().map(|s| s.1.clone()).collect();
-        let mut v = variant(&scene_path, &spec, &reference, pick)?;
+        let mut v = variant(&scene_path, &spec, &reference, pick, &[])?;
         v.label = COMBINED.into();
         let mut extra = rounds(&[&variants[0], &v])?.into_iter();
         let (again, combined) = (extra.next(), extra.next());
@@ -641,6 +755,8 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
         .collect();
     timeline.sort_by(|a, b| a.0.total_cmp(&b.0));
     let ref_cpu = Spread::of(&ref_runs.cpu).median;
+    let converged = converged_answer(spec, variants, runs)?;
+    let against = converged.as_ref().map(|c| c.measured.as_slice());
     let mut outcomes = Vec::new();
     let mut failed = Vec::new();
     for (k, (v, r)) in variants.iter().zip(runs).enumerate() {
@@ -652,12 +768,9 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
             continue;
         };
         let mut errors = Vec::new();
-        for (q, (value, ref_value)) in spec
-            .quantities
-            .iter()
-            .zip(r.values.iter().zip(&ref_runs.values))
-        {
-            errors.push(if k == 0 {
+        for (i, (q, value)) in spec.quantities.iter().zip(&r.values).enumerate() {
+            let ref_value = against.map_or(&ref_runs.values[i], |m| &m[i]);
+            errors.push(if k == 0 && against.is_none() {
                 None
             } else {
                 Some(
@@ -686,11 +799,15 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
         outcomes.push(Outcome {
             label: v.label.clone(),
             settings: v.settings.clone(),
-            changed: v
-                .changed
-                .iter()
-                .map(|&k| spec.knobs[k].key.clone())
-                .collect(),
+            changed: match v.level {
+                Some(_) => spec.converge.iter().map(|k| k.key.clone()).collect(),
+                None => v
+                    .changed
+                    .iter()
+                    .map(|&k| spec.knobs[k].key.clone())
+                    .collect(),
+            },
+            level: v.level,
             increments: result.summary.increments,
             runs: r.cpu.len(),
             cpu_s: Spread::of(&r.cpu),
@@ -719,11 +836,46 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
         threads: rayon::current_num_threads(),
         outcomes,
         failed,
+        converged,
     })
 }
 
+/// The converged answer from the refinement sequence's levels, when the
+/// study has one.
+fn converged_answer(
+    spec: &Spec,
+    variants: &[Variant],
+    runs: &[Runs],
+) -> Result<Option<converged::Converged>, StudyError> {
+    if spec.converge.is_empty() {
+        return Ok(None);
+    }
+    let ratio = converge_ratio(&spec.converge)?;
+    let (mut labels, mut levels) = (Vec::new(), Vec::new());
+    for (v, r) in variants.iter().zip(runs).filter(|(v, _)| v.level.is_some()) {
+        if r.first.is_none() {
+            return Err(StudyError::LevelFailed {
+                label: v.label.clone(),
+                message: r.failure.clone().unwrap_or_else(|| "no result".into()),
+            });
+        }
+        labels.push(v.label.clone());
+        levels.push(r.values.as_slice());
+    }
+    converged::Converged::new(
+        spec.converge.iter().map(|k| k.key.clone()).collect(),
+        ratio,
+        labels,
+        spec.quantities.iter().map(Quantity::name).collect(),
+        &levels,
+    )
+    .map(Some)
+    .map_err(StudyError::Converge)
+}
+
 /// For each knob, its cheapest value within the tolerance that is
-/// [`cheaper`] than the reference; `Some` when two knobs or more have one.
+/// [`cheaper`] than the reference; `Some` when two accuracy knobs or more
+/// have one.
 fn combination(
     spec: &Spec,
     reference: &[(String, String)],
@@ -731,11 +883,11 @@ fn combination(
 ) -> Option<Vec<String>> {
     let mut pick: Vec<String> = reference.iter().map(|s| s.1.clone()).collect();
     let mut moved = 0;
-    for (k, knob) in spec.knobs.iter().enumerate() {
+    for (k, knob) in spec.knobs.iter().enumerate().filter(|(_, k)| !k.model) {
         let best = results
             .outcomes
             .iter()
-            .filter(|o| o.changed.len() == 1 && o.changed[0] == knob.key)
+            .filter(|o| o.level.is_none() && o.changed.len() == 1 && o.changed[0] == knob.key)
             .filter(|o| o.worst <= spec.tolerance && cheaper(o))
             .min_by(|a, b| a.cost_s.total_cmp(&b.cost_s));
         if let Some(o) = best {
@@ -746,6 +898,13 @@ fn combination(
     (moved >= 2).then_some(pick)
 }
 
+/// Whether `o` changes a model knob ([`Knob::model`]).
+pub fn changes_a_model(spec: &Spec, o: &Outcome) -> bool {
+    (spec.knobs.iter())
+        .filter(|k| k.model)
+        .any(|k| o.changed.contains(&k.key))
+}
+
 /// Whether `o` is cheaper than the reference beyond the noise of the
 /// machine: every one of its runs was faster than the reference at that
 /// moment (its smallest speed-up above 1).
@@ -754,12 +913,14 @@ pub fn cheaper(o: &Outcome) -> bool {
 }
 
 /// The cheapest completed variant within the tolerance on every quantity,
-/// when it is [`cheaper`] than the reference (`None`: keep the reference).
+/// when it is [`cheaper`] than the reference (`None`: keep the reference);
+/// a variant of a model ([`Knob::model`]) is not a candidate.
 pub fn recommendation(results: &Results) -> Option<&Outcome> {
     results
         .outcomes
         .iter()
         .skip(1)
+        .filter(|o| !changes_a_model(&results.spec, o))
         .filter(|o| o.worst <= results.spec.tolerance && cheaper(o))
         .min_by(|a, b| a.cost_s.total_cmp(&b.cost_s))
 }
@@ -823,6 +984,7 @@ mod tests {
                 .map(|(k, v)| (k.to_string(), v.to_string()))
                 .collect(),
             changed: changed.iter().map(|c| c.to_string()).collect(),
+            level: None,
             increments: 1,
             runs: 1,
             cpu_s: one,
@@ -861,6 +1023,7 @@ mod tests {
             repeat: 1,
             tolerance: 0.02,
             sets: Vec::new(),
+            converge: Vec::new(),
         };
         let r = [("a", "1"), ("b", "x"), ("c", "p")];
         let results = Results {
@@ -875,6 +1038,7 @@ mod tests {
                 outcome(&[("a", "1"), ("b", "x"), ("c", "q")], &["c"], 0.0, 0.9),
             ],
             failed: Vec::new(),
+            converged: None,
         };
         let reference: Vec<(String, String)> = r
             .iter()
@@ -895,5 +1059,18 @@ mod tests {
         let s = Spread::of(&[3.0, 1.0, 2.0]);
         assert_eq!((s.min, s.median, s.max), (1.0, 2.0, 3.0));
         assert_eq!(Spread::of(&[4.0, 1.0]).median, 2.5);
+    }
+
+    #[test]
+    fn refinement_sequences_need_three_levels_and_one_ratio() {
+        let k = |t: &str| Knob::parse(t).unwrap();
+        let ok = [k("a=25,50,100"), k("b=1e-6,5e-7,2.5e-7")];
+        assert_eq!(converge_ratio(&ok).unwrap(), 2.0);
+        assert_eq!(converge_ratio(&[]).unwrap(), 1.0);
+        let e = |ks: &[Knob]| converge_ratio(ks).unwrap_err().to_string();
+        assert!(e(&[k("a=25,50")]).contains("three or more"));
+        assert!(e(&[k("a=25,50,100"), k("b=1,2,4,8")]).contains("as many as `a`"));
+        assert!(e(&[k("a=25,50,75")]).contains("one ratio"));
+        assert!(e(&[k("a=25,50,100"), k("b=1,3,9")]).contains("ratio 3"));
     }
 }

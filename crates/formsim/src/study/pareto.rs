@@ -1,7 +1,10 @@
 //! `pareto.png`: each variant's largest error against its CPU time, log
 //! axes, one marker and colour per knob, the Pareto front (no other variant
 //! both cheaper and more accurate) drawn through its points, the tolerance
-//! as a horizontal line and the reference's time as a vertical one.
+//! as a horizontal line and the reference's time as a vertical one. With a
+//! converged answer the reference has an error too and stands on the
+//! chart, with the refinement sequence's levels. Models (`--model`) are not
+//! drawn: their differences are not errors.
 
 use super::{Outcome, Results};
 use crate::plot::{PlotError, ensure_font};
@@ -11,10 +14,15 @@ use std::path::Path;
 /// Errors below this are drawn at it (a log axis has no zero).
 const ERROR_FLOOR: f64 = 1e-6;
 
-/// The variants (not the reference) on the Pareto front of (CPU time, worst
-/// error), cheapest first: each is more accurate than every cheaper one.
-pub fn front(outcomes: &[Outcome]) -> Vec<&Outcome> {
-    let mut sorted: Vec<&Outcome> = outcomes.iter().filter(|o| !o.changed.is_empty()).collect();
+/// The variants on the chart (not the reference, unless the study has a
+/// converged answer) on the Pareto front of (CPU time, worst error),
+/// cheapest first: each is more accurate than every cheaper one.
+pub fn front(r: &Results) -> Vec<&Outcome> {
+    let mut sorted: Vec<&Outcome> = r
+        .outcomes
+        .iter()
+        .filter(|o| group(r, o).is_some())
+        .collect();
     sorted.sort_by(|a, b| {
         a.cost_s
             .total_cmp(&b.cost_s)
@@ -31,12 +39,18 @@ pub fn front(outcomes: &[Outcome]) -> Vec<&Outcome> {
         .collect()
 }
 
-/// Which knob a variant belongs to: its changed knob's index, the number of
-/// knobs for a combination, `None` for the reference.
+/// Which marker group a variant belongs to: its changed knob's index; the
+/// number of knobs `n` for a combination, `n + 1` for a level of the
+/// refinement sequence, `n + 2` for the reference when the study has a
+/// converged answer (`None` without one).
 fn group(r: &Results, o: &Outcome) -> Option<usize> {
+    let n = r.spec.knobs.len();
+    if o.level.is_some() {
+        return Some(n + 1);
+    }
     match o.changed.as_slice() {
-        [] => None,
-        [key] => r.spec.knobs.iter().position(|k| k.key == *key),
+        [] => r.converged.as_ref().map(|_| n + 2),
+        [key] => r.spec.knobs.iter().position(|k| k.key == *key && !k.model),
         _ => Some(r.spec.knobs.len()),
     }
 }
@@ -55,7 +69,7 @@ pub fn draw(out: &Path, r: &Results) -> Result<(), PlotError> {
     let (y0, y1) = r
         .outcomes
         .iter()
-        .filter(|o| !o.changed.is_empty())
+        .filter(|o| group(r, o).is_some())
         .map(y)
         .chain([r.spec.tolerance])
         .fold((f64::INFINITY, 0.0_f64), |(a, b), v| (a.min(v), b.max(v)));
@@ -108,10 +122,7 @@ pub fn draw(out: &Path, r: &Results) -> Result<(), PlotError> {
         .map_err(|e| fail(&e))?
         .label("reference's time")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.mix(0.4)));
-    let f: Vec<(f64, f64)> = front(&r.outcomes)
-        .into_iter()
-        .map(|o| (o.cost_s, y(o)))
-        .collect();
+    let f: Vec<(f64, f64)> = front(r).into_iter().map(|o| (o.cost_s, y(o))).collect();
     chart
         .draw_series(LineSeries::new(f, BLACK.stroke_width(2)))
         .map_err(|e| fail(&e))?
@@ -122,7 +133,7 @@ pub fn draw(out: &Path, r: &Results) -> Result<(), PlotError> {
         .knobs
         .iter()
         .map(|k| k.key.clone())
-        .chain(["combined".to_string()])
+        .chain(["combined", "refinement levels", "reference"].map(String::from))
         .collect();
     for (g, name) in names.iter().enumerate() {
         let points: Vec<(f64, f64, String)> = r

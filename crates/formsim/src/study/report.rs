@@ -20,6 +20,8 @@ struct Json<'a> {
     variants: &'a [Outcome],
     failed: &'a [super::Failed],
     recommendation: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    converged: Option<&'a super::converged::Converged>,
 }
 
 #[derive(Serialize)]
@@ -27,6 +29,7 @@ struct JsonKnob<'a> {
     key: &'a str,
     values: &'a [String],
     reference: &'a str,
+    model: bool,
 }
 
 /// Write `study.json` and `study.md` into `out`.
@@ -61,12 +64,14 @@ fn to_json(r: &Results) -> Result<String, StudyError> {
                 key: &k.key,
                 values: &k.values,
                 reference: v,
+                model: k.model,
             })
             .collect(),
         quantities: r.spec.quantities.iter().map(|q| q.name()).collect(),
         variants: &r.outcomes,
         failed: &r.failed,
         recommendation: recommendation(r).map(|o| o.label.as_str()),
+        converged: r.converged.as_ref(),
     };
     Ok(serde_json::to_string_pretty(&doc)?)
 }
@@ -103,7 +108,7 @@ fn markdown(r: &Results) -> String {
          Speed-up: per run, the reference's CPU time at that moment (interpolated between \
          its runs, so that a slow spell of the machine slows both) over the run's; median \
          (smallest–largest). A variant is cheaper only when every run was. Errors are \
-         relative to the reference: a number's `|v − v_ref| / |v_ref|`, a curve's RMS \
+         relative to {against}: a number's `|v − v_ref| / |v_ref|`, a curve's RMS \
          difference at the reference's points over the reference curve's largest \
          magnitude (the max norm is in `study.json`). K/W max: the largest kinetic energy \
          over the external work of the run (quasi-static below 0.05). Tolerance: {}.\n\n",
@@ -113,6 +118,11 @@ fn markdown(r: &Results) -> String {
         r.spec.repeat,
         super::schedule::REFERENCE_EVERY,
         percent(r.spec.tolerance),
+        against = if r.converged.is_some() {
+            "the converged answer (below; the reference's own error too)"
+        } else {
+            "the reference"
+        },
     );
     if !r.spec.sets.is_empty() {
         let _ = writeln!(
@@ -136,14 +146,25 @@ fn markdown(r: &Results) -> String {
         reference.wall_s.median,
         reference.balance_error
     );
+    if let Some(c) = &r.converged {
+        converged_section(&mut md, r, c);
+    }
     if r.spec.cross {
         md.push_str("## Every combination\n\n");
         table(&mut md, r, None, |_| true);
     } else {
         for (k, knob) in r.spec.knobs.iter().enumerate() {
             let _ = writeln!(md, "## `{}`\n", knob.key);
+            if knob.model {
+                md.push_str(
+                    "A model, not an accuracy knob: its \"errors\" are the differences \
+                     between models. It takes no part in the combination, the recommendation \
+                     or the Pareto front.\n\n",
+                );
+            }
             table(&mut md, r, Some(k), |o| {
-                o.changed.is_empty() || (o.changed.len() == 1 && o.changed[0] == knob.key)
+                o.level.is_none()
+                    && (o.changed.is_empty() || (o.changed.len() == 1 && o.changed[0] == knob.key))
             });
         }
         if r.outcomes.iter().any(|o| o.label == super::COMBINED) {
@@ -168,8 +189,16 @@ fn markdown(r: &Results) -> String {
         .iter()
         .filter(|o| !o.warnings.is_empty())
         .collect();
-    if !warned.is_empty() {
+    let sequence = r
+        .converged
+        .as_ref()
+        .map(|c| c.warnings(r.spec.tolerance))
+        .unwrap_or_default();
+    if !warned.is_empty() || !sequence.is_empty() {
         md.push_str("## Warnings\n\n");
+        for w in &sequence {
+            let _ = writeln!(md, "- the converged answer: {w}");
+        }
         for o in warned {
             for w in &o.warnings {
                 let _ = writeln!(md, "- `{}`: {w}", o.label);
@@ -217,7 +246,7 @@ fn table(md: &mut String, r: &Results, knob: Option<usize>, keep: impl Fn(&Outco
                 e.map_or_else(|| "–".into(), |e| percent(e.error))
             );
         }
-        let within = if is_ref {
+        let within = if is_ref && r.converged.is_none() {
             String::from("–")
         } else if o.worst <= r.spec.tolerance {
             percent(o.worst)
@@ -240,6 +269,60 @@ fn table(md: &mut String, r: &Results, knob: Option<usize>, keep: impl Fn(&Outco
         );
     }
     md.push('\n');
+}
+
+/// The refinement sequence's levels and each quantity's converged answer.
+fn converged_section(md: &mut String, r: &Results, c: &super::converged::Converged) {
+    let _ = write!(
+        md,
+        "## The converged answer\n\nA refinement sequence of {} levels (`{}`, {}), each \
+         refined by {} over the last, the other knobs at the reference. Each quantity is \
+         extrapolated from the last three levels (Richardson: observed order `p`, \
+         `f∞ = f₃ + (f₃ − f₂)/(r^p − 1)`), its uncertainty the grid convergence index \
+         `1.25 |f₃ − f₂|/(r^p − 1)`; where the levels oscillate or `p` is outside [0.5, 4] \
+         (or, with four levels, the orders of the coarser and finer triples differ by more \
+         than 25 %), the finest level is taken with `3 ×` the levels' spread. Curves are \
+         extrapolated point by point at the finest level's points.\n\n\
+         | quantity |",
+        c.levels.len(),
+        c.keys.join("`, `"),
+        c.levels.join(", "),
+        c.ratio,
+    );
+    for l in &c.levels {
+        let _ = write!(md, " {l} |");
+    }
+    md.push_str(" p | converged | uncertainty | |\n|");
+    for _ in 0..c.levels.len() + 5 {
+        md.push_str("---|");
+    }
+    md.push('\n');
+    for q in &c.quantities {
+        let _ = write!(md, "| `{}` |", q.name);
+        for v in &q.levels {
+            let _ = write!(
+                md,
+                " {} |",
+                v.map_or_else(|| "(curve)".into(), |x| format!("{x:.6}"))
+            );
+        }
+        let p = q.estimate.and_then(|e| e.order);
+        let note = match (&q.not_asymptotic, q.points_extrapolated) {
+            (Some(why), _) => format!("not extrapolated: {why}"),
+            (None, Some((done, all))) => format!("{done} of {all} points extrapolated"),
+            (None, None) => String::new(),
+        };
+        let _ = writeln!(
+            md,
+            " {} | {} | {} | {note} |",
+            p.map_or_else(|| "–".into(), |p| format!("{p:.2}")),
+            q.estimate
+                .map_or_else(|| "(curve)".into(), |e| format!("{:.6}", e.value)),
+            percent(q.relative_uncertainty),
+        );
+    }
+    md.push_str("\nThe levels' runs, against the converged answer:\n\n");
+    table(md, r, None, |o| o.level.is_some() || o.changed.is_empty());
 }
 
 fn recommend(r: &Results) -> String {
