@@ -23,6 +23,13 @@ fn json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
+/// The draw-in DX (mm) of the variant `label`'s run, from its summary.json.
+fn draw_in_dx(out: &Path, label: &str) -> f64 {
+    json(&out.join(label).join("summary.json"))["draw_in"]["DX"]
+        .as_f64()
+        .unwrap()
+}
+
 /// Reference: 10 × 10 elements, AC, no frames. Variants: 8 × 8 elements,
 /// WVS, and two VTK frames (which must not move any result: error 0).
 #[test]
@@ -63,11 +70,7 @@ fn study_of_the_coarse_cup_gives_each_variant_its_errors_and_costs() {
     );
 
     // Errors of the scalars, from the runs' own summaries.
-    let dx = |label: &str| {
-        json(&out.join(label).join("summary.json"))["draw_in"]["DX"]
-            .as_f64()
-            .unwrap()
-    };
+    let dx = |label: &str| draw_in_dx(&out, label);
     let d_ref = dx("reference");
     for v in &variants[1..4] {
         let label = v["label"].as_str().unwrap();
@@ -231,11 +234,7 @@ fn a_refinement_sequence_gives_the_converged_answer_every_error_is_against() {
     );
 
     // The converged draw-in, recomputed from the levels' summaries.
-    let dx = |label: &str| {
-        json(&out.join(label).join("summary.json"))["draw_in"]["DX"]
-            .as_f64()
-            .unwrap()
-    };
+    let dx = |label: &str| draw_in_dx(&out, label);
     let (f1, f2, f3) = (dx("level-1"), dx("level-2"), dx("level-3"));
     let q = &c["quantities"][0];
     let estimate = q["estimate"]["value"].as_f64().unwrap();

@@ -170,9 +170,11 @@ fn quantity(
 mod tests {
     use super::*;
 
-    /// Three curves `y = x (1 + 0.1 h²)` on meshes of spacing `h = 4, 2,
-    /// 1` (the coarser ones interpolated at the finest one's points, where
-    /// the line is exact): the estimate is `y = x` at every point.
+    /// Three curves `y = x (1 + 0.001 h²)` on meshes of spacing `h = 4,
+    /// 2, 1` (the coarser ones interpolated at the finest one's points,
+    /// where the line is exact): the estimate is `y = x` at every point,
+    /// each point's uncertainty `1.25 · 0.003 x / 3`, their RMS over the
+    /// points `x = 0…8` relative to the curve's largest value 8.
     #[test]
     fn curves_extrapolate_point_by_point() {
         let curve = |h: f64| -> Measured {
@@ -181,7 +183,7 @@ mod tests {
                 (0..=n)
                     .map(|i| {
                         let x = i as f64 * h;
-                        (x, x * (1.0 + 0.1 * h * h))
+                        (x, x * (1.0 + 0.001 * h * h))
                     })
                     .collect(),
             )
@@ -206,6 +208,11 @@ mod tests {
         // x = 0 is the same at every level: taken as converged, no warning
         // beyond the points' count.
         assert_eq!(c.quantities[0].points_extrapolated, Some((8, 9)));
+        let rms_x = ((0..=8).map(|i| (i * i) as f64).sum::<f64>() / 9.0).sqrt();
+        let expected = 1.25e-3 * rms_x / 8.0;
+        let got = c.quantities[0].relative_uncertainty;
+        assert!((got / expected - 1.0).abs() < 1e-9, "{got} against {expected}");
         assert!(c.warnings(0.02).is_empty());
+        assert_eq!(c.warnings(1e-4).len(), 1, "{:?}", c.warnings(1e-4));
     }
 }
