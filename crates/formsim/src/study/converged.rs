@@ -211,7 +211,10 @@ mod tests {
         let rms_x = ((0..=8).map(|i| (i * i) as f64).sum::<f64>() / 9.0).sqrt();
         let expected = 1.25e-3 * rms_x / 8.0;
         let got = c.quantities[0].relative_uncertainty;
-        assert!((got / expected - 1.0).abs() < 1e-9, "{got} against {expected}");
+        assert!(
+            (got / expected - 1.0).abs() < 1e-9,
+            "{got} against {expected}"
+        );
         assert!(c.warnings(0.02).is_empty());
         assert_eq!(c.warnings(1e-4).len(), 1, "{:?}", c.warnings(1e-4));
     }
