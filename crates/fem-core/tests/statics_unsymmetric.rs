@@ -1,7 +1,7 @@
 //! An effect with an unsymmetric tangent goes through the LU factorisation.
 
 use fem_core::statics::{
-    Assembly, NewtonSettings, StaticProblem, StaticSolver, StaticTangent, TrialState,
+    Assembly, NewtonSettings, SolveReport, StaticProblem, StaticSolver, StaticTangent, TrialState,
 };
 use fem_core::{Dof, Dofs, Effect, FemError, FieldAccess, Forces, NodalState, StepContext, Vec3};
 
@@ -76,6 +76,18 @@ fn equilibrium(k: f64, a: f64, b: f64, p: f64) -> (f64, f64) {
     (u0, -b * u0.powi(3) / k)
 }
 
+/// Solve the pair under `P_0 = p` with `settings`: the report and the
+/// errors of `u_0`, `u_1` against [`equilibrium`] (mm).
+fn solve_pair(k: f64, a: f64, b: f64, p: f64, settings: NewtonSettings) -> (SolveReport, f64, f64) {
+    let (u0, u1) = equilibrium(k, a, b, p);
+    let mut solver = StaticSolver::new(one_way_problem(k, a, b, p), settings).unwrap();
+    let report = solver.solve().unwrap();
+    print!("{report}");
+    let (e0, e1) = (solver.displacement(0).x - u0, solver.displacement(1).x - u1);
+    println!("u0 = {u0:.12} mm, u1 = {u1:.12} mm; errors {e0:.3e}, {e1:.3e}");
+    (report, e0, e1)
+}
+
 /// Loads `P_0 = 20 N`, `P_1 = 0` on the one-way pair (`k = 100`, `a = 60`
 /// N/mm, `b = 50` N/mm³): equilibrium needs `u_1 = −b u_0³ / k` and
 /// `k u_0 + a b u_0³ / k = P_0`, a cubic in `u_0` solved here by scalar
@@ -86,17 +98,11 @@ fn equilibrium(k: f64, a: f64, b: f64, p: f64) -> (f64, f64) {
 #[test]
 fn unsymmetric_tangent_is_solved_with_lu() {
     let (k, a, b, p) = (100.0, 60.0, 50.0, 20.0);
-    let (u0, u1) = equilibrium(k, a, b, p);
-    let problem = one_way_problem(k, a, b, p);
     let settings = NewtonSettings {
         force_tolerance: 1e-12,
         ..Default::default()
     };
-    let mut solver = StaticSolver::new(problem, settings).unwrap();
-    let report = solver.solve().unwrap();
-    print!("{report}");
-    let (e0, e1) = (solver.displacement(0).x - u0, solver.displacement(1).x - u1);
-    println!("u0 = {u0:.12} mm, u1 = {u1:.12} mm; errors {e0:.3e}, {e1:.3e}");
+    let (report, e0, e1) = solve_pair(k, a, b, p, settings);
     let s = report.system;
     assert!(s.lu > 0 && s.llt == 0 && s.ldlt == 0, "{s:?}");
     assert!(e0.abs() < 1e-12 && e1.abs() < 1e-12);
@@ -152,8 +158,6 @@ fn tangent_matrix_is_the_factorised_tangent() {
 #[test]
 fn symmetric_part_that_diverges_falls_back_to_the_exact_tangent() {
     let (k, a, b, p) = (100.0, 300.0, 50.0, 20.0);
-    let (u0, u1) = equilibrium(k, a, b, p);
-    let problem = one_way_problem(k, a, b, p);
     let settings = NewtonSettings {
         force_tolerance: 1e-12,
         symmetrize: true,
@@ -161,11 +165,7 @@ fn symmetric_part_that_diverges_falls_back_to_the_exact_tangent() {
         line_search_steps: 0,
         ..Default::default()
     };
-    let mut solver = StaticSolver::new(problem, settings).unwrap();
-    let report = solver.solve().unwrap();
-    print!("{report}");
-    let (e0, e1) = (solver.displacement(0).x - u0, solver.displacement(1).x - u1);
-    println!("u0 = {u0:.12} mm, u1 = {u1:.12} mm; errors {e0:.3e}, {e1:.3e}");
+    let (report, e0, e1) = solve_pair(k, a, b, p, settings);
     assert!(report.exact_fallback, "{report}");
     assert!(report.system.lu >= 1, "{:?}", report.system);
     assert!(e0.abs() < 1e-12 && e1.abs() < 1e-12);
