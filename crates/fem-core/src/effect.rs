@@ -1,6 +1,8 @@
 //! The `Effect` trait: anything that adds nodal forces (element families, contact, springs), with its masses, time step and energies.
 
-use crate::{FemError, FieldAccess, Forces, NodalField, NodalState, StepContext, ToolLoad};
+use crate::{
+    FemError, FieldAccess, Forces, MassBlocks, NodalField, NodalState, StepContext, ToolLoad,
+};
 use std::any::Any;
 
 /// The stable time step an effect imposes, and which of its elements limits it.
@@ -103,6 +105,24 @@ pub trait Effect: Any + Send {
     ) -> f64 {
         let _ = (state, target_dt, mass, inertia);
         0.0
+    }
+
+    /// Selective mass scaling ([`crate::selective_mass`]): raise the added
+    /// inertia of the relative motion of this effect's elements so that each
+    /// element's stable step (without safety factor) is `>= target_dt`, and
+    /// push every element that carries added inertia (all of them, not only
+    /// those raised now) into `blocks`, with its lumped share per node.
+    /// Called whenever conventional scaling would be, when the run scales
+    /// selectively. Returns `false` when the effect cannot scale selectively
+    /// (the default): the solver then calls [`Effect::scale_mass`] instead.
+    fn selective_mass(
+        &mut self,
+        state: &NodalState,
+        target_dt: f64,
+        blocks: &mut MassBlocks,
+    ) -> bool {
+        let _ = (state, target_dt, blocks);
+        false
     }
 
     /// Whether [`Effect::nodal_stiffness`] adds anything at the moment

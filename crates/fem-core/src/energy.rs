@@ -45,12 +45,17 @@
 //! when the run starts under load (a suddenly applied load); the later
 //! energies are measured against it.
 //!
-//! Balance (energies that count: kinetic, integration, internal, hourglass,
+//! - `kinetic_added`: with selective mass scaling ([`crate::selective_mass`]),
+//!   the energy the added inertia takes up: the work of its inertia force
+//!   `ΔM a` by the loads' rule (zero otherwise).
+//!
+//! Balance (energies that count: kinetic, kinetic_added, integration, internal, hourglass,
 //! contact, friction, damping; `plastic` is part of `internal` and not added
 //! again):
 //!
 //! ```text
-//! E_total = kinetic + integration + internal + hourglass + contact + friction + damping
+//! E_total = kinetic + kinetic_added + integration + internal + hourglass
+//!           + contact + friction + damping
 //! balance_abs   = E_total − E_total(t_0) − external
 //! balance_error = |balance_abs| / max(|kinetic| + |integration| + |internal| + |hourglass|
 //!                   + |contact| + |friction| + |damping|, |external|, 1e-30)
@@ -67,6 +72,10 @@ pub struct EnergyLedger {
     pub kinetic: f64,
     /// Rotational part of `kinetic` (mJ).
     pub kinetic_rotational: f64,
+    /// Energy taken up by the inertia selective mass scaling adds (mJ): the
+    /// work of its inertia force `ΔM a`, booked by the loads' rule (about
+    /// `½ v̄ᵀ ΔM v̄`; zero without selective scaling). Not part of `kinetic`.
+    pub kinetic_added: f64,
     /// Central-difference correction (mJ): `kinetic + integration` is the
     /// product-form kinetic energy the scheme conserves (`<= 0` at a constant
     /// step), plus the step-change term (module docs).
@@ -100,9 +109,10 @@ pub struct EnergyLedger {
 }
 
 impl EnergyLedger {
-    /// `kinetic + integration + internal + hourglass + contact + friction + damping` (mJ).
+    /// `kinetic + kinetic_added + integration + internal + hourglass + contact + friction + damping` (mJ).
     pub fn total(&self) -> f64 {
         self.kinetic
+            + self.kinetic_added
             + self.integration
             + self.internal
             + self.hourglass
@@ -119,6 +129,7 @@ impl EnergyLedger {
             + self.external_tools;
         self.balance_abs = self.total() - total0 - self.external;
         let scale = (self.kinetic.abs()
+            + self.kinetic_added.abs()
             + self.integration.abs()
             + self.internal.abs()
             + self.hourglass.abs()

@@ -80,6 +80,7 @@ pub mod nodal_limit;
 pub mod press;
 pub mod relaxation;
 pub mod rigid_modes;
+pub mod selective_mass;
 pub mod settings;
 pub mod solver;
 pub mod springs;
@@ -99,7 +100,8 @@ pub use press::{
     ForceLaw, Press, PressStep, ReleaseMethod, StepChange, StepEnd, ToolLoad, ToolMotion,
 };
 pub use relaxation::SpringbackReport;
-pub use settings::SolverSettings;
+pub use selective_mass::{MassBlocks, SelectiveStats};
+pub use settings::{MassScaling, SolverSettings};
 pub use solver::{
     Control, DtLimit, EffectId, RunSummary, SetupReport, Solver, StepReport, StepTiming,
 };

@@ -15,6 +15,9 @@ pub struct SolverSettings {
     /// `min(target, safety × stable dt)`.
     /// `None`: no mass scaling.
     pub mass_scaling_dt: Option<f64>,
+    /// How mass is added to reach `mass_scaling_dt`: to the lumped masses
+    /// (default) or selectively, to the elements' relative motion only.
+    pub mass_scaling: MassScaling,
     /// Mass-proportional damping coefficient `c` (1/s) for dynamic relaxation
     /// (nodal damping force `−c m v`, `−c I w`); 0 switches it off. For a
     /// quasi-static answer, about `2 ω₁` (ω₁ the lowest natural circular
@@ -33,11 +36,35 @@ pub struct SolverSettings {
     pub dt_floor_ratio: f64,
 }
 
+/// How [`SolverSettings::mass_scaling_dt`] is reached.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MassScaling {
+    /// Mass added to the lumped nodal masses: every motion, rigid ones
+    /// included, carries it.
+    Conventional,
+    /// Inertia added to each element's deformation modes only
+    /// ([`crate::selective_mass`]), by effects that can
+    /// ([`Effect::selective_mass`](crate::Effect::selective_mass)); the
+    /// others, and nodes that contact springs stiffen, are scaled
+    /// conventionally.
+    Selective {
+        /// Relative residual `|f − (M + ΔM) a| / |f|` at which a step's mass
+        /// solve stops (-), in `(0, 0.1]`.
+        tolerance: f64,
+    },
+}
+
+impl MassScaling {
+    /// The selective scaling's default solve tolerance (-).
+    pub const DEFAULT_TOLERANCE: f64 = 1e-6;
+}
+
 impl Default for SolverSettings {
     fn default() -> Self {
         Self {
             safety_factor: 0.9,
             mass_scaling_dt: None,
+            mass_scaling: MassScaling::Conventional,
             damping: 0.0,
             dt_max: None,
             fixed_dt: None,
@@ -64,6 +91,16 @@ impl SolverSettings {
             && !(t.is_finite() && t > 0.0)
         {
             return bad("mass_scaling_dt", t, "s", "finite and > 0");
+        }
+        if let MassScaling::Selective { tolerance } = self.mass_scaling {
+            if !(tolerance > 0.0 && tolerance <= 0.1) {
+                return bad("mass_scaling_tolerance", tolerance, "-", "in (0, 0.1]");
+            }
+            if self.mass_scaling_dt.is_none() {
+                return Err(FemError::InvalidSetup(
+                    "selective mass scaling needs `mass_scaling_dt`, the step to reach".into(),
+                ));
+            }
         }
         if !(self.damping.is_finite() && self.damping >= 0.0) {
             return bad("damping", self.damping, "1/s", "finite and >= 0");

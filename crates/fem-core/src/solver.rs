@@ -38,12 +38,13 @@
 use crate::fields::{Declared, effect_order};
 use crate::nodal_limit::NodalLimit;
 use crate::relaxation::{Relaxation, SpringbackReport};
+use crate::selective_mass::SelectiveMass;
 
 mod implicit_release;
 use crate::{
     Amplitude, BoundaryCondition, Dof, Dofs, Effect, EnergyLedger, EnergyTally, FemError, Forces,
-    Mesh, MotionKind, NodalField, NodalLoad, NodalState, Press, SharedFields, SolverSettings,
-    StableDt, StepContext, StepEnd, ToolLoad, Vec3,
+    MassScaling, Mesh, MotionKind, NodalField, NodalLoad, NodalState, Press, SelectiveStats,
+    SharedFields, SolverSettings, StableDt, StepContext, StepEnd, ToolLoad, Vec3,
 };
 use std::any::Any;
 use std::collections::BTreeMap;
@@ -54,6 +55,10 @@ use std::time::Instant;
 /// spares a full mass-scaling pass at every step of a forming run, where
 /// elements shrink a little each step (set-up scales to the target exactly).
 pub const MASS_SCALING_HEADROOM: f64 = 0.02;
+
+/// The most conjugate-gradient iterations a selective mass solve takes; a
+/// solve stopped here is counted in [`SelectiveStats::unconverged`].
+pub const SELECTIVE_MAX_ITERATIONS: u32 = 200;
 
 /// Handle of an effect added to a [`Solver`] (its index, in order of addition).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -128,6 +133,8 @@ pub struct StepTiming {
     pub assembly: f64,
     /// Stage 6: the effects' stable time steps and mass scaling during the run (s).
     pub time_step: f64,
+    /// Stage 1's mass solve of selective mass scaling (s; part of `integration`).
+    pub selective_mass: f64,
     /// Each effect's [`Effect::add_forces`], by effect index (order of
     /// addition, see [`Solver::effect_name`]) (s).
     pub effects: Vec<f64>,
@@ -147,6 +154,7 @@ impl StepTiming {
         self.press = 0.0;
         self.assembly = 0.0;
         self.time_step = 0.0;
+        self.selective_mass = 0.0;
         self.effects.iter_mut().for_each(|s| *s = 0.0);
     }
 }
@@ -215,6 +223,9 @@ struct WorkSums {
     /// The step-change term of `integration` (see [`Solver::step_change_sums`]).
     step_change: f64,
     step_change_pending: f64,
+    /// The work of `ΔM a`, the selective mass's inertia force.
+    added_inertia: f64,
+    added_inertia_pending: f64,
 }
 
 /// Energy sums of one nodal update (index 0: translations, 1: rotations).
@@ -443,6 +454,8 @@ pub struct Solver {
     relaxation: Option<Relaxation>,
     /// What the last springback step did.
     springback: Option<SpringbackReport>,
+    /// Selective mass scaling's blocks and mass solve, when the run scales so.
+    selective: Option<SelectiveMass>,
 }
 
 impl Solver {
@@ -523,6 +536,7 @@ impl Solver {
             timing: StepTiming::default(),
             relaxation: None,
             springback: None,
+            selective: None,
         })
     }
 
@@ -906,6 +920,7 @@ impl Solver {
         self.reactions = vec![0.0; self.constraints.len()];
         self.lump_masses()?;
         self.physical_mass = self.state.mass.iter().sum();
+        self.start_selective();
         if let Some(target) = self.settings.mass_scaling_dt {
             self.added_mass += self.scale_mass(target);
         }
@@ -914,6 +929,7 @@ impl Solver {
         self.initial_constrained_velocities();
         self.compute_forces(0.0, 0.0, 0)?;
         let (dt, limit) = self.first_dt()?;
+        self.solve_selective();
         self.half_step_back(dt);
         let report = SetupReport {
             physical_mass: self.physical_mass,
@@ -1007,15 +1023,22 @@ impl Solver {
     /// The velocities half the first step `dt` back, `v_{-1/2}`, from the forces at `t = 0`.
     fn half_step_back(&mut self, dt: f64) {
         let n = self.state.len();
+        let g = self
+            .selective
+            .as_ref()
+            .filter(|s| s.is_active())
+            .map(|s| &s.g);
+        let f = |i: usize| g.map_or(self.forces.f[i], |g| self.forces.f[i] - g[i].t);
+        let mt = |i: usize| g.map_or(self.forces.m[i], |g| self.forces.m[i] - g[i].r);
         // Virtual v_{-1/2} = v_0 − Δt_{1/2}/2 · a_0 for the free DOFs, so that
         // every step, the first included, uses Δt̄ = (Δt_{n-1/2} + Δt_{n+1/2})/2.
         for i in 0..n {
             let (m, j) = (self.state.mass[i], self.state.inertia[i]);
             if m > 0.0 {
-                self.state.v[i] -= self.forces.f[i] * (0.5 * dt / m);
+                self.state.v[i] -= f(i) * (0.5 * dt / m);
             }
             if j > 0.0 {
-                self.state.w[i] -= self.forces.m[i] * (0.5 * dt / j);
+                self.state.w[i] -= mt(i) * (0.5 * dt / j);
             }
         }
         // Constrained DOFs keep their prescribed initial velocity.
@@ -1024,11 +1047,43 @@ impl Solver {
             let (m, j) = (self.state.mass[i], self.state.inertia[i]);
             let axis = (c.dof % 3) as usize;
             if c.dof < 3 && m > 0.0 {
-                self.state.v[i][axis] += self.forces.f[i][axis] * (0.5 * dt / m);
+                self.state.v[i][axis] += f(i)[axis] * (0.5 * dt / m);
             } else if c.dof >= 3 && j > 0.0 {
-                self.state.w[i][axis] += self.forces.m[i][axis] * (0.5 * dt / j);
+                self.state.w[i][axis] += mt(i)[axis] * (0.5 * dt / j);
             }
         }
+    }
+
+    /// With selective mass scaling: its solver part, with the constrained
+    /// translations held at zero acceleration (set-up only).
+    fn start_selective(&mut self) {
+        let MassScaling::Selective { tolerance } = self.settings.mass_scaling else {
+            return;
+        };
+        let mut s = SelectiveMass::new(self.state.len(), tolerance, SELECTIVE_MAX_ITERATIONS);
+        for c in &self.constraints {
+            s.hold(c.node as usize, c.dof);
+        }
+        self.selective = Some(s);
+    }
+
+    /// With selective mass scaling: solve `(M + ΔM) a = f` at `t_n` and
+    /// leave `ΔM a` in the selective part's `g`.
+    fn solve_selective(&mut self) {
+        if let Some(s) = self.selective.as_mut().filter(|s| s.is_active()) {
+            let st = &self.state;
+            s.solve(
+                &st.x,
+                (&st.mass, &st.inertia),
+                (&self.forces.f, &self.forces.m),
+            );
+        }
+    }
+
+    /// What selective mass scaling did so far (`None` when the run does not
+    /// scale selectively).
+    pub fn selective_stats(&self) -> Option<SelectiveStats> {
+        self.selective.as_ref().map(|s| s.stats)
     }
 
     /// Order the effects so that each shared field's writer runs before its
@@ -1058,13 +1113,22 @@ impl Solver {
         self.scratch_mass.copy_from_slice(&self.state.mass);
         self.scratch_inertia.copy_from_slice(&self.state.inertia);
         let mut added = 0.0;
+        let mut blocks = self.selective.as_mut().map(|s| s.blocks_mut());
         for e in &mut self.effects {
-            added += e.scale_mass(
-                &self.state,
-                goal,
-                &mut self.scratch_mass,
-                &mut self.scratch_inertia,
-            );
+            let selective = blocks
+                .as_deref_mut()
+                .is_some_and(|b| e.selective_mass(&self.state, goal, b));
+            if !selective {
+                added += e.scale_mass(
+                    &self.state,
+                    goal,
+                    &mut self.scratch_mass,
+                    &mut self.scratch_inertia,
+                );
+            }
+        }
+        if let Some(s) = &mut self.selective {
+            s.blocks_changed();
         }
         added += self
             .nodal
@@ -1421,6 +1485,20 @@ impl Solver {
                 pend += m.dot(&st.w[i]);
             }
         }
+        if let Some(s) = self.selective.as_ref().filter(|s| s.is_active()) {
+            // The force array holds f − ΔM a: the inertia force is booked
+            // with the ledger's rule, like the loads, so it is put back.
+            for (i, g) in s.g.iter().enumerate() {
+                if st.mass[i] > 0.0 {
+                    cur += g.t.dot(&self.v_old[i]);
+                    pend += g.t.dot(&st.v[i]);
+                }
+                if st.inertia[i] > 0.0 {
+                    cur += g.r.dot(&self.w_old[i]);
+                    pend += g.r.dot(&st.w[i]);
+                }
+            }
+        }
         for l in &self.loads {
             let p = l.value * self.amp_values[l.amplitude as usize];
             let (i, axis) = (l.node as usize, (l.dof % 3) as usize);
@@ -1455,7 +1533,20 @@ impl Solver {
         let k = self.step_constants();
         let dt = k.dt;
 
-        // 1. Integrate: velocities, constraints and positions, one pass.
+        // 1. Integrate: velocities, constraints and positions, one pass (with
+        // selective mass scaling, on the force f − ΔM a).
+        if self.selective.as_ref().is_some_and(|s| s.is_active()) {
+            let mark = Instant::now();
+            self.solve_selective();
+            if let Some(s) = &self.selective {
+                let fm = self.forces.f.iter_mut().zip(self.forces.m.iter_mut());
+                for ((f, m), g) in fm.zip(&s.g) {
+                    *f -= g.t;
+                    *m -= g.r;
+                }
+            }
+            self.timing.selective_mass += mark.elapsed().as_secs_f64();
+        }
         let sums = self.update_nodes(k);
         // 2. Ledger: the energies at t_n.
         let ledger = self.book_energy(first, k, sums);
@@ -1612,6 +1703,7 @@ impl Solver {
     #[inline]
     fn book_energy(&mut self, first: bool, k: StepConstants, sums: Sums) -> EnergyLedger {
         let (loads_cur, loads_pend) = self.load_work_halves(k.hb);
+        let (inertia_cur, inertia_pend) = self.added_inertia_halves(k.hb);
         let (sc_cur, sc_pend) = if k.dt != self.dt_prev {
             self.step_change_sums(k.dt - self.dt_prev)
         } else {
@@ -1626,7 +1718,9 @@ impl Solver {
             w.prescribed += w.prescribed_pending + sums.presc_cur;
             w.damping_work += w.damping_pending + sums.damp_cur;
             w.step_change -= w.step_change_pending + sc_cur;
+            w.added_inertia += w.added_inertia_pending + inertia_cur;
         }
+        w.added_inertia_pending = inertia_pend;
         w.step_change_pending = sc_pend;
         w.loads_pending = loads_pend;
         w.prescribed_pending = sums.presc_pend;
@@ -1636,6 +1730,7 @@ impl Solver {
             time: k.t_n,
             kinetic: ke_mid[0] + ke_mid[1],
             kinetic_rotational: ke_mid[1],
+            kinetic_added: w.added_inertia,
             integration: (ke_prod[0] + ke_prod[1]) - (ke_mid[0] + ke_mid[1]) + w.step_change,
             internal: self.tally.internal,
             hourglass: self.tally.hourglass,
@@ -1655,6 +1750,22 @@ impl Solver {
         ledger.close(self.total0);
         self.ledger = ledger;
         ledger
+    }
+
+    /// The work halves of the selective mass's inertia force `ΔM a` over
+    /// the step, by the loads' rule (zero without selective scaling).
+    #[inline]
+    fn added_inertia_halves(&self, hb: f64) -> (f64, f64) {
+        let Some(s) = self.selective.as_ref().filter(|s| s.is_active()) else {
+            return (0.0, 0.0);
+        };
+        let (mut cur, mut pend) = (0.0, 0.0);
+        let st = &self.state;
+        for (i, g) in s.g.iter().enumerate() {
+            cur += g.t.dot(&self.v_old[i]) + g.r.dot(&self.w_old[i]);
+            pend += g.t.dot(&st.v[i]) + g.r.dot(&st.w[i]);
+        }
+        (0.5 * hb * cur, 0.5 * hb * pend)
     }
 
     /// The loads' work halves over the step, `½ Δt̄ p·v` at `v_{n-1/2}` and

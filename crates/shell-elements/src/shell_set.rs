@@ -83,6 +83,12 @@ pub struct ShellSet<E: ShellFormulation, M: Material> {
     drilling: Vec<[f64; 4]>,
     drilling_energy: f64,
     density_scale: Vec<f64>,
+    /// Per element `1 + β_e`: selective mass scaling's factor on the
+    /// inertia of its deformation modes (1 without).
+    selective_scale: Vec<f64>,
+    /// Per element, the product `density_scale × selective_scale` that
+    /// divides its frequencies (its step grows with the square root).
+    dt_scale: Vec<f64>,
     /// Results of the elements after the last whole block (`len % 4` of them).
     results: Vec<ElementResult>,
     /// Results of the blocks of four (element `4b + l` in lane `l` of entry `b`).
@@ -351,6 +357,8 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             drilling: vec![[0.0; 4]; ne],
             drilling_energy: 0.0,
             density_scale: vec![1.0; ne],
+            selective_scale: vec![1.0; ne],
+            dt_scale: vec![1.0; ne],
             results: vec![ElementResult::default(); ne % 4],
             results_x4: vec![ElementResult::default(); ne / 4],
             max_node: quads
@@ -736,7 +744,7 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             },
             energy: [0.0; 4],
         };
-        let (ds, c) = (&self.density_scale, self.wave_speed);
+        let (ds, c) = (&self.dt_scale, self.wave_speed);
         let ([thickness, top, bottom, area], [normal]) =
             fields.write_each(WRITES_SCALAR, [NodalField::NORMAL]);
         let mut frames = NodalFrames::new(area, normal);
@@ -860,7 +868,7 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
     }
 
     fn element_dt(&self, e: usize, length: f64) -> f64 {
-        length * self.density_scale[e].sqrt() / self.wave_speed
+        length * self.dt_scale[e].sqrt() / self.wave_speed
     }
 
     fn dt_from_state(&self, state: &NodalState) -> Option<StableDt> {
@@ -963,7 +971,8 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
         let rho_c2 = self.material.density() * self.wave_speed * self.wave_speed;
         let mut add = |e: usize, q: &[u32; 4], length: f64, area: f64| {
             if length > 0.0 {
-                let k = rho_c2 * area * self.thickness[e] / (length * length);
+                let k =
+                    rho_c2 * area * self.thickness[e] / (length * length * self.selective_scale[e]);
                 for &n in q {
                     stiffness[n as usize] += k;
                 }
@@ -1006,20 +1015,58 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             }
             let dt1 = fr.char_length() / self.wave_speed; // at physical density
             let need = (target_dt / dt1).powi(2);
-            if need > self.density_scale[e] {
+            if need > self.dt_scale[e] {
                 let t = self.thickness[e];
-                let dm = 0.25 * rho * fr.area * t * (need - self.density_scale[e]);
+                let scale = need / self.selective_scale[e];
+                let dm = 0.25 * rho * fr.area * t * (scale - self.density_scale[e]);
                 let di = dm * (t * t / 12.0 + fr.area / 8.0);
                 for &n in q {
                     mass[n as usize] += dm;
                     inertia[n as usize] += di;
                 }
                 added += 4.0 * dm;
-                self.density_scale[e] = need;
+                self.density_scale[e] = scale;
+                self.dt_scale[e] = need;
             }
         }
         self.cached_dt = None;
         added
+    }
+
+    /// Selective mass scaling: per element `1 + β_e = (target / Δt_e)²`
+    /// wherever that is above its factor so far (`Δt_e` the element's step
+    /// at its density), so that its deformation modes carry `1 + β_e` times
+    /// its lumped share: `m_e = s ρ A₀ t₀ / 4` per translation and
+    /// `m_e (t₀²/12 + A₀/8)` per rotation of each node (`s` the conventional
+    /// density scale, 1 unless both ran). Every element with `β_e > 0` goes
+    /// to `blocks`.
+    fn selective_mass(
+        &mut self,
+        state: &NodalState,
+        target_dt: f64,
+        blocks: &mut fem_core::MassBlocks,
+    ) -> bool {
+        let rho = self.material.density();
+        let t0 = self.section.thickness;
+        for (e, q) in self.conn.iter().enumerate() {
+            let fr = Frame::new(&q.map(|n| v3(&state.x[n as usize])));
+            if fr.area > 0.0 {
+                let dt1 = fr.char_length() / self.wave_speed; // at physical density
+                let need = (target_dt / dt1).powi(2);
+                if need > self.dt_scale[e] {
+                    self.selective_scale[e] = need / self.density_scale[e];
+                    self.dt_scale[e] = need;
+                }
+            }
+            if self.selective_scale[e] > 1.0 {
+                let a0 = Frame::new(&q.map(|n| v3(&state.x0[n as usize]))).area;
+                let m = 0.25 * rho * a0 * t0 * self.density_scale[e];
+                let j = m * (t0 * t0 / 12.0 + a0 / 8.0);
+                blocks.push(*q, m, j, self.selective_scale[e] - 1.0);
+            }
+        }
+        self.cached_dt = None;
+        true
     }
 
     fn add_forces(
