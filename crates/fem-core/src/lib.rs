@@ -3,7 +3,8 @@
 //! Place in the pipeline: it runs the explicit step (docs/architecture.md §3)
 //! and owns its stages 1–3 and 6 — integration of the nodal state with its
 //! boundary conditions, the energy ledger, the press that moves the rigid
-//! tools, the stable time step with mass scaling — and calls the effects for
+//! tools, the stable time step with mass scaling (conventional, or
+//! selective: [`selective_mass`]) — and calls the effects for
 //! stages 4–5 (element and contact forces); plus the quad-shell [`Mesh`]
 //! the blank is built from. It owns the nodal state
 //! ([`NodalState`]), the force accumulators ([`Forces`]), the [`Effect`]

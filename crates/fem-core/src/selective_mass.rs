@@ -328,7 +328,9 @@ impl SelectiveMass {
     }
 
     /// Jacobi-preconditioned conjugate gradients from the warm start in
-    /// `a`, over the DOFs not held; returns the iterations taken.
+    /// `a`, over the DOFs not held; returns the iterations taken. Each
+    /// iteration is one pass over the elements (`q = ΔM p` and `pᵀ ΔM p`)
+    /// and two over the nodes.
     fn conjugate_gradients(&mut self) -> u32 {
         let Self {
             blocks,
@@ -344,10 +346,10 @@ impl SelectiveMass {
             ..
         } = self;
         let n = f.len();
-        // r = f − (M + ΔM) a, masked.
+        // r = f − (M + ΔM) a, masked; p = z = r / diag; q = M p.
         r.iter_mut().for_each(|v| *v = Six::ZERO);
         add_delta(blocks, geometry, a, r);
-        let mut f_norm = 0.0;
+        let (mut f_norm, mut rz, mut rr, mut pmp) = (0.0, 0.0, 0.0, 0.0);
         for i in 0..n {
             let mut fi = f[i];
             fi.mask(held[i]);
@@ -357,46 +359,49 @@ impl SelectiveMass {
             ri.axpy(-1.0, &r[i]);
             ri.mask(held[i]);
             r[i] = ri;
+            let z = ri.div(&diag[i]);
+            rz += ri.dot(&z);
+            rr += ri.dot(&ri);
+            p[i] = z;
+            q[i] = mul(&lumped[i], &z);
+            pmp += z.dot(&q[i]);
         }
         let goal = self.tolerance * self.tolerance * f_norm;
-        let (mut rz, mut rr) = (0.0, 0.0);
-        for i in 0..n {
-            let z = r[i].div(&diag[i]);
-            p[i] = z;
-            rz += r[i].dot(&z);
-            rr += r[i].dot(&r[i]);
-        }
         let mut its = 0;
         while rr > goal && its < self.max_iterations {
             its += 1;
-            q.iter_mut().for_each(|v| *v = Six::ZERO);
-            add_delta(blocks, geometry, p, q);
-            let mut pq = 0.0;
-            for i in 0..n {
-                let mut qi = q[i];
-                qi.axpy(1.0, &mul(&lumped[i], &p[i]));
-                qi.mask(held[i]);
-                q[i] = qi;
-                pq += p[i].dot(&qi);
-            }
-            if !(pq > 0.0) {
+            let pq = pmp + add_delta(blocks, geometry, p, q);
+            // A direction without positive curvature (round-off at the
+            // answer, or NaN) ends the solve.
+            if pq.is_nan() || pq <= 0.0 {
                 break;
             }
             let alpha = rz / pq;
             let (mut rz_new, mut rr_new) = (0.0, 0.0);
             for i in 0..n {
                 a[i].axpy(alpha, &p[i]);
-                r[i].axpy(-alpha, &q[i]);
-                rz_new += r[i].dot(&r[i].div(&diag[i]));
-                rr_new += r[i].dot(&r[i]);
+                let mut ri = r[i];
+                ri.axpy(-alpha, &q[i]);
+                // p is zero on the held DOFs, q is not.
+                ri.mask(held[i]);
+                r[i] = ri;
+                rz_new += ri.dot(&ri.div(&diag[i]));
+                rr_new += ri.dot(&ri);
+            }
+            rr = rr_new;
+            if rr <= goal {
+                break;
             }
             let beta = rz_new / rz;
+            rz = rz_new;
+            pmp = 0.0;
             for i in 0..n {
                 let mut pi = r[i].div(&diag[i]);
                 pi.axpy(beta, &p[i]);
                 p[i] = pi;
+                q[i] = mul(&lumped[i], &pi);
+                pmp += pi.dot(&q[i]);
             }
-            (rz, rr) = (rz_new, rr_new);
         }
         if rr > goal {
             self.stats.unconverged += 1;
@@ -414,8 +419,10 @@ fn mul(d: &Six, x: &Six) -> Six {
     }
 }
 
-/// `out += ΔM u`, element by element: `β_e M_e P_e u_e` (module docs).
-fn add_delta(blocks: &MassBlocks, geometry: &[Geometry], u: &[Six], out: &mut [Six]) {
+/// `out += ΔM u`, element by element: `β_e M_e P_e u_e` (module docs);
+/// returns `uᵀ ΔM u = Σ_e β_e |P_e u_e|²_{M_e}` (`P_e` is `M_e`-orthogonal).
+fn add_delta(blocks: &MassBlocks, geometry: &[Geometry], u: &[Six], out: &mut [Six]) -> f64 {
+    let mut energy = 0.0;
     for ((q, s), geo) in blocks.quads.iter().zip(&blocks.shares).zip(geometry) {
         let [m, j, beta] = *s;
         let us = q.map(|n| u[n as usize]);
@@ -426,10 +433,16 @@ fn add_delta(blocks: &MassBlocks, geometry: &[Geometry], u: &[Six], out: &mut [S
         }
         let omega = geo.a_inv * b;
         let (bm, bj) = (beta * m, beta * j);
+        let mut e = 0.0;
         for ((&n, ra), ua) in q.iter().zip(&geo.r).zip(&us) {
+            let dt = ua.t - mean - omega.cross(ra);
+            let dr = ua.r - omega;
             let o = &mut out[n as usize];
-            o.t += (ua.t - mean - omega.cross(ra)) * bm;
-            o.r += (ua.r - omega) * bj;
+            o.t += dt * bm;
+            o.r += dr * bj;
+            e += m * dt.norm_squared() + j * dr.norm_squared();
         }
+        energy += beta * e;
     }
+    energy
 }

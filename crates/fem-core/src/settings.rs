@@ -56,7 +56,7 @@ pub enum MassScaling {
 
 impl MassScaling {
     /// The selective scaling's default solve tolerance (-).
-    pub const DEFAULT_TOLERANCE: f64 = 1e-6;
+    pub const DEFAULT_TOLERANCE: f64 = 1e-4;
 }
 
 impl Default for SolverSettings {

@@ -855,10 +855,23 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
         s.solver.safety_factor,
         s.solver
             .mass_scaling_dt
-            .map_or("off".to_string(), |t| format!("dt = {t:e} s"))
+            .map_or("off".to_string(), |t| format!(
+                "dt = {t:e} s ({})",
+                match s.solver.mass_scaling {
+                    formsim::scene::schema::MassScalingKind::Conventional => "conventional",
+                    formsim::scene::schema::MassScalingKind::Selective => "selective",
+                }
+            ))
     );
     for line in estimate::report_lines(s, &est, &setup) {
         say!("  {line}");
+    }
+    if let Some(sel) = model.solver.selective_stats() {
+        say!(
+            "  selective   the shells' deformation modes carry {:.1} % of the physical mass on top ({:.3e} tonne), rigid-body motion none",
+            100.0 * sel.added_mass / setup.physical_mass.max(f64::MIN_POSITIVE),
+            sel.added_mass
+        );
     }
     if resolved {
         say!("  settings    (every key as resolved; also summary.json's `settings`)");

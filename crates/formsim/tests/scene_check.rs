@@ -680,3 +680,38 @@ fn absurd_physical_values_name_their_key() {
         assert_refused(&root().join("scenes/strip-draw.toml"), &[set], &[needle]);
     }
 }
+
+/// Selective mass scaling's keys are checked with one line naming the
+/// key: a tolerance outside (0, 0.1], and `"selective"` without the step
+/// it should reach.
+#[test]
+fn selective_mass_scaling_keys_are_checked() {
+    let cup = cup();
+    let (code, _, err, _) = check_cli(
+        &cup,
+        &[
+            "solver.mass_scaling=\"selective\"",
+            "solver.mass_scaling_tolerance=0.5",
+        ],
+    );
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("solver.mass_scaling_tolerance: 0.5: must be in (0, 0.1]"),
+        "{err}"
+    );
+    let (code, _, err, _) = check_cli(
+        &cup,
+        &[
+            "solver.mass_scaling=\"selective\"",
+            "solver.mass_scaling_dt=",
+        ],
+    );
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("solver.mass_scaling: \"selective\" needs solver.mass_scaling_dt"),
+        "{err}"
+    );
+    let (code, out, err, _) = check_cli(&cup, &["solver.mass_scaling=\"selective\""]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("mass scaling"), "{out}");
+}

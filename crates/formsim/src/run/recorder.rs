@@ -107,7 +107,8 @@ impl<'a> Recorder<'a> {
         }
         // Ratios over the internal energy only where it is a measure.
         if forming && e.internal > 0.0 && e.internal >= INTERNAL_SHARE_MIN * e.external {
-            self.ki_max = self.ki_max.max(e.kinetic / e.internal);
+            let kinetic = e.kinetic + e.kinetic_added;
+            self.ki_max = self.ki_max.max(kinetic / e.internal);
             self.hg_max = self.hg_max.max(e.hourglass / e.internal);
         }
         if let Some(c) = model.contact() {

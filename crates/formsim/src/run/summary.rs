@@ -17,6 +17,8 @@ pub struct EnergySummary {
     pub internal: f64,
     /// Kinetic.
     pub kinetic: f64,
+    /// Energy the inertia of selective mass scaling took up (0 without).
+    pub kinetic_added: f64,
     /// Hourglass.
     pub hourglass: f64,
     /// Contact (penalty) energy.
@@ -187,6 +189,9 @@ pub struct Summary {
     /// What the springback step did, when the scene has one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub springback: Option<super::springback::SpringbackSummary>,
+    /// What selective mass scaling did, when the run scales so.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub selective_mass: Option<SelectiveSummary>,
     /// The shape measures of each `[[output.profiles]]` line.
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub profiles: BTreeMap<String, super::profile::ProfileSummary>,
@@ -283,6 +288,20 @@ impl Summary {
             &tools,
         ));
         warnings.append(&mut notes);
+        let selective_mass = i
+            .model
+            .solver
+            .selective_stats()
+            .map(|s| SelectiveSummary::new(&s, i.setup.physical_mass));
+        if let Some(s) = selective_mass.as_ref().filter(|s| s.unconverged > 0) {
+            warnings.push(format!(
+                "selective mass scaling: {} of {} mass solves stopped at {} iterations above \
+                 solver.mass_scaling_tolerance: raise the tolerance or lower solver.mass_scaling_dt",
+                s.unconverged,
+                s.solves,
+                fem_core::solver::SELECTIVE_MAX_ITERATIONS
+            ));
+        }
         let springback = i.springback;
         if let Some(b) = springback.as_ref().filter(|b| !b.settled) {
             warnings.push(format!(
@@ -336,6 +355,7 @@ impl Summary {
             energy: EnergySummary {
                 internal: e.internal,
                 kinetic: e.kinetic,
+                kinetic_added: e.kinetic_added,
                 hourglass: e.hourglass,
                 contact: e.contact,
                 friction: e.friction,
@@ -367,9 +387,41 @@ impl Summary {
             settings: settings(scene),
             overrides: i.loaded.overrides.clone(),
             springback,
+            selective_mass,
             profiles,
             status: i.stop.map_or(super::Status::Completed, |s| s.status),
             cause: i.stop.map(|s| s.cause.clone()),
+        }
+    }
+}
+
+/// `summary.json` `selective_mass`: the added inertia and its mass solves.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct SelectiveSummary {
+    /// Translational mass the deformation modes carry on top, `Σ 4 β_e m_e`,
+    /// as % of the physical mass (at the end).
+    pub added_inertia_percent: f64,
+    /// Mass solves (one a step).
+    pub solves: u64,
+    /// Mean conjugate-gradient iterations per solve.
+    pub iterations_mean: f64,
+    /// The most iterations one solve took.
+    pub iterations_max: u32,
+    /// Solves stopped at the iteration cap above the tolerance.
+    pub unconverged: u64,
+    /// Seconds in the solves (part of `timing`'s integration).
+    pub seconds: f64,
+}
+
+impl SelectiveSummary {
+    fn new(s: &fem_core::SelectiveStats, physical_mass: f64) -> Self {
+        Self {
+            added_inertia_percent: 100.0 * s.added_mass / physical_mass.max(f64::MIN_POSITIVE),
+            solves: s.solves,
+            iterations_mean: s.iterations as f64 / (s.solves.max(1) as f64),
+            iterations_max: s.max_iterations,
+            unconverged: s.unconverged,
+            seconds: s.seconds,
         }
     }
 }

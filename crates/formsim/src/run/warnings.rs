@@ -40,10 +40,11 @@ pub const DELIVERED_FORCE_ERROR_MAX: f64 = 0.01;
 pub const STEADY_FORCE_MIN_RATIO: f64 = 0.9;
 
 /// The kinetic energy's share of the external work, the quasi-static
-/// measure of [`KINETIC_TO_WORK_MAX`] (0 before any work is done).
+/// measure of [`KINETIC_TO_WORK_MAX`] (0 before any work is done); with
+/// selective mass scaling the added inertia's energy counts as kinetic.
 pub fn kinetic_to_work(e: &fem_core::EnergyLedger) -> f64 {
     if e.external > 0.0 {
-        e.kinetic / e.external
+        (e.kinetic + e.kinetic_added) / e.external
     } else {
         0.0
     }

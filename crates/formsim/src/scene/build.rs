@@ -4,7 +4,7 @@
 
 use super::LoadedScene;
 use super::SceneError;
-use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, Motion, Scene};
+use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MassScalingKind, Motion, Scene};
 use super::validate::{axis_index, dof_from_name};
 use crate::components::{LawSource, point_integrator};
 use contact::{BlankGeometry, ContactEffect, ContactPair, FRICTIONLESS, PairSpec, PenaltySettings};
@@ -190,6 +190,12 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     let settings = SolverSettings {
         safety_factor: s.solver.safety_factor,
         mass_scaling_dt: s.solver.mass_scaling_dt,
+        mass_scaling: match s.solver.mass_scaling {
+            MassScalingKind::Conventional => fem_core::MassScaling::Conventional,
+            MassScalingKind::Selective => fem_core::MassScaling::Selective {
+                tolerance: s.solver.mass_scaling_tolerance,
+            },
+        },
         damping: s.solver.damping,
         dt_max: s.solver.dt_max,
         fixed_dt: s.solver.fixed_dt,

@@ -662,6 +662,15 @@ pub struct SolverSection {
     /// Fixed-time-step mass scaling: the step to run at (s); default none.
     #[serde(default)]
     pub mass_scaling_dt: Option<f64>,
+    /// How `mass_scaling_dt` is reached: `"conventional"` (default: mass
+    /// added to the nodes) or `"selective"` (inertia added to the shells'
+    /// deformation modes only).
+    #[serde(default)]
+    pub mass_scaling: MassScalingKind,
+    /// Selective scaling's mass-solve tolerance, `|f − (M + ΔM) a| / |f|`
+    /// (-); default 1e-4.
+    #[serde(default = "default_mass_scaling_tolerance")]
+    pub mass_scaling_tolerance: f64,
     /// Mass-proportional damping (1/s); default 0.
     #[serde(default)]
     pub damping: f64,
@@ -682,6 +691,8 @@ impl Default for SolverSection {
         Self {
             safety_factor: default_safety(),
             mass_scaling_dt: None,
+            mass_scaling: MassScalingKind::default(),
+            mass_scaling_tolerance: default_mass_scaling_tolerance(),
             damping: 0.0,
             end_time: None,
             dt_max: None,
@@ -692,6 +703,21 @@ impl Default for SolverSection {
 
 fn default_safety() -> f64 {
     0.9
+}
+
+fn default_mass_scaling_tolerance() -> f64 {
+    fem_core::MassScaling::DEFAULT_TOLERANCE
+}
+
+/// `solver.mass_scaling`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MassScalingKind {
+    /// Mass added to the lumped nodal masses.
+    #[default]
+    Conventional,
+    /// Inertia added to the elements' deformation modes only.
+    Selective,
 }
 
 /// `[[boundary]]`.

@@ -6,7 +6,9 @@
 use super::LoadedScene;
 use super::SceneError;
 use super::estimate::{self, MeshSize};
-use super::schema::{AmplitudeSpec, Boundary, HardeningSpec, MeshSpec, Motion, Step};
+use super::schema::{
+    AmplitudeSpec, Boundary, HardeningSpec, MassScalingKind, MeshSpec, Motion, Step,
+};
 
 /// Largest blank thickness accepted (mm).
 pub const THICKNESS_MAX: f64 = 1e3;
@@ -683,6 +685,19 @@ fn solver(loaded: &LoadedScene) -> Result<(), SceneError> {
     }
     if let Some(t) = sv.mass_scaling_dt {
         keys.positive("solver.mass_scaling_dt", t, "s")?;
+    }
+    let tol = sv.mass_scaling_tolerance;
+    if !(tol > 0.0 && tol <= 0.1) {
+        return keys.err(
+            "solver.mass_scaling_tolerance",
+            format!("{tol}: must be in (0, 0.1] (-)"),
+        );
+    }
+    if sv.mass_scaling == MassScalingKind::Selective && sv.mass_scaling_dt.is_none() {
+        return keys.err(
+            "solver.mass_scaling",
+            "\"selective\" needs solver.mass_scaling_dt, the step to reach (s)".into(),
+        );
     }
     keys.non_negative("solver.damping", sv.damping, "1/s")?;
     if let Some(t) = sv.end_time {
