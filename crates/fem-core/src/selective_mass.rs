@@ -134,14 +134,6 @@ impl Six {
     }
 
     #[inline(always)]
-    fn div(&self, d: &Six) -> Six {
-        Six {
-            t: self.t.component_div(&d.t),
-            r: self.r.component_div(&d.r),
-        }
-    }
-
-    #[inline(always)]
     fn axpy(&mut self, alpha: f64, x: &Six) {
         self.t += x.t * alpha;
         self.r += x.r * alpha;
@@ -184,7 +176,8 @@ pub(crate) struct SelectiveMass {
     held: Vec<u8>,
     /// The lumped masses as six (translation: `m`, rotation: `j`).
     lumped: Vec<Six>,
-    diag: Vec<Six>,
+    /// `1 / diag(M + ΔM)`, the preconditioner.
+    inv_diag: Vec<Six>,
     /// The answer `a` (also the next warm start).
     a: Vec<Six>,
     /// `ΔM a`, subtracted from the forces and moments.
@@ -205,7 +198,7 @@ impl SelectiveMass {
             in_block: vec![false; nodes],
             held: vec![0; nodes],
             lumped: z.clone(),
-            diag: z.clone(),
+            inv_diag: z.clone(),
             a: z.clone(),
             g: z.clone(),
             f: z.clone(),
@@ -270,7 +263,7 @@ impl SelectiveMass {
             let mut ai = if self.in_block[i] {
                 self.a[i]
             } else {
-                self.f[i].div(&self.diag[i])
+                mul(&self.f[i], &self.inv_diag[i])
             };
             ai.mask(self.held[i]);
             self.a[i] = ai;
@@ -286,9 +279,10 @@ impl SelectiveMass {
     }
 
     /// Each block's centroid-relative nodes and `(m J + 4 j I)⁻¹`, and the
-    /// diagonal of `M + ΔM` (massless DOFs are held, with a unit diagonal).
+    /// inverse diagonal of `M + ΔM` (massless DOFs are held, with a unit
+    /// diagonal).
     fn update_geometry(&mut self, x: &[Vec3]) {
-        for (i, d) in self.diag.iter_mut().enumerate() {
+        for (i, d) in self.inv_diag.iter_mut().enumerate() {
             let l = self.lumped[i];
             *d = l;
             for k in 0..3 {
@@ -322,8 +316,14 @@ impl SelectiveMass {
                     p.t[k] = m * (0.75 - m * rk.dot(&(a_inv * rk)));
                     p.r[k] = j * (1.0 - j * a_inv[(k, k)]);
                 }
-                self.diag[n as usize].axpy(beta, &p);
+                self.inv_diag[n as usize].axpy(beta, &p);
             }
+        }
+        for d in &mut self.inv_diag {
+            *d = Six {
+                t: d.t.map(|v| 1.0 / v),
+                r: d.r.map(|v| 1.0 / v),
+            };
         }
     }
 
@@ -337,7 +337,7 @@ impl SelectiveMass {
             geometry,
             held,
             lumped,
-            diag,
+            inv_diag,
             a,
             f,
             r,
@@ -359,7 +359,7 @@ impl SelectiveMass {
             ri.axpy(-1.0, &r[i]);
             ri.mask(held[i]);
             r[i] = ri;
-            let z = ri.div(&diag[i]);
+            let z = mul(&ri, &inv_diag[i]);
             rz += ri.dot(&z);
             rr += ri.dot(&ri);
             p[i] = z;
@@ -385,7 +385,7 @@ impl SelectiveMass {
                 // p is zero on the held DOFs, q is not.
                 ri.mask(held[i]);
                 r[i] = ri;
-                rz_new += ri.dot(&ri.div(&diag[i]));
+                rz_new += ri.dot(&mul(&ri, &inv_diag[i]));
                 rr_new += ri.dot(&ri);
             }
             rr = rr_new;
@@ -396,7 +396,7 @@ impl SelectiveMass {
             rz = rz_new;
             pmp = 0.0;
             for i in 0..n {
-                let mut pi = r[i].div(&diag[i]);
+                let mut pi = mul(&r[i], &inv_diag[i]);
                 pi.axpy(beta, &p[i]);
                 p[i] = pi;
                 q[i] = mul(&lumped[i], &pi);
