@@ -460,7 +460,7 @@ impl ContactPair {
         let warm = (&last.hint[..], &last.region[..]);
         narrow_phase(tool, &at, blank.x, nodes, warm, cand, name)?;
         let (projected, curved) = cand.near.iter().fold((0, 0), |(p, c), n| {
-            (p + n.projected as u64, c + n.curved_answer() as u64)
+            (p + n.projected as u64, c + n.curved as u64)
         });
         self.projections += projected;
         self.curved_answers += curved;

@@ -26,10 +26,13 @@ pub(crate) struct Near {
     pub distance: f64,
     /// Warm start of the next projection.
     pub hint: ProjectionHint,
-    /// The region the answer lies in, if the tool has one there.
+    /// A projection's new region, if the tool has one there (`None` when a
+    /// region answered: the point keeps the region it has).
     pub region: Option<ToolRegion>,
     /// Whether the tool projected the point (else the region answered).
     pub projected: bool,
+    /// Whether a curved region answered.
+    pub curved: bool,
 }
 
 impl Near {
@@ -44,6 +47,7 @@ impl Near {
         },
         region: None,
         projected: false,
+        curved: false,
     };
 
     /// What the step keeps of `pr`, and the region around it.
@@ -55,13 +59,8 @@ impl Near {
             hint,
             region: tool.region(&hint),
             projected: true,
+            curved: false,
         }
-    }
-
-    /// Whether a curved region answered (not the tool, not a flat region).
-    #[inline]
-    pub fn curved_answer(&self) -> bool {
-        !self.projected && matches!(self.region, Some(ToolRegion::Curved(_)))
     }
 
     /// The answer for `x` from the last projection's region `region` (warm
@@ -78,8 +77,9 @@ impl Near {
             normal: at.to_global * normal,
             distance,
             hint,
-            region: Some(*region),
+            region: None,
             projected: false,
+            curved: matches!(region, ToolRegion::Curved(_)),
         })
     }
 }
@@ -105,7 +105,6 @@ pub(crate) fn narrow_phase(
 ) -> Result<(), ContactError> {
     let (ks, near) = (&cand.points, &mut cand.near);
     near.clear();
-    near.resize(ks.len(), Near::NONE);
     let one = |k: u32| {
         let (k, xk) = (k as usize, &x[nodes[k as usize] as usize]);
         if let (Some(r), Some(h)) = (&region[k], hint[k])
@@ -116,6 +115,7 @@ pub(crate) fn narrow_phase(
         tool.project(xk, hint[k]).map(|pr| Near::of(&pr, tool))
     };
     if parallel(ks.len()) {
+        near.resize(ks.len(), Near::NONE);
         let done: Result<(), ()> = near
             .par_chunks_mut(PARALLEL_CHUNK)
             .zip(ks.par_chunks(PARALLEL_CHUNK))
@@ -129,12 +129,15 @@ pub(crate) fn narrow_phase(
             return Ok(());
         }
     }
-    for (o, &k) in near.iter_mut().zip(ks.iter()) {
-        *o = one(k).map_err(|source| ContactError::Tool {
+    // One thread (or a failure to report in candidate order): in order,
+    // into the slots' kept capacity.
+    near.clear();
+    for &k in ks.iter() {
+        near.push(one(k).map_err(|source| ContactError::Tool {
             pair: pair.to_string(),
             node: nodes[k as usize] as usize,
             source: Box::new(source),
-        })?;
+        })?);
     }
     Ok(())
 }
