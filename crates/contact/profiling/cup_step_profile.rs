@@ -354,11 +354,11 @@ fn report(options: &Options, cup: &Cup, timing: &Timing) {
 }
 
 /// Print the tool projections per step, in total and per pair (done, from
-/// flat regions, skipped).
+/// flat regions, from curved regions, skipped).
 fn print_projections(c: &ContactEffect, steps: f64) {
     // Contact does nothing at the initial force computation, so every
     // projection belongs to one of the `steps` steps.
-    let per_pair: Vec<(f64, f64, f64)> = c
+    let per_pair: Vec<(f64, f64, f64, f64)> = c
         .pairs()
         .iter()
         .map(|p| {
@@ -366,6 +366,7 @@ fn print_projections(c: &ContactEffect, steps: f64) {
                 p.projections as f64 / steps,
                 p.skipped as f64 / steps,
                 p.flat_answers as f64 / steps,
+                p.curved_answers as f64 / steps,
             )
         })
         .collect();
@@ -375,8 +376,9 @@ fn print_projections(c: &ContactEffect, steps: f64) {
         c.pairs()
             .iter()
             .zip(&per_pair)
-            .map(|(p, (done, skipped, flat))| format!(
-                "{} {done:.0}, from flat regions {flat:.0}, skipped {skipped:.0}",
+            .map(|(p, (done, skipped, flat, curved))| format!(
+                "{} {done:.0}, from flat regions {flat:.0}, from curved regions {curved:.0}, \
+                 skipped {skipped:.0}",
                 p.name()
             ))
             .collect::<Vec<_>>()

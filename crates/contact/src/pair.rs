@@ -187,6 +187,10 @@ pub struct ContactPair {
     /// Candidates answered from a flat region of the tool so far, without a
     /// projection ([`plugins_api::ToolSurface::flat_region`]).
     pub flat_answers: u64,
+    /// Candidates answered from a curved region of the tool (a cylinder or
+    /// torus patch) so far, without a projection
+    /// ([`plugins_api::ToolSurface::curved_region`]).
+    pub curved_answers: u64,
     /// Projections skipped so far because the node could not reach the tool
     /// ([`PairSpec::skip_far`]); nodes outside the bounding-box margin are not counted.
     pub skipped: u64,
@@ -326,6 +330,7 @@ impl ContactPair {
             projections: 0,
             friction_points: 0,
             flat_answers: 0,
+            curved_answers: 0,
             skipped: 0,
             timing: ContactTiming::default(),
             cand: Candidates {
@@ -454,9 +459,12 @@ impl ContactPair {
         // 1b. Narrow phase: project them.
         let warm = (&last.hint[..], &last.region[..]);
         narrow_phase(tool, &at, blank.x, nodes, warm, cand, name)?;
-        let projected = cand.near.iter().filter(|n| n.projected).count();
-        self.projections += projected as u64;
-        self.flat_answers += (cand.near.len() - projected) as u64;
+        let (projected, curved) = cand.near.iter().fold((0, 0), |(p, c), n| {
+            (p + n.projected as u64, c + n.curved as u64)
+        });
+        self.projections += projected;
+        self.curved_answers += curved;
+        self.flat_answers += cand.near.len() as u64 - projected - curved;
         lap(&mut t, &mut self.timing.projection);
         // 1c. Normal: gap and pressure; gather the touching points.
         let normal = Normal {

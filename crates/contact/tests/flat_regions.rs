@@ -1,8 +1,8 @@
 //! Flat regions in the narrow phase: a pair whose points lie on the planar
 //! face of the square-cup die answers most of them from the tool's flat
 //! regions (`ToolSurface::flat_region`) instead of projecting them, with the
-//! same contact as a pair on the same die with its planar shortcuts switched
-//! off (every projection by Newton).
+//! same contact as a pair on the same die with its planar shortcuts and
+//! curved regions switched off (every projection by Newton).
 //!
 //! A 30 × 30 patch of blank (1 mm mesh) lies on the die face, pressed 0.01 mm
 //! in, and drifts 3 µm per step towards the opening with a small jiggle, for
@@ -78,6 +78,7 @@ type Run = (Vec<(Vec<contact::PointStatus>, Vec<Vec3>)>, f64, usize);
 fn run(planar: bool) -> Run {
     let mut die = benchmark_quarter_die().unwrap();
     die.set_planar_path(planar);
+    die.set_curved_regions(planar);
     let tool = Counting {
         tool: die,
         projections: AtomicUsize::new(0),

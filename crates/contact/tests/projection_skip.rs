@@ -31,7 +31,7 @@ struct Record {
 /// The run's result and the pair's projection counters.
 struct Run {
     records: Vec<Record>,
-    /// Candidates so far: projected, or answered from a flat region.
+    /// Candidates so far: projected, or answered from a flat or curved region.
     projections: Vec<u64>,
     skipped: Vec<u64>,
 }
@@ -182,7 +182,8 @@ fn run(skip_far: bool, tight: bool) -> Run {
             energy: pair.energy,
             reaction: pair.reaction.force,
         });
-        out.projections.push(pair.projections + pair.flat_answers);
+        out.projections
+            .push(pair.projections + pair.flat_answers + pair.curved_answers);
         out.skipped.push(pair.skipped);
         x_prev = x;
         pose_prev = pose;

@@ -24,6 +24,7 @@
 
 pub mod abi;
 pub mod conformance;
+pub mod curved_region;
 mod dylib;
 pub mod error;
 pub mod formulation;
@@ -39,6 +40,7 @@ pub mod return_mapping;
 mod table;
 pub mod tool;
 
+pub use curved_region::{CurvedRegion, CurvedShape, ToolRegion};
 pub use dylib::{PluginKind, plugin_kind};
 pub use error::FrictionError;
 pub use formulation::{DirectionInputs, KinematicFormulation, StepKinematics};

@@ -10,7 +10,7 @@
 //! Implementations (exact NURBS tools, faceted tools) live in `tools-nurbs`;
 //! the contact code knows tools only through [`ToolSurface`].
 
-use crate::{Mat3, Vec3};
+use crate::{CurvedRegion, Mat3, ToolRegion, Vec3};
 use thiserror::Error;
 
 /// A query a tool cannot answer.
@@ -244,6 +244,30 @@ pub trait ToolSurface: Send + Sync {
     fn flat_region(&self, hint: &ProjectionHint) -> Option<FlatRegion> {
         let _ = hint;
         None
+    }
+
+    /// A curved region around the answer that `hint` came from, if its
+    /// patch is exactly a circular cylinder or torus
+    /// ([`crate::curved_region`]): for every query point `x` that
+    /// [`CurvedRegion::project_local`] answers (in the local frame), its
+    /// closed-form foot is the closest point of patch `hint.patch` to `x`,
+    /// at the signed distance and with the normal (mapped by the pose) it
+    /// returns, and lies inside the patch by a margin: what a warm start
+    /// from `hint` keeps. A caller may then skip the projection and keep
+    /// `hint` for later steps, as with [`ToolSurface::flat_region`]. The
+    /// default, and a tool with no such patches, has none.
+    fn curved_region(&self, hint: &ProjectionHint) -> Option<CurvedRegion> {
+        let _ = hint;
+        None
+    }
+
+    /// The region around the answer that `hint` came from on which the
+    /// closest point has a closed form: the flat region if there is one,
+    /// else the curved region.
+    fn region(&self, hint: &ProjectionHint) -> Option<ToolRegion> {
+        self.flat_region(hint)
+            .map(ToolRegion::Flat)
+            .or_else(|| self.curved_region(hint).map(ToolRegion::Curved))
     }
 
     /// Project many points; `hints[i]` is read as the warm start of

@@ -48,6 +48,7 @@ pub mod basis;
 pub mod builders;
 pub mod bvh;
 pub mod closest_point;
+pub mod curved;
 pub mod differential;
 pub mod error;
 pub mod free_edges;

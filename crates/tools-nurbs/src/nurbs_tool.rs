@@ -17,14 +17,15 @@
 
 use crate::bvh::Bvh;
 use crate::closest_point::{ParamBox, PatchHit, newton, newton_in};
+use crate::curved;
 use crate::differential::local_geometry_rotated;
 use crate::error::NurbsError;
 use crate::free_edges::{self, FreeSides};
 use crate::planar::{self, Outline, Plane};
 use crate::surface::{Derivs, NurbsSurface, PatchDef};
 use plugins_api::{
-    Aabb, FlatRegion, Mat3, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError,
-    ToolSurface, Vec3,
+    Aabb, CurvedRegion, FlatRegion, Mat3, Projection, ProjectionHint, RigidPose, RigidVelocity,
+    ToolError, ToolSurface, Vec3,
 };
 use rayon::prelude::*;
 
@@ -65,6 +66,12 @@ pub struct NurbsTool {
     planes: Vec<Option<Plane>>,
     /// The outline of each planar patch, for its flat regions.
     outlines: Vec<Option<Outline>>,
+    /// The curved region of each patch that is exactly a circular cylinder
+    /// or torus ([`crate::curved`]).
+    curved: Vec<Option<CurvedRegion>>,
+    /// Whether the tool offers its curved regions; `true` unless switched
+    /// off for comparison.
+    curved_path: bool,
     /// The free sides of each patch ([`crate::free_edges`]): a point beyond
     /// one is answered by the sharp-edge rule.
     free: Vec<FreeSides>,
@@ -172,6 +179,12 @@ impl NurbsTool {
             .zip(&planes)
             .map(|((p, d), plane)| plane.map(|_| Outline::of(&p.surface, d)))
             .collect();
+        let curved = patches
+            .iter()
+            .zip(&domains)
+            .zip(&planes)
+            .map(|((p, d), plane)| plane.is_none().then(|| curved::curved_of(p, d)).flatten())
+            .collect();
         let mut tool = Self {
             name: name.to_string(),
             bvh: Bvh::build(&boxes),
@@ -179,6 +192,8 @@ impl NurbsTool {
             domains,
             planes,
             outlines,
+            curved,
+            curved_path: true,
             free: Vec::new(),
             planar_path: true,
             elements,
@@ -228,6 +243,18 @@ impl NurbsTool {
     /// closed form, [`crate::planar`]).
     pub fn is_planar(&self, i: usize) -> bool {
         self.planes.get(i).is_some_and(Option::is_some)
+    }
+
+    /// Whether patch `i` is exactly a circular cylinder or torus, with a
+    /// curved region ([`crate::curved`]).
+    pub fn is_curved(&self, i: usize) -> bool {
+        self.curved.get(i).is_some_and(Option::is_some)
+    }
+
+    /// Offer the curved regions ([`crate::curved`]) or not (on by default);
+    /// off, every point on a curved patch is projected, for comparison.
+    pub fn set_curved_regions(&mut self, on: bool) {
+        self.curved_path = on;
     }
 
     /// Switch the planar warm projection ([`crate::planar`]) on or off (on
@@ -621,5 +648,12 @@ impl ToolSurface for NurbsTool {
             hint.u,
             hint.v,
         )
+    }
+
+    fn curved_region(&self, hint: &ProjectionHint) -> Option<CurvedRegion> {
+        if !self.curved_path {
+            return None;
+        }
+        *self.curved.get(hint.patch as usize)?
     }
 }

@@ -12,8 +12,8 @@ use crate::faceted::FacetedTool;
 use crate::kinds;
 use crate::nurbs_tool::NurbsTool;
 use plugins_api::{
-    Aabb, FlatRegion, Projection, ProjectionHint, RigidPose, RigidVelocity, ToolError, ToolSurface,
-    Vec3,
+    Aabb, CurvedRegion, FlatRegion, Projection, ProjectionHint, RigidPose, RigidVelocity,
+    ToolError, ToolSurface, Vec3,
 };
 use serde::de::DeserializeOwned;
 use std::path::Path;
@@ -65,6 +65,9 @@ impl ToolSurface for Tool {
     }
     fn flat_region(&self, hint: &ProjectionHint) -> Option<FlatRegion> {
         each!(self, t => t.flat_region(hint))
+    }
+    fn curved_region(&self, hint: &ProjectionHint) -> Option<CurvedRegion> {
+        each!(self, t => t.curved_region(hint))
     }
 }
 

@@ -490,6 +490,16 @@ impl NurbsSurface {
             .map(|c| Vec3::new(c[0] / c[3], c[1] / c[3], c[2] / c[3]))
     }
 
+    /// Number of control points `(along u, along v)`.
+    pub fn net_size(&self) -> (usize, usize) {
+        (self.nu, self.nv)
+    }
+
+    /// The weights of the net, in the order of [`Self::control_points`].
+    pub fn weights(&self) -> impl Iterator<Item = f64> + '_ {
+        self.cw.iter().map(|c| c[3])
+    }
+
     /// Point only (mm).
     pub fn point(&self, u: f64, v: f64) -> Vec3 {
         self.eval(u, v).s

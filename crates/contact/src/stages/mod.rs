@@ -29,8 +29,8 @@ pub(crate) mod scatter;
 
 use plugins_api::kinematics::cayley_rotate;
 use plugins_api::{
-    Aabb, FlatRegion, Mat3, PointNeeds, PointState, ProjectionHint, RigidVelocity, StepInput,
-    StepOutput, ToolSurface, Vec3,
+    Aabb, Mat3, PointNeeds, PointState, ProjectionHint, RigidVelocity, StepInput, StepOutput,
+    ToolRegion, ToolSurface, Vec3,
 };
 
 use crate::PointStatus;
@@ -157,9 +157,9 @@ impl PointsMut<'_> {
 pub(crate) struct LastProjection {
     /// Warm start on the tool; `None` before the first projection.
     pub hint: Vec<Option<ProjectionHint>>,
-    /// The tool's flat region around the last answer, if any
-    /// ([`ToolSurface::flat_region`]).
-    pub region: Vec<Option<FlatRegion>>,
+    /// The tool's flat or curved region around the last answer, if any
+    /// ([`ToolSurface::region`]).
+    pub region: Vec<Option<ToolRegion>>,
     /// Unsigned distance from the tool (mm; `-∞` before the first).
     pub dist: Vec<f64>,
     /// Position in the tool's local frame then (mm).

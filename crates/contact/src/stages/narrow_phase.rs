@@ -3,14 +3,15 @@
 //! the projection loop (in parallel chunks for many candidates) and what the
 //! later stages keep of each projection ([`Near`]).
 //!
-//! A point whose last projection came with a flat region of the tool
-//! ([`ToolSurface::flat_region`]: a disc of a planar patch on which the
-//! closest point is the perpendicular foot) and whose foot still lies in
-//! that disc is answered from the plane at the price of a dot product, its
-//! warm start kept; any other point is projected, and the tool is asked for
-//! the flat region around its new answer.
+//! A point whose last projection came with a region of the tool
+//! ([`ToolSurface::region`]: a disc of a planar patch on which the closest
+//! point is the perpendicular foot, or a patch that is exactly a cylinder or
+//! torus, on which it is the radial foot) and whose foot still lies in that
+//! region is answered in closed form (a dot product on a plane, a square
+//! root or two on a cylinder or torus), its warm start kept; any other point
+//! is projected, and the tool is asked for the region around its new answer.
 
-use plugins_api::{FlatRegion, Projection, ProjectionHint, ToolSurface, Vec3};
+use plugins_api::{Projection, ProjectionHint, ToolRegion, ToolSurface, Vec3};
 use rayon::prelude::*;
 
 use super::{Candidates, PARALLEL_CHUNK, ToolStep, parallel};
@@ -25,10 +26,13 @@ pub(crate) struct Near {
     pub distance: f64,
     /// Warm start of the next projection.
     pub hint: ProjectionHint,
-    /// The flat region the answer lies in, if the tool has one there.
-    pub region: Option<FlatRegion>,
-    /// Whether the tool projected the point (else the flat region answered).
+    /// A projection's new region, if the tool has one there (`None` when a
+    /// region answered: the point keeps the region it has).
+    pub region: Option<ToolRegion>,
+    /// Whether the tool projected the point (else the region answered).
     pub projected: bool,
+    /// Whether a curved region answered.
+    pub curved: bool,
 }
 
 impl Near {
@@ -43,42 +47,45 @@ impl Near {
         },
         region: None,
         projected: false,
+        curved: false,
     };
 
-    /// What the step keeps of `pr`, and the flat region around it.
+    /// What the step keeps of `pr`, and the region around it.
     fn of(pr: &Projection, tool: &dyn ToolSurface) -> Self {
         let hint = pr.hint();
         Self {
             normal: pr.normal,
             distance: pr.distance,
             hint,
-            region: tool.flat_region(&hint),
+            region: tool.region(&hint),
             projected: true,
+            curved: false,
         }
     }
 
-    /// The answer for `x` from the last projection's flat region `region`
-    /// (warm start `hint` kept), if its foot is still in the region's disc.
+    /// The answer for `x` from the last projection's region `region` (warm
+    /// start `hint` kept), if its foot is still in the region.
     #[inline]
     fn from_region(
         at: &ToolStep,
         x: &Vec3,
-        region: &FlatRegion,
+        region: &ToolRegion,
         hint: ProjectionHint,
     ) -> Option<Self> {
-        let (distance, _) = region.project_local(&at.local(x))?;
+        let (distance, normal) = region.project_local(&at.local(x))?;
         Some(Self {
-            normal: at.to_global * region.normal,
+            normal: at.to_global * normal,
             distance,
             hint,
-            region: Some(*region),
+            region: None,
             projected: false,
+            curved: matches!(region, ToolRegion::Curved(_)),
         })
     }
 }
 
 /// Project the nodes of `cand.points` (blank node `nodes[k]` at `x`, warm
-/// start `hint[k]`, flat region `region[k]`) on `tool` (placed as `at`) into
+/// start `hint[k]`, region `region[k]`) on `tool` (placed as `at`) into
 /// `cand.near`, in the same order; in
 /// parallel chunks when there are more than
 /// [`crate::ContactPair::PARALLEL_MIN_CANDIDATES`]. Each answer lands in its
@@ -92,13 +99,12 @@ pub(crate) fn narrow_phase(
     at: &ToolStep,
     x: &[Vec3],
     nodes: &[u32],
-    (hint, region): (&[Option<ProjectionHint>], &[Option<FlatRegion>]),
+    (hint, region): (&[Option<ProjectionHint>], &[Option<ToolRegion>]),
     cand: &mut Candidates,
     pair: &str,
 ) -> Result<(), ContactError> {
     let (ks, near) = (&cand.points, &mut cand.near);
     near.clear();
-    near.resize(ks.len(), Near::NONE);
     let one = |k: u32| {
         let (k, xk) = (k as usize, &x[nodes[k as usize] as usize]);
         if let (Some(r), Some(h)) = (&region[k], hint[k])
@@ -109,6 +115,7 @@ pub(crate) fn narrow_phase(
         tool.project(xk, hint[k]).map(|pr| Near::of(&pr, tool))
     };
     if parallel(ks.len()) {
+        near.resize(ks.len(), Near::NONE);
         let done: Result<(), ()> = near
             .par_chunks_mut(PARALLEL_CHUNK)
             .zip(ks.par_chunks(PARALLEL_CHUNK))
@@ -122,12 +129,15 @@ pub(crate) fn narrow_phase(
             return Ok(());
         }
     }
-    for (o, &k) in near.iter_mut().zip(ks.iter()) {
-        *o = one(k).map_err(|source| ContactError::Tool {
+    // One thread (or a failure to report in candidate order): in order,
+    // into the slots' kept capacity.
+    near.clear();
+    for &k in ks.iter() {
+        near.push(one(k).map_err(|source| ContactError::Tool {
             pair: pair.to_string(),
             node: nodes[k as usize] as usize,
             source: Box::new(source),
-        })?;
+        })?);
     }
     Ok(())
 }

@@ -101,7 +101,9 @@ impl Normal<'_> {
     #[inline]
     fn remember(&self, k: usize, i: usize, pr: &Near, last: &mut LastProjection) {
         last.hint[k] = Some(pr.hint);
-        last.region[k] = pr.region;
+        if pr.projected {
+            last.region[k] = pr.region;
+        }
         if self.settings.skip_far {
             last.dist[k] = pr.distance.abs();
             last.local[k] = self.tool.local(&self.blank.x[i]);
@@ -292,6 +294,7 @@ mod tests {
             },
             region: None,
             projected: true,
+            curved: false,
         };
         Candidates {
             points: (0..m as u32).collect(),
