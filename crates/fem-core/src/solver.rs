@@ -1458,10 +1458,22 @@ impl Solver {
 
     /// Advance one step `t_n → t_{n+1}` (initializing first if needed).
     /// Its wall-clock time goes to [`Solver::timing`].
+    ///
+    /// With more than one rayon thread, a step called from outside rayon's
+    /// pool runs on it, handed over once: the parallel parts inside (the
+    /// elements, the contact pairs, the nodes) then split their work among
+    /// the pool's threads without each handing it over and waiting on its
+    /// own. A caller stepping many times saves even that by calling from
+    /// inside the pool (`rayon::scope`, as `formsim run` does).
     pub fn step(&mut self) -> Result<StepReport, FemError> {
         self.initialize()?;
         let started = Instant::now();
-        let report = self.advance(started);
+        let report = if rayon::current_num_threads() > 1 && rayon::current_thread_index().is_none()
+        {
+            rayon::scope(|_| self.advance(started))
+        } else {
+            self.advance(started)
+        };
         self.timing.total += started.elapsed().as_secs_f64();
         report
     }
