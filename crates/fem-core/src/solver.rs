@@ -42,7 +42,7 @@ use crate::nodal_limit::NodalLimit;
 use crate::relaxation::{Relaxation, SpringbackReport};
 
 mod implicit_release;
-mod node_chunks;
+pub(crate) mod node_chunks;
 use crate::{
     Amplitude, BoundaryCondition, Dof, Dofs, Effect, EnergyLedger, EnergyTally, FemError, Forces,
     Mesh, MotionKind, NodalField, NodalLoad, NodalState, Press, SharedFields, SolverSettings,
@@ -1208,7 +1208,7 @@ impl Solver {
     /// Zero the accumulators, add the loads at `time` and every effect's forces.
     fn compute_forces(&mut self, time: f64, dt: f64, step: u64) -> Result<(), FemError> {
         let started = Instant::now();
-        self.forces.clear();
+        node_chunks::zero_forces(&mut self.forces);
         self.eval_amplitudes(time);
         for l in &self.loads {
             let p = l.value * self.amp_values[l.amplitude as usize];
@@ -1239,14 +1239,7 @@ impl Solver {
         }
         self.tally = tally;
         self.gather_tool_loads();
-        let sum: f64 = self
-            .forces
-            .f
-            .iter()
-            .zip(&self.forces.m)
-            .map(|(f, m)| f.x + f.y + f.z + m.x + m.y + m.z)
-            .sum();
-        if !sum.is_finite() {
+        if !node_chunks::forces_finite(&self.forces) {
             let bad = |v: &Vec3| !(v.x.is_finite() && v.y.is_finite() && v.z.is_finite());
             if let Some(i) = self.forces.f.iter().position(bad) {
                 return Err(FemError::NonFiniteState {

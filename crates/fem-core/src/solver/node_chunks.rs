@@ -14,11 +14,17 @@ use crate::{Forces, NodalState, Vec3};
 use rayon::prelude::*;
 
 /// Nodes per chunk: the unit of the sums' order (a few microseconds of work).
-pub(super) const NODE_CHUNK: usize = 512;
+pub(crate) const NODE_CHUNK: usize = 512;
 
 /// From this many nodes on (and with more than one thread) the chunks run
 /// in parallel; below, the hand-over to the pool costs more than it saves.
-pub(super) const PARALLEL_MIN_NODES: usize = 4 * NODE_CHUNK;
+pub(crate) const PARALLEL_MIN_NODES: usize = 4 * NODE_CHUNK;
+
+/// Whether `n` nodes are worked on in parallel chunks (large enough, and
+/// more than one rayon thread).
+pub(crate) fn parallel(n: usize) -> bool {
+    n >= PARALLEL_MIN_NODES && rayon::current_num_threads() > 1
+}
 
 /// How many chunks `n` nodes make.
 pub(super) fn chunks(n: usize) -> usize {
@@ -132,7 +138,7 @@ pub(super) fn free_update(
             },
         );
     };
-    if n >= PARALLEL_MIN_NODES && rayon::current_num_threads() > 1 {
+    if parallel(n) {
         x.par_chunks_mut(NODE_CHUNK)
             .zip(v.par_chunks_mut(NODE_CHUNK))
             .zip(w.par_chunks_mut(NODE_CHUNK))
@@ -158,6 +164,38 @@ pub(super) fn free_update(
         total.merge(s);
     }
     total
+}
+
+/// Zero every force and moment (stage 4's start), in parallel chunks on
+/// large models.
+pub(super) fn zero_forces(forces: &mut Forces) {
+    if parallel(forces.f.len()) {
+        let zero = |c: &mut [Vec3]| c.iter_mut().for_each(|v| *v = Vec3::zeros());
+        forces.f.par_chunks_mut(NODE_CHUNK).for_each(zero);
+        forces.m.par_chunks_mut(NODE_CHUNK).for_each(zero);
+    } else {
+        forces.clear();
+    }
+}
+
+/// Whether every force and moment is finite (a sum per chunk, which is
+/// finite when all its terms are and, but for an overflow, not otherwise;
+/// the caller searches the culprit when it is not).
+pub(super) fn forces_finite(forces: &Forces) -> bool {
+    let sum = |(f, m): (&[Vec3], &[Vec3])| -> f64 {
+        f.iter()
+            .zip(m)
+            .map(|(f, m)| f.x + f.y + f.z + m.x + m.y + m.z)
+            .sum()
+    };
+    let (f, m) = (&forces.f[..], &forces.m[..forces.f.len()]);
+    if parallel(f.len()) {
+        f.par_chunks(NODE_CHUNK)
+            .zip(m.par_chunks(NODE_CHUNK))
+            .all(|c| sum(c).is_finite())
+    } else {
+        sum((f, m)).is_finite()
+    }
 }
 
 /// One chunk's written slices.
