@@ -2,7 +2,8 @@
 //!
 //! A spring lattice of 3,721 nodes (above the size from which the nodes are
 //! updated in parallel chunks) with damping, fixed, symmetric and prescribed
-//! DOFs, a nodal moment and a non-uniform start, stepped in a local rayon
+//! DOFs, a nodal moment and a non-uniform start, two effects sharing the
+//! nodes (the combined nodal step limit), stepped in a local rayon
 //! pool of one thread and in one of two: positions, velocities, rotations,
 //! reactions and every term of the energy ledger must agree to the bit.
 
@@ -18,10 +19,16 @@ const DIVISIONS: usize = 60;
 /// stiffness, varying point masses, every kind of constraint, a moment.
 fn lattice() -> Solver {
     let mesh = rectangle(60.0, 60.0, DIVISIONS, DIVISIONS).unwrap();
-    let mut springs = Vec::new();
+    // Edges and diagonals in two effects: their step is the combined one.
+    let (mut springs, mut diagonals) = (Vec::new(), Vec::new());
     for (e, q) in mesh.quads.iter().enumerate() {
         for (a, b) in [(0, 1), (1, 2), (0, 2)] {
-            springs.push(Spring {
+            let list = if b == 2 && a == 0 {
+                &mut diagonals
+            } else {
+                &mut springs
+            };
+            list.push(Spring {
                 a: q[a],
                 b: q[b],
                 k: 50.0 + (e % 7) as f64 * 10.0,
@@ -41,6 +48,7 @@ fn lattice() -> Solver {
     };
     let mut s = Solver::from_nodes(&mesh.nodes, sets, settings).unwrap();
     s.add_effect(Springs::new("lattice", n, springs).unwrap());
+    s.add_effect(Springs::new("diagonals", n, diagonals).unwrap());
     s.add_point_mass("all", 1e-6, 1e-6).unwrap();
     s.add_point_mass("odd", 2.5e-6, 0.5e-6).unwrap();
     s.symmetry("x0", 0).unwrap();
@@ -68,9 +76,10 @@ fn lattice() -> Solver {
 }
 
 /// Every bit the steps leave: positions, velocities, rotations, the
-/// reactions of the prescribed edge, and the ledger of every step (the
-/// last one also returned).
-fn bits_after_steps(threads: usize, steps: usize) -> (Vec<u64>, EnergyLedger) {
+/// reactions of the prescribed edge, and the ledger and next step of every
+/// step (the last ledger also returned, with the number of steps the
+/// combined nodal limit set).
+fn bits_after_steps(threads: usize, steps: usize) -> (Vec<u64>, EnergyLedger, usize) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -78,10 +87,14 @@ fn bits_after_steps(threads: usize, steps: usize) -> (Vec<u64>, EnergyLedger) {
     pool.install(|| {
         let mut s = lattice();
         let mut ledger = EnergyLedger::default();
-        let mut bits = Vec::new();
+        let (mut bits, mut combined) = (Vec::new(), 0);
         for _ in 0..steps {
-            ledger = s.step().unwrap().energy;
+            let r = s.step().unwrap();
+            ledger = r.energy;
             bits.extend(ledger_bits(&ledger).into_iter().map(|(_, b)| b));
+            bits.push(r.dt_next.to_bits());
+            bits.push(r.limit.map_or(u64::MAX, |l| l.stable.element as u64));
+            combined += r.limit.is_some_and(|l| l.combined) as usize;
         }
         let st = s.state();
         bits.extend(
@@ -91,7 +104,7 @@ fn bits_after_steps(threads: usize, steps: usize) -> (Vec<u64>, EnergyLedger) {
         );
         let (f, m) = s.reaction("pulled").unwrap();
         bits.extend(f.iter().chain(m.iter()).map(|c| c.to_bits()));
-        (bits, ledger)
+        (bits, ledger, combined)
     })
 }
 
@@ -114,8 +127,8 @@ fn ledger_bits(e: &EnergyLedger) -> Vec<(&'static str, u64)> {
 
 #[test]
 fn one_and_two_threads_step_to_the_same_bits() {
-    let (one, e1) = bits_after_steps(1, 300);
-    let (two, e2) = bits_after_steps(2, 300);
+    let (one, e1, combined) = bits_after_steps(1, 300);
+    let (two, e2, _) = bits_after_steps(2, 300);
     assert_eq!(one.len(), two.len());
     let differ = one.iter().zip(&two).filter(|(a, b)| a != b).count();
     assert_eq!(differ, 0, "{differ} values differ between 1 and 2 threads");
@@ -123,4 +136,5 @@ fn one_and_two_threads_step_to_the_same_bits() {
     // The run did something: the damping and the prescribed edge did work.
     assert!(e1.damping.abs() > 0.0 && e1.external_prescribed.abs() > 0.0);
     assert!(e1.kinetic_rotational > 0.0, "the moment turned the nodes");
+    assert_eq!(combined, 300, "the combined nodal limit set every step");
 }
