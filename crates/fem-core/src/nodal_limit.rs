@@ -175,7 +175,9 @@ mod tests {
     fn chunks_combine_to_the_single_pass() {
         let n = 40;
         let inf = f64::INFINITY;
-        let cases: [(&[(usize, f64, f64)], usize); 4] = [
+        // (node, mass, stiffness) changed from 1, 1; the node expected.
+        type Case<'a> = (&'a [(usize, f64, f64)], usize);
+        let cases: [Case<'_>; 4] = [
             (&[], 0),
             (&[(7, 0.25, 1.0), (29, 0.25, 1.0), (33, 1.0, 4.0)], 7),
             (
