@@ -15,7 +15,9 @@
 //! node's stick spring and the membrane drive each other unstable at up to
 //! `√2` times the step they tolerate together.
 
+use crate::solver::node_chunks::{NODE_CHUNK, parallel};
 use crate::{Effect, NodalState, StableDt};
+use rayon::prelude::*;
 
 /// What the combined limit reports as its cause (its `element` is a node).
 pub const COMBINED_WHAT: &str =
@@ -58,20 +60,17 @@ impl NodalLimit {
         if !self.gather(effects, state) {
             return None;
         }
-        let mut best: Option<StableDt> = None;
-        for (i, (&m, &s)) in state.mass.iter().zip(&self.stiffness).enumerate() {
-            if m > 0.0 && s > 0.0 {
-                let dt = 2.0 * (m / s).sqrt();
-                if best.is_none_or(|b| dt.is_nan() || dt < b.dt) {
-                    best = Some(StableDt {
-                        dt,
-                        element: i,
-                        what: COMBINED_WHAT,
-                    });
-                }
-            }
+        let n = state.mass.len().min(self.stiffness.len());
+        let (mass, stiffness) = (&state.mass[..n], &self.stiffness[..n]);
+        if parallel(n) {
+            mass.par_chunks(NODE_CHUNK)
+                .zip(stiffness.par_chunks(NODE_CHUNK))
+                .enumerate()
+                .map(|(c, (m, s))| smallest(m, s, c * NODE_CHUNK))
+                .reduce(|| None, pick)
+        } else {
+            smallest(mass, stiffness, 0)
         }
-        best
     }
 
     /// Fixed-step mass scaling for the combination: raise the translational
@@ -120,5 +119,107 @@ impl NodalLimit {
             }
         }
         parts.join(" + ")
+    }
+}
+
+/// The smallest combined step over nodes `start..` of masses `mass` and
+/// summed stiffness `stiffness`: the first node's of equal ones, the last
+/// NaN if any (so that it is reported).
+fn smallest(mass: &[f64], stiffness: &[f64], start: usize) -> Option<StableDt> {
+    let mut best: Option<StableDt> = None;
+    for (i, (&m, &s)) in mass.iter().zip(stiffness).enumerate() {
+        if m > 0.0 && s > 0.0 {
+            let dt = 2.0 * (m / s).sqrt();
+            if best.is_none_or(|b| dt.is_nan() || dt < b.dt) {
+                best = Some(StableDt {
+                    dt,
+                    element: start + i,
+                    what: COMBINED_WHAT,
+                });
+            }
+        }
+    }
+    best
+}
+
+/// Of two chunks' answers, the one [`smallest`] over both would give: the
+/// later node's NaN, else the smaller step, the earlier node's at a tie.
+/// It depends on the nodes alone, not on which chunk comes first, so the
+/// chunks may be combined in any order.
+fn pick(a: Option<StableDt>, b: Option<StableDt>) -> Option<StableDt> {
+    match (a, b) {
+        (Some(a), Some(b)) => {
+            let (first, last) = if a.element <= b.element {
+                (a, b)
+            } else {
+                (b, a)
+            };
+            Some(if last.dt.is_nan() || last.dt < first.dt {
+                last
+            } else {
+                first
+            })
+        }
+        (x, None) | (None, x) => x,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Chunks combined in any order give what one pass over all nodes gives:
+    /// ties (the first node), a NaN step (`∞/∞`: the last), nodes without
+    /// mass or stiffness.
+    #[test]
+    fn chunks_combine_to_the_single_pass() {
+        let n = 40;
+        let inf = f64::INFINITY;
+        // (node, mass, stiffness) changed from 1, 1; the node expected.
+        type Case<'a> = (&'a [(usize, f64, f64)], usize);
+        let cases: [Case<'_>; 4] = [
+            (&[], 0),
+            (&[(7, 0.25, 1.0), (29, 0.25, 1.0), (33, 1.0, 4.0)], 7),
+            (
+                &[
+                    (7, 0.25, 1.0),
+                    (12, inf, inf),
+                    (31, inf, inf),
+                    (35, 0.01, 1.0),
+                ],
+                31,
+            ),
+            (&[(3, 0.0, 1.0), (21, 0.5, 1.0)], 21),
+        ];
+        for (changes, expect) in cases {
+            let (mut mass, mut stiffness) = (vec![1.0; n], vec![1.0; n]);
+            mass[9] = 0.0;
+            stiffness[15] = 0.0;
+            for &(i, m, s) in changes {
+                (mass[i], stiffness[i]) = (m, s);
+            }
+            let whole = smallest(&mass, &stiffness, 0).unwrap();
+            assert_eq!(whole.element, expect);
+            for chunk in [1, 3, 8, 40] {
+                let parts: Vec<_> = mass
+                    .chunks(chunk)
+                    .zip(stiffness.chunks(chunk))
+                    .enumerate()
+                    .map(|(c, (m, s))| smallest(m, s, c * chunk))
+                    .collect();
+                for order in [false, true] {
+                    let mut it: Vec<_> = parts.clone();
+                    if order {
+                        it.reverse();
+                    }
+                    let got = it.into_iter().fold(None, pick).unwrap();
+                    assert_eq!(
+                        got.element, whole.element,
+                        "chunk {chunk}, reversed {order}"
+                    );
+                    assert_eq!(got.dt.to_bits(), whole.dt.to_bits());
+                }
+            }
+        }
     }
 }

@@ -6,7 +6,9 @@
 //! ones every document uses. With `Δt = Δt_{n+1/2}` (chosen at the end of the
 //! previous step) and `Δt̄ = (Δt_{n-1/2} + Δt_{n+1/2})/2`:
 //!
-//! 1. **Integrate** (`update_nodes`, one pass over the nodes):
+//! 1. **Integrate** (`update_nodes`: one pass over the nodes in fixed
+//!    chunks, in parallel on large models with the same bits on any number
+//!    of threads, then the constrained nodes):
 //!    `a_n = M⁻¹ f_n`; `v_{n+1/2} = [(1 − c Δt̄/2) v_{n-1/2} + Δt̄ a_n] / (1 + c Δt̄/2)`
 //!    (`c` the dynamic-relaxation damping, 0 by default; the same for `w`
 //!    with the scalar inertia); constrained DOFs overwrite their velocity
@@ -41,6 +43,7 @@ use crate::relaxation::{Relaxation, SpringbackReport};
 use crate::selective_mass::SelectiveMass;
 
 mod implicit_release;
+pub(crate) mod node_chunks;
 use crate::{
     Amplitude, BoundaryCondition, Dof, Dofs, Effect, EnergyLedger, EnergyTally, FemError, Forces,
     MassScaling, Mesh, MotionKind, NodalField, NodalLoad, NodalState, Press, SelectiveStats,
@@ -320,6 +323,17 @@ impl FreeSums {
         }
     }
 
+    /// Add another chunk's sums to these (term by term).
+    #[inline]
+    fn merge(&mut self, o: &FreeSums) {
+        for r in 0..2 {
+            self.product[r] += o.product[r];
+            self.sum2[r] += o.sum2[r];
+        }
+        self.damp_cur += o.damp_cur;
+        self.damp_pend += o.damp_pend;
+    }
+
     /// Add the free sums to `sums`: ½ m vo·vn, ⅛ m |vo+vn|², and the damping
     /// work halves ½ Δt̄ D·v with Δt̄ D = −½ c m Δt̄ (vo + vn).
     #[inline(always)]
@@ -405,6 +419,8 @@ pub struct Solver {
     forces: Forces,
     v_old: Vec<Vec3>,
     w_old: Vec<Vec3>,
+    /// Each node chunk's energy sums of the last update (see `node_chunks`).
+    chunk_sums: Vec<FreeSums>,
     scratch_mass: Vec<f64>,
     scratch_inertia: Vec<f64>,
     /// The effects' stiffness summed per node (the combined step limit).
@@ -500,6 +516,7 @@ impl Solver {
             forces: Forces::zeros(n),
             v_old: vec![Vec3::zeros(); n],
             w_old: vec![Vec3::zeros(); n],
+            chunk_sums: vec![FreeSums::default(); node_chunks::chunks(n)],
             scratch_mass: vec![0.0; n],
             scratch_inertia: vec![0.0; n],
             nodal: NodalLimit::new(n),
@@ -1255,7 +1272,7 @@ impl Solver {
     /// Zero the accumulators, add the loads at `time` and every effect's forces.
     fn compute_forces(&mut self, time: f64, dt: f64, step: u64) -> Result<(), FemError> {
         let started = Instant::now();
-        self.forces.clear();
+        node_chunks::zero_forces(&mut self.forces);
         self.eval_amplitudes(time);
         for l in &self.loads {
             let p = l.value * self.amp_values[l.amplitude as usize];
@@ -1286,14 +1303,7 @@ impl Solver {
         }
         self.tally = tally;
         self.gather_tool_loads();
-        let sum: f64 = self
-            .forces
-            .f
-            .iter()
-            .zip(&self.forces.m)
-            .map(|(f, m)| f.x + f.y + f.z + m.x + m.y + m.z)
-            .sum();
-        if !sum.is_finite() {
+        if !node_chunks::forces_finite(&self.forces) {
             let bad = |v: &Vec3| !(v.x.is_finite() && v.y.is_finite() && v.z.is_finite());
             if let Some(i) = self.forces.f.iter().position(bad) {
                 return Err(FemError::NonFiniteState {
@@ -1519,10 +1529,22 @@ impl Solver {
 
     /// Advance one step `t_n → t_{n+1}` (initializing first if needed).
     /// Its wall-clock time goes to [`Solver::timing`].
+    ///
+    /// With more than one rayon thread, a step called from outside rayon's
+    /// pool runs on it, handed over once: the parallel parts inside (the
+    /// elements, the contact pairs, the nodes) then split their work among
+    /// the pool's threads without each handing it over and waiting on its
+    /// own. A caller stepping many times saves even that by calling from
+    /// inside the pool (`rayon::scope`, as `formsim run` does).
     pub fn step(&mut self) -> Result<StepReport, FemError> {
         self.initialize()?;
         let started = Instant::now();
-        let report = self.advance(started);
+        let report = if rayon::current_num_threads() > 1 && rayon::current_thread_index().is_none()
+        {
+            rayon::scope(|_| self.advance(started))
+        } else {
+            self.advance(started)
+        };
         self.timing.total += started.elapsed().as_secs_f64();
         report
     }
@@ -1616,20 +1638,21 @@ impl Solver {
         }
     }
 
-    /// Steps 1.–2. and 4., fused in one pass over the nodes: free update of
-    /// every DOF, constraints (sorted by node) overwrite theirs, positions;
-    /// returns the step's energy sums.
+    /// Step 1.: the free update of every DOF and the positions of the
+    /// unconstrained nodes in one pass over the nodes (in fixed chunks, in
+    /// parallel on large models: `node_chunks`), then the constrained nodes
+    /// (constraints sorted by node) overwrite their DOFs and move; returns
+    /// the step's energy sums (the same bits on any number of threads).
     #[inline(always)]
     fn update_nodes(&mut self, k: StepConstants) -> Sums {
-        // Hot accumulators as locals (kept in registers); the constrained
-        // nodes' corrections go to `sums` on the cold path.
-        let mut free = FreeSums::default();
+        // The constrained nodes' corrections go to `sums` on the cold path.
         let mut sums = Sums::default();
         let Self {
             state: st,
             forces,
             v_old,
             w_old,
+            chunk_sums,
             constraints,
             reactions,
             constrained,
@@ -1637,59 +1660,35 @@ impl Solver {
             amplitudes,
             ..
         } = self;
-        let n = st.x.len();
-        let NodalState {
-            x: xs,
-            v: vs,
-            w: ws,
-            mass: ms,
-            inertia: js,
-            ..
-        } = st;
-        let (xs, vs, ws) = (&mut xs[..n], &mut vs[..n], &mut ws[..n]);
-        let (ms, js, cm) = (&ms[..n], &js[..n], &constrained[..n]);
-        let (fs, mts) = (&forces.f[..n], &forces.m[..n]);
-        let (vos, wos) = (&mut v_old[..n], &mut w_old[..n]);
+        let free =
+            node_chunks::free_update(st, forces, (v_old, w_old), constrained, chunk_sums, &k);
         let mut kc = 0;
-        for i in 0..n {
-            let m = ms[i];
-            let vo = vs[i];
-            vos[i] = vo;
-            if m > 0.0 {
-                free.update(0, m, &mut vs[i], vo, &fs[i], &k);
-            }
-            let j = js[i];
-            let wo = ws[i];
-            wos[i] = wo;
-            if j > 0.0 {
-                free.update(1, j, &mut ws[i], wo, &mts[i], &k);
-            }
-            if cm[i] != 0 {
-                let node = Node {
-                    m,
-                    j,
-                    vo,
-                    wo,
-                    f: fs[i],
-                    mt: mts[i],
-                };
-                let times = (k.t_half, k.t_next, k.dt, k.c, k.hb);
-                kc = apply_constraints(
-                    i,
-                    kc,
-                    &node,
-                    &mut vs[i],
-                    &mut ws[i],
-                    constraints,
-                    reactions,
-                    motions,
-                    amplitudes,
-                    times,
-                    &mut sums,
-                );
-            }
-            let v = vs[i];
-            let x = &mut xs[i];
+        while let Some(con) = constraints.get(kc) {
+            let i = con.node as usize;
+            let node = Node {
+                m: st.mass[i],
+                j: st.inertia[i],
+                vo: v_old[i],
+                wo: w_old[i],
+                f: forces.f[i],
+                mt: forces.m[i],
+            };
+            let times = (k.t_half, k.t_next, k.dt, k.c, k.hb);
+            kc = apply_constraints(
+                i,
+                kc,
+                &node,
+                &mut st.v[i],
+                &mut st.w[i],
+                constraints,
+                reactions,
+                motions,
+                amplitudes,
+                times,
+                &mut sums,
+            );
+            let v = st.v[i];
+            let x = &mut st.x[i];
             x.x += v.x * k.dt;
             x.y += v.y * k.dt;
             x.z += v.z * k.dt;
