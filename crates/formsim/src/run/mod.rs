@@ -203,13 +203,7 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         Progress::Bar(b) => Some(b.clone()),
     };
     let started = Instant::now();
-    // The whole loop runs on rayon's pool, handed over once rather than at
-    // every step (`Solver::step`).
-    let stop = if rayon::current_num_threads() > 1 && rayon::current_thread_index().is_none() {
-        rayon::scope(|_| step_loop(&mut model, &mut rec, bar.as_ref()))
-    } else {
-        step_loop(&mut model, &mut rec, bar.as_ref())
-    };
+    let stop = step_loop(&mut model, &mut rec, bar.as_ref());
     match (&options.progress, &bar) {
         (Progress::Bar(b), _) => {
             b.finish_with_message(if stop.is_some() { "stopped" } else { "done" })

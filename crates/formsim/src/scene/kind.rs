@@ -90,8 +90,8 @@ pub fn needs_nothing_else(_: &LoadedScene, _: &CheckTable) -> Result<(), SceneEr
 inventory::collect!(ReferenceCheck);
 
 /// What a reference check samples during a run, and the figures it makes of
-/// it (`Send + Sync`: the run loop samples on rayon's pool).
-pub trait Sampler: Send + Sync {
+/// it.
+pub trait Sampler {
     /// Sample `model` as it is now (called once before the first step and
     /// after every step).
     ///

@@ -203,7 +203,7 @@ impl PullMean {
 pub(crate) struct PullOnly {
     pull: PullMean,
     divisor: f64,
-    analytic: Box<dyn Fn(f64) -> f64 + Send + Sync>,
+    analytic: Box<dyn Fn(f64) -> f64>,
 }
 
 impl PullOnly {
@@ -211,7 +211,7 @@ impl PullOnly {
     pub(crate) fn boxed(
         end: &PulledEnd<'_>,
         divisor: f64,
-        analytic: impl Fn(f64) -> f64 + Send + Sync + 'static,
+        analytic: impl Fn(f64) -> f64 + 'static,
     ) -> Box<dyn Sampler> {
         Box::new(Self {
             pull: PullMean::new(end),
