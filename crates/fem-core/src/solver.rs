@@ -1214,8 +1214,17 @@ impl Solver {
                 self.state.v[i][a] = 0.0;
             }
         }
-        self.constraints.sort_by_key(|c| (c.node, c.dof));
-        self.reactions.resize(self.constraints.len(), 0.0);
+        // Sort the constraints with their reactions (the new ones at 0).
+        let reactions = self.reactions.iter().copied().chain(std::iter::repeat(0.0));
+        let mut paired: Vec<(Constraint, f64)> =
+            self.constraints.iter().copied().zip(reactions).collect();
+        paired.sort_by_key(|(c, _)| (c.node, c.dof));
+        (self.constraints, self.reactions) = paired.into_iter().unzip();
+        if let Some(s) = &mut self.selective {
+            for c in &self.constraints {
+                s.hold(c.node as usize, c.dof);
+            }
+        }
         self.relaxation = Some(Relaxation::new(
             tolerance,
             self.time,
