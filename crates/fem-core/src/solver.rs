@@ -138,16 +138,20 @@ pub struct StepTiming {
     pub time_step: f64,
     /// Stage 1's mass solve of selective mass scaling (s; part of `integration`).
     pub selective_mass: f64,
+    /// Handing a step called from outside rayon's pool back to its caller
+    /// (s); the hand-over into the pool is part of `integration`.
+    pub handover: f64,
     /// Each effect's [`Effect::add_forces`], by effect index (order of
     /// addition, see [`Solver::effect_name`]) (s).
     pub effects: Vec<f64>,
 }
 
 impl StepTiming {
-    /// The engine's own seconds: `integration + assembly + time_step`
-    /// (everything of the step but the press and the effects' forces).
+    /// The engine's own seconds: `integration + assembly + time_step +
+    /// handover` (everything of the step but the press and the effects'
+    /// forces).
     pub fn engine(&self) -> f64 {
-        self.integration + self.assembly + self.time_step
+        self.integration + self.assembly + self.time_step + self.handover
     }
 
     /// Zero every sum (no allocation).
@@ -158,6 +162,7 @@ impl StepTiming {
         self.assembly = 0.0;
         self.time_step = 0.0;
         self.selective_mass = 0.0;
+        self.handover = 0.0;
         self.effects.iter_mut().for_each(|s| *s = 0.0);
     }
 }
@@ -1550,7 +1555,10 @@ impl Solver {
         let started = Instant::now();
         let report = if rayon::current_num_threads() > 1 && rayon::current_thread_index().is_none()
         {
-            rayon::scope(|_| self.advance(started))
+            let (report, done) = rayon::scope(|_| (self.advance(started), Instant::now()));
+            // The hand-back from the pool (the hand-over in is in stage 1).
+            self.timing.handover += done.elapsed().as_secs_f64();
+            report
         } else {
             self.advance(started)
         };

@@ -564,6 +564,28 @@ fn plots_png(out: &Path, result: &RunResult, model: &Model) -> Result<(), Output
 mod tests {
     use super::*;
 
+    /// A section with a non-finite value is refused with the file and the
+    /// quantity named, and no file is written (a stopped run then lists it
+    /// in `summary.json` `not_written`).
+    #[test]
+    fn a_section_holding_a_nan_is_not_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("OD.csv");
+        let row = |t: f64| crate::run::post::SectionRow {
+            distance: 1.0,
+            major: 0.1,
+            minor: -0.1,
+            thickness_strain: t,
+            thinning: 0.0,
+        };
+        let e = section_csv(&path, &[row(0.0), row(f64::NAN)]).unwrap_err();
+        assert!(matches!(e, OutputError::Invalid { .. }), "{e}");
+        assert!(e.to_string().contains("thickness_strain"), "{e}");
+        assert!(!path.exists());
+        section_csv(&path, &[row(0.0)]).unwrap();
+        assert!(path.exists());
+    }
+
     /// A plot that cannot be drawn is reported with its file named once.
     #[test]
     fn a_failed_plot_names_its_file_once() {
