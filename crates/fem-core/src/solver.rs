@@ -1102,6 +1102,29 @@ impl Solver {
         }
     }
 
+    /// The selective part when it has blocks (`None` otherwise).
+    fn active_selective(&self) -> Option<&SelectiveMass> {
+        self.selective.as_ref().filter(|s| s.is_active())
+    }
+
+    /// Stage 1 with selective mass scaling: the mass solve, and its inertia
+    /// force `ΔM a` taken off the forces and moments (timed).
+    fn subtract_added_inertia(&mut self) {
+        if self.active_selective().is_none() {
+            return;
+        }
+        let mark = Instant::now();
+        self.solve_selective();
+        if let Some(s) = &self.selective {
+            let fm = self.forces.f.iter_mut().zip(self.forces.m.iter_mut());
+            for ((f, m), g) in fm.zip(&s.g) {
+                *f -= g.t;
+                *m -= g.r;
+            }
+        }
+        self.timing.selective_mass += mark.elapsed().as_secs_f64();
+    }
+
     /// What selective mass scaling did so far (`None` when the run does not
     /// scale selectively).
     pub fn selective_stats(&self) -> Option<SelectiveStats> {
@@ -1509,7 +1532,7 @@ impl Solver {
                 pend += m.dot(&st.w[i]);
             }
         }
-        if let Some(s) = self.selective.as_ref().filter(|s| s.is_active()) {
+        if let Some(s) = self.active_selective() {
             // The force array holds f − ΔM a: the inertia force is booked
             // with the ledger's rule, like the loads, so it is put back.
             for (i, g) in s.g.iter().enumerate() {
@@ -1574,18 +1597,7 @@ impl Solver {
 
         // 1. Integrate: velocities, constraints and positions, one pass (with
         // selective mass scaling, on the force f − ΔM a).
-        if self.selective.as_ref().is_some_and(|s| s.is_active()) {
-            let mark = Instant::now();
-            self.solve_selective();
-            if let Some(s) = &self.selective {
-                let fm = self.forces.f.iter_mut().zip(self.forces.m.iter_mut());
-                for ((f, m), g) in fm.zip(&s.g) {
-                    *f -= g.t;
-                    *m -= g.r;
-                }
-            }
-            self.timing.selective_mass += mark.elapsed().as_secs_f64();
-        }
+        self.subtract_added_inertia();
         let sums = self.update_nodes(k);
         // 2. Ledger: the energies at t_n.
         let ledger = self.book_energy(first, k, sums);
@@ -1772,7 +1784,7 @@ impl Solver {
     /// the step, by the loads' rule (zero without selective scaling).
     #[inline]
     fn added_inertia_halves(&self, hb: f64) -> (f64, f64) {
-        let Some(s) = self.selective.as_ref().filter(|s| s.is_active()) else {
+        let Some(s) = self.active_selective() else {
             return (0.0, 0.0);
         };
         let (mut cur, mut pend) = (0.0, 0.0);

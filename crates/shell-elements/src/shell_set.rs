@@ -86,9 +86,6 @@ pub struct ShellSet<E: ShellFormulation, M: Material> {
     /// Per element `1 + β_e`: selective mass scaling's factor on the
     /// inertia of its deformation modes (1 without).
     selective_scale: Vec<f64>,
-    /// Per element, the product `density_scale × selective_scale` that
-    /// divides its frequencies (its step grows with the square root).
-    dt_scale: Vec<f64>,
     /// Results of the elements after the last whole block (`len % 4` of them).
     results: Vec<ElementResult>,
     /// Results of the blocks of four (element `4b + l` in lane `l` of entry `b`).
@@ -358,7 +355,6 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             drilling_energy: 0.0,
             density_scale: vec![1.0; ne],
             selective_scale: vec![1.0; ne],
-            dt_scale: vec![1.0; ne],
             results: vec![ElementResult::default(); ne % 4],
             results_x4: vec![ElementResult::default(); ne / 4],
             max_node: quads
@@ -744,7 +740,8 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             },
             energy: [0.0; 4],
         };
-        let (ds, c) = (&self.dt_scale, self.wave_speed);
+        let c = self.wave_speed;
+        let (ds, ss) = (&self.density_scale, &self.selective_scale);
         let ([thickness, top, bottom, area], [normal]) =
             fields.write_each(WRITES_SCALAR, [NodalField::NORMAL]);
         let mut frames = NodalFrames::new(area, normal);
@@ -760,9 +757,16 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
                     r.d_plastic.0[l],
                     r.d_drilling.0[l],
                 ];
-                let ok = acc.element(forces, e, &qs[l], r.length.0[l], ds[e], c, en, |k, i| {
-                    (r.f[k][i].0[l], r.m[k][i].0[l])
-                });
+                let ok = acc.element(
+                    forces,
+                    e,
+                    &qs[l],
+                    r.length.0[l],
+                    ds[e] * ss[e],
+                    c,
+                    en,
+                    |k, i| (r.f[k][i].0[l], r.m[k][i].0[l]),
+                );
                 if !ok {
                     bad = Some((e, r.length.0[l]));
                     break 'blocks;
@@ -777,7 +781,7 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
             for (j, (q, r)) in conn_r.iter().zip(&self.results).enumerate() {
                 let e = 4 * nb + j;
                 let en = [r.d_internal, r.d_hourglass, r.d_plastic, r.d_drilling];
-                if !acc.element(forces, e, q, r.length, ds[e], c, en, |k, i| {
+                if !acc.element(forces, e, q, r.length, ds[e] * ss[e], c, en, |k, i| {
                     (r.f[k][i], r.m[k][i])
                 }) {
                     bad = Some((e, r.length));
@@ -867,8 +871,14 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
         }
     }
 
+    /// The factor that divides element `e`'s squared frequencies: its
+    /// conventional density scale times its selective factor `1 + β_e`.
+    fn dt_scale(&self, e: usize) -> f64 {
+        self.density_scale[e] * self.selective_scale[e]
+    }
+
     fn element_dt(&self, e: usize, length: f64) -> f64 {
-        length * self.dt_scale[e].sqrt() / self.wave_speed
+        length * self.dt_scale(e).sqrt() / self.wave_speed
     }
 
     fn dt_from_state(&self, state: &NodalState) -> Option<StableDt> {
@@ -1015,7 +1025,7 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             }
             let dt1 = fr.char_length() / self.wave_speed; // at physical density
             let need = (target_dt / dt1).powi(2);
-            if need > self.dt_scale[e] {
+            if need > self.dt_scale(e) {
                 let t = self.thickness[e];
                 let scale = need / self.selective_scale[e];
                 let dm = 0.25 * rho * fr.area * t * (scale - self.density_scale[e]);
@@ -1026,7 +1036,6 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
                 }
                 added += 4.0 * dm;
                 self.density_scale[e] = scale;
-                self.dt_scale[e] = need;
             }
         }
         self.cached_dt = None;
@@ -1053,9 +1062,8 @@ impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
             if fr.area > 0.0 {
                 let dt1 = fr.char_length() / self.wave_speed; // at physical density
                 let need = (target_dt / dt1).powi(2);
-                if need > self.dt_scale[e] {
+                if need > self.dt_scale(e) {
                     self.selective_scale[e] = need / self.density_scale[e];
-                    self.dt_scale[e] = need;
                 }
             }
             if self.selective_scale[e] > 1.0 {
