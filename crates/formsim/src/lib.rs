@@ -12,6 +12,7 @@
 pub mod compare;
 pub mod components;
 mod csv_records;
+pub mod formability;
 pub mod history;
 pub mod identify;
 pub mod output;

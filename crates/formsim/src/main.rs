@@ -873,6 +873,17 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
             sel.added_mass
         );
     }
+    if let Some(f) = &model.formability {
+        let c = f.summary();
+        say!(
+            "  formability {} curve ({} strain), plane-strain limit {:.4}, margin {}, stretched from {}",
+            c.kind,
+            c.measure,
+            c.plane_strain_limit,
+            c.margin,
+            c.insufficient_stretch
+        );
+    }
     if resolved {
         say!("  settings    (every key as resolved; also summary.json's `settings`)");
         for line in formsim::scene::resolved::dotted_lines(s)? {
@@ -940,9 +951,14 @@ fn run(args: &RunArgs) -> Outcome {
     };
     say!("{}", text.trim_end());
     say!(
-        "  results ({:.2} s to write): {}/summary.json, sections/, energy.csv, punch_force.csv, tools.csv, blank.pvd (ParaView), plots/*.png",
+        "  results ({:.2} s to write): {}/summary.json, sections/, energy.csv, punch_force.csv, tools.csv{}, blank.pvd (ParaView), plots/*.png",
         result.write_s,
-        out.display()
+        out.display(),
+        if s.formability.is_some() {
+            ", fld.csv"
+        } else {
+            ""
+        }
     );
     Ok(ExitCode::SUCCESS)
 }

@@ -715,3 +715,92 @@ fn selective_mass_scaling_keys_are_checked() {
     assert_eq!(code, Some(0), "{err}");
     assert!(out.contains("mass scaling"), "{out}");
 }
+
+/// `[formability]`'s keys and curve files are checked when the scene is
+/// read, each in one line naming the key; `scene check` prints the curve.
+#[test]
+fn formability_keys_and_curve_files_are_checked() {
+    let cup = cup();
+    let refused = |sets: &[&str], want: &str| {
+        let (code, _, err, _) = check_cli(&cup, sets);
+        assert_eq!(code, Some(1), "{sets:?}: {err}");
+        assert!(err.contains(want), "{sets:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    };
+    refused(
+        &["formability.margin=1.5"],
+        "formability.margin: 1.5: must be a strain in [0, 1)",
+    );
+    refused(
+        &["formability.curve=\"table\""],
+        "formability.file: required with curve = \"table\"",
+    );
+    refused(
+        &["formability.measure=\"true\""],
+        "formability.measure: only with curve = \"table\"",
+    );
+    refused(
+        &["blank.material.hardening={kind=\"perfect\", sigma_y=200.0}"],
+        "formability.n: required: Keeler–Brazier needs the hardening exponent",
+    );
+    let dir = std::env::temp_dir().join(format!("formsim-flc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.display().to_string()
+    };
+    let missing = dir.join("absent.csv").display().to_string();
+    refused(
+        &[
+            "formability.curve=\"table\"",
+            "formability.measure=\"true\"",
+            &format!("formability.file=\"{missing}\""),
+        ],
+        "formability.file: ",
+    );
+    let bad = write("bad.csv", "minor,major\n-0.2,0.4\n0.0,0.3\n-0.1,0.35\n");
+    refused(
+        &[
+            "formability.curve=\"table\"",
+            "formability.measure=\"true\"",
+            &format!("formability.file=\"{bad}\""),
+        ],
+        "row 3: minor strain -0.1 must be larger than the row before's 0",
+    );
+    let words = write("words.csv", "minor,major\n-0.2,0.4\n0.0,zero\n");
+    refused(
+        &[
+            "formability.curve=\"table\"",
+            "formability.measure=\"true\"",
+            &format!("formability.file=\"{words}\""),
+        ],
+        "line 3: `0.0,zero` is not two numbers",
+    );
+    let good = write(
+        "good.csv",
+        "# measured\nminor,major\n-0.2,0.45\n0.0,0.28\n0.2,0.38\n",
+    );
+    let (code, out, err, _) = check_cli(
+        &cup,
+        &[
+            "formability.curve=\"table\"",
+            "formability.measure=\"true\"",
+            &format!("formability.file=\"{good}\""),
+        ],
+    );
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        out.contains("formability table curve (true strain), plane-strain limit 0.2800"),
+        "{out}"
+    );
+    let (code, out, err, _) = check_cli(&cup, &[]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        out.contains(
+            "formability keeler-brazier curve (engineering strain), plane-strain limit 0.3432"
+        ),
+        "{out}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -3,6 +3,7 @@
 //! allocates; it is not part of the time-step loop).
 
 use super::tools_report::{self, ToolSummary};
+use crate::formability::FormabilityState;
 use crate::scene::schema::{DrawIn, SectionLine};
 use crate::scene::{LoadedScene, Model, SceneError};
 use fem_core::Mesh;
@@ -134,6 +135,9 @@ pub struct Snapshot {
     /// Section curves (written as CSV, not into the summary).
     #[serde(skip)]
     pub curves: BTreeMap<String, Vec<SectionRow>>,
+    /// The forming limit diagram, when the scene has `[formability]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub formability: Option<FormabilityState>,
 }
 
 /// What post-processing needs, prepared once.
@@ -226,6 +230,7 @@ impl Post {
             sections,
             draw_in,
             curves,
+            formability: model.formability.as_ref().map(|f| f.evaluate(model)),
         }
     }
 }

@@ -4,6 +4,7 @@ use super::post::{SectionSummary, Snapshot};
 use super::reference_checks::{ReferenceCheck, Sampler};
 use super::tools_report::{self, PairSummary, ToolSummary};
 use super::warnings::{self, Figures};
+use crate::formability::{FormabilityReport, FormabilityState};
 use crate::scene::schema::Regime;
 use crate::scene::{LoadedScene, Model};
 use fem_core::SetupReport;
@@ -52,6 +53,9 @@ pub struct StateSummary {
     pub friction_to_internal: f64,
     /// What each tool did up to this state (the current press step so far).
     pub tools: BTreeMap<String, ToolSummary>,
+    /// The forming limit diagram at this state (with `[formability]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub formability: Option<FormabilityState>,
 }
 
 impl From<&Snapshot> for StateSummary {
@@ -65,6 +69,7 @@ impl From<&Snapshot> for StateSummary {
             friction_energy_share: friction_energy_share(&s.energy),
             friction_to_internal: friction_to_internal(&s.energy),
             tools: s.tools.clone(),
+            formability: s.formability.clone(),
         }
     }
 }
@@ -195,6 +200,9 @@ pub struct Summary {
     /// The shape measures of each `[[output.profiles]]` line.
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub profiles: BTreeMap<String, super::profile::ProfileSummary>,
+    /// The forming limit diagram at the end (with `[formability]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub formability: Option<FormabilityReport>,
     /// How the run ended: `completed`, `failed` or `interrupted`.
     pub status: super::Status,
     /// Why a run that did not complete stopped, one line (the first
@@ -389,6 +397,15 @@ impl Summary {
             springback,
             selective_mass,
             profiles,
+            formability: i
+                .model
+                .formability
+                .as_ref()
+                .zip(i.last.formability.as_ref())
+                .map(|(f, end)| FormabilityReport {
+                    curve: f.summary(),
+                    end: end.clone(),
+                }),
             status: i.stop.map_or(super::Status::Completed, |s| s.status),
             cause: i.stop.map(|s| s.cause.clone()),
         }

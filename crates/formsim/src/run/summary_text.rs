@@ -58,6 +58,24 @@ impl fmt::Display for Summary {
         for line in delivered_lines(&s.tools) {
             writeln!(f, "  {line}")?;
         }
+        if let Some(fld) = &s.formability {
+            let z = |k: &str| fld.end.zones.get(k).copied().unwrap_or(0);
+            let w = &fld.end.worst;
+            writeln!(
+                f,
+                "  formability: {} failure, {} marginal, {} safe elements; smallest margin {:.4} ({} strain) at element {} ({:.1}, {:.1}): major {:.4}, minor {:.4}",
+                z("failure"),
+                z("marginal"),
+                z("safe"),
+                fld.end.margin_min,
+                fld.curve.measure,
+                w.element,
+                w.at[0],
+                w.at[1],
+                w.major,
+                w.minor
+            )?;
+        }
         if let Some(b) = &s.springback {
             writeln!(
                 f,

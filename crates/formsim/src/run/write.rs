@@ -4,6 +4,7 @@
 use super::post::{SectionRow, Snapshot};
 use super::summary::stroke_key;
 use super::{RunResult, Status};
+use crate::formability::FormabilityState;
 use crate::output::OutputError;
 use crate::output::csv_text::CsvText;
 use crate::output::vtk::{BlankFrame, FieldData, write_pvd, write_vtu};
@@ -94,7 +95,14 @@ pub fn frame(path: &Path, model: &Model, time: f64, stroke: f64) -> Result<(), O
     if let Some(d) = &springback {
         point_fields.push(("springback_displacement", FieldData::Vector(d)));
     }
-    let cell_fields = [
+    let (mut zone, mut margin) = (Vec::new(), Vec::new());
+    if let Some(f) = &model.formability {
+        for p in f.evaluate(model).points {
+            zone.push(f64::from(p.zone.code()));
+            margin.push(p.margin);
+        }
+    }
+    let mut cell_fields = vec![
         ("thickness", FieldData::Scalar(&thickness)),
         ("thinning", FieldData::Scalar(&thinning)),
         ("major_strain", FieldData::Scalar(&major)),
@@ -103,6 +111,10 @@ pub fn frame(path: &Path, model: &Model, time: f64, stroke: f64) -> Result<(), O
         ("von_mises_max", FieldData::Scalar(&mises)),
         ("plastic_strain_max", FieldData::Scalar(&peeq)),
     ];
+    if model.formability.is_some() {
+        cell_fields.push(("fld_zone", FieldData::Scalar(&zone)));
+        cell_fields.push(("fld_margin", FieldData::Scalar(&margin)));
+    }
     write_vtu(
         path,
         &BlankFrame {
@@ -201,6 +213,14 @@ pub fn all(
         }
     }
 
+    // The forming limit diagram at the end.
+    if let Some(fld) = &result.last.formability {
+        match fld_csv(&out.join("fld.csv"), fld) {
+            Err(OutputError::Invalid { .. }) if stopped => not_written.push("fld.csv".into()),
+            other => other?,
+        }
+    }
+
     // summary.json
     let path = out.join("summary.json");
     let invalid = |e: serde_json::Error| OutputError::Invalid {
@@ -245,6 +265,28 @@ pub fn all(
         }
         other => other,
     }
+}
+
+/// `fld.csv`: every element's point on the forming limit diagram.
+fn fld_csv(path: &Path, fld: &FormabilityState) -> Result<(), OutputError> {
+    let io = |e| OutputError::io(path, e);
+    let mut csv = CsvText::new();
+    csv.record(["element", "major", "minor", "zone", "margin"])
+        .map_err(io)?;
+    for (e, p) in fld.points.iter().enumerate() {
+        for (what, v) in [("major", p.major), ("minor", p.minor), ("margin", p.margin)] {
+            finite(path, &format!("element {e}'s {what}"), v)?;
+        }
+        csv.record([
+            e.to_string(),
+            p.major.to_string(),
+            p.minor.to_string(),
+            p.zone.name().to_string(),
+            p.margin.to_string(),
+        ])
+        .map_err(io)?;
+    }
+    csv.write_to(path).map_err(io)
 }
 
 /// `at.k`, or `k` at the top.
@@ -543,6 +585,22 @@ fn plots_png(out: &Path, result: &RunResult, model: &Model) -> Result<(), Output
     let thinning: Vec<f64> = (0..shells.len())
         .map(|e| 100.0 * (t0 - shells.thickness(e)) / t0)
         .collect();
+    if let (Some(f), Some(fld)) = (&model.formability, &result.last.formability) {
+        let path = plots.join("fld.png");
+        crate::formability::plot::draw(
+            &path,
+            f,
+            &fld.points,
+            &titled(
+                &format!(
+                    "Forming limit diagram at stroke {:.1} mm",
+                    result.last.stroke
+                ),
+                result,
+            ),
+        )
+        .map_err(plot_err(&path))?;
+    }
     crate::output::field_plots::element_map_png(
         &plots.join("thinning.png"),
         &titled(

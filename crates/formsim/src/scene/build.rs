@@ -54,6 +54,8 @@ pub struct Model {
     /// The file's node and element numbers, when the blank mesh was read
     /// from a file (messages name nodes and elements by them).
     pub file_ids: Option<super::blank_mesh::FileIds>,
+    /// The forming limit curve and zones of `[formability]`, if any.
+    pub formability: Option<crate::formability::Formability>,
 }
 
 impl std::fmt::Debug for Model {
@@ -224,6 +226,7 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     };
     add_boundary_and_loads(loaded, &mut solver, &mesh)?;
     let stroke = stroke_tool(loaded, &tool_names)?;
+    let formability = crate::formability::Formability::from_scene(loaded)?;
     Ok(Model {
         solver,
         shells,
@@ -236,6 +239,7 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
         law,
         formulation,
         file_ids,
+        formability,
     })
 }
 

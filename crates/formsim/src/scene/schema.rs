@@ -37,6 +37,10 @@ pub struct Scene {
     /// `[output]`: what to write.
     #[serde(default)]
     pub output: Output,
+    /// `[formability]`: the forming limit curve the run's strains are
+    /// read against (none without the table).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub formability: Option<crate::formability::settings::FormabilitySection>,
 }
 
 /// `[scene]`.

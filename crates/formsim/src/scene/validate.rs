@@ -32,6 +32,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
     solver(loaded)?;
     boundary_and_loads(loaded)?;
     outputs(loaded)?;
+    crate::formability::Formability::from_scene(loaded)?;
     guards(loaded)
 }
 
