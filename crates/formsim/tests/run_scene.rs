@@ -240,9 +240,43 @@ fn square_cup_coarse_writes_every_output() {
         "thinning",
         "major_strain",
         "von_mises_max",
+        "fld_zone",
+        "fld_margin",
     ] {
         assert!(text.contains(field), "frame lacks {field}");
     }
+    // Formability: fld.csv holds every element, its counts per zone are the
+    // summary's, its smallest margin the summary's; each report stroke has
+    // its own diagram; the plot is drawn.
+    let fld = &json["formability"];
+    assert_eq!(fld["curve"]["kind"], "keeler-brazier");
+    let csv = std::fs::read_to_string(out.join("fld.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 100);
+    let zones = fld["zones"].as_object().unwrap();
+    let counted: u64 = zones.values().map(|v| v.as_u64().unwrap()).sum();
+    assert_eq!(counted, 100);
+    for (zone, n) in zones {
+        let in_csv = rows.iter().filter(|r| r[3] == zone).count() as u64;
+        assert_eq!(in_csv, n.as_u64().unwrap(), "{zone}");
+    }
+    let least = rows
+        .iter()
+        .map(|r| r[4].parse::<f64>().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(least, fld["margin_min"].as_f64().unwrap());
+    for s in ["2", "5"] {
+        assert!(
+            json["states"][s]["formability"]["margin_min"]
+                .as_f64()
+                .is_some()
+        );
+    }
+    assert!(out.join("plots/fld.png").is_file());
     // What each tool and pair did: the holder's per-step forces,
     // the pairs' dissipation, the resolved settings, tools.csv.
     let holder = &json["tools"]["blankholder"]["steps"]["draw"];
