@@ -270,11 +270,16 @@ fn square_cup_coarse_writes_every_output() {
         .fold(f64::INFINITY, f64::min);
     assert_eq!(least, fld["margin_min"].as_f64().unwrap());
     for s in ["2", "5"] {
-        assert!(
-            json["states"][s]["formability"]["margin_min"]
-                .as_f64()
-                .is_some()
-        );
+        let least = json["states"][s]["formability"]["margin_min"]
+            .as_f64()
+            .unwrap();
+        let csv = std::fs::read_to_string(out.join(format!("fld_stroke{s}.csv"))).unwrap();
+        let in_csv = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.rsplit(',').next().unwrap().parse::<f64>().unwrap())
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(least, in_csv, "stroke {s}");
     }
     assert!(out.join("plots/fld.png").is_file());
     // What each tool and pair did: the holder's per-step forces,

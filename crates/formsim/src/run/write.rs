@@ -213,11 +213,20 @@ pub fn all(
         }
     }
 
-    // The forming limit diagram at the end.
-    if let Some(fld) = &result.last.formability {
-        match fld_csv(&out.join("fld.csv"), fld) {
-            Err(OutputError::Invalid { .. }) if stopped => not_written.push("fld.csv".into()),
-            other => other?,
+    // The forming limit diagram at the end and at each report stroke.
+    let fld_states = std::iter::once((String::new(), &result.last)).chain(
+        result
+            .states
+            .iter()
+            .map(|(r, snap)| (format!("_stroke{}", stroke_key(*r)), snap)),
+    );
+    for (suffix, snap) in fld_states {
+        if let Some(fld) = &snap.formability {
+            let name = format!("fld{suffix}.csv");
+            match fld_csv(&out.join(&name), fld) {
+                Err(OutputError::Invalid { .. }) if stopped => not_written.push(name),
+                other => other?,
+            }
         }
     }
 
