@@ -282,6 +282,7 @@ fn square_cup_coarse_writes_every_output() {
         assert_eq!(least, in_csv, "stroke {s}");
     }
     assert!(out.join("plots/fld.png").is_file());
+    assert!(out.join("plots/fld_margin.png").is_file());
     // What each tool and pair did: the holder's per-step forces,
     // the pairs' dissipation, the resolved settings, tools.csv.
     let holder = &json["tools"]["blankholder"]["steps"]["draw"];

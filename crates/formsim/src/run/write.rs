@@ -609,6 +609,21 @@ fn plots_png(out: &Path, result: &RunResult, model: &Model) -> Result<(), Output
             ),
         )
         .map_err(plot_err(&path))?;
+        let margin: Vec<f64> = fld.points.iter().map(|p| p.margin).collect();
+        crate::output::field_plots::element_map_png(
+            &plots.join("fld_margin.png"),
+            &titled(
+                &format!(
+                    "Margin to the forming limit at stroke {:.1} mm (plan view)",
+                    result.last.stroke
+                ),
+                result,
+            ),
+            &format!("margin ({} major strain)", f.curve.measure().as_str()),
+            &model.mesh.quads,
+            &xy,
+            &margin,
+        )?;
     }
     crate::output::field_plots::element_map_png(
         &plots.join("thinning.png"),
