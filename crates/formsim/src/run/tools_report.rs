@@ -8,6 +8,7 @@
 use crate::records::{ToolRow, ToolState};
 use crate::scene::Model;
 use contact::{Sampled, ToolStepLog};
+use fem_core::{Amplitude, ForceLaw, ToolMotion};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -62,6 +63,10 @@ pub struct ToolStepSummary {
     pub held_error: Option<f64>,
     /// Travel along `direction` over the step (mm).
     pub travel: f64,
+    /// The prescribed force followed a gas-spring curve at full amplitude
+    /// over the step: it varies, but the tool must deliver it all along.
+    #[serde(skip)]
+    pub follows_curve: bool,
     /// Work the tool did on the blank through contact (mJ = N·mm).
     pub work: f64,
 }
@@ -97,6 +102,23 @@ pub fn tools(model: &Model) -> BTreeMap<String, ToolSummary> {
         p.steps().iter().map(|s| s.name.clone()).collect()
     });
     let axes = press_axes(model);
+    let follows_curve = |step: usize, tool: usize| {
+        model.press().is_some_and(|p| {
+            p.steps().get(step).is_some_and(|s| {
+                s.motions.iter().any(|(t, m)| {
+                    *t == tool
+                        && matches!(
+                            m,
+                            ToolMotion::Force {
+                                force: ForceLaw::Compression(_),
+                                amplitude: None | Some(Amplitude::Constant),
+                                ..
+                            }
+                        )
+                })
+            })
+        })
+    };
     c.tool_log()
         .iter()
         .zip(&model.tool_names)
@@ -105,12 +127,20 @@ pub fn tools(model: &Model) -> BTreeMap<String, ToolSummary> {
             let travel = model
                 .press()
                 .map_or(0.0, |p| p.displacement(i).dot(&axes[i]));
-            (name.clone(), tool_summary(log, &step_names, travel))
+            (
+                name.clone(),
+                tool_summary(log, &step_names, travel, |step| follows_curve(step, i)),
+            )
         })
         .collect()
 }
 
-fn tool_summary(log: &[ToolStepLog], step_names: &[String], travel: f64) -> ToolSummary {
+fn tool_summary(
+    log: &[ToolStepLog],
+    step_names: &[String],
+    travel: f64,
+    follows_curve: impl Fn(usize) -> bool,
+) -> ToolSummary {
     let mut steps = BTreeMap::new();
     for l in log {
         let mut key = step_names
@@ -120,7 +150,9 @@ fn tool_summary(log: &[ToolStepLog], step_names: &[String], travel: f64) -> Tool
         if steps.contains_key(&key) {
             key = format!("{key} #{}", l.step + 1);
         }
-        steps.insert(key, step_summary(l));
+        let mut summary = step_summary(l);
+        summary.follows_curve = follows_curve(l.step);
+        steps.insert(key, summary);
     }
     ToolSummary {
         travel,
@@ -149,6 +181,7 @@ fn step_summary(l: &ToolStepLog) -> ToolStepSummary {
         held_error: positive.map(|p| (along.mean + inertia.unwrap_or(0.0)) / p.mean - 1.0),
         travel: l.travel.1 - l.travel.0,
         work: l.work,
+        follows_curve: false,
     }
 }
 

@@ -32,8 +32,10 @@ pub const BALANCE_ERROR_MAX: f64 = 0.01;
 /// a holder carried up by a rising die delivers more while it speeds up, as
 /// a real one does), checked in the steps
 /// whose prescribed force is steady (its smallest value at least
-/// [`STEADY_FORCE_MIN_RATIO`] of its largest): while a force ramps up, the
-/// tool's momentum and the damper take their share, as they should.
+/// [`STEADY_FORCE_MIN_RATIO`] of its largest) or follows a gas-spring curve
+/// at full amplitude (it varies with the tool's travel, and the tool must
+/// deliver it all along): while a force ramps up in time, the tool's
+/// momentum and the damper take their share, as they should.
 pub const DELIVERED_FORCE_ERROR_MAX: f64 = 0.01;
 /// A press step's prescribed force counts as steady when its smallest value
 /// is at least this fraction of its largest.
@@ -101,9 +103,9 @@ pub fn check(f: &Figures, tools: &BTreeMap<String, ToolSummary>) -> Vec<String> 
     }
     for (name, t) in tools {
         for (step, s) in &t.steps {
-            let steady = s
-                .force_prescribed
-                .is_some_and(|p| p.min >= STEADY_FORCE_MIN_RATIO * p.max);
+            let steady = s.follows_curve
+                || s.force_prescribed
+                    .is_some_and(|p| p.min >= STEADY_FORCE_MIN_RATIO * p.max);
             if let (Some(e), Some(held)) = (s.delivered_error, s.held_error)
                 && steady
                 && held.abs() > DELIVERED_FORCE_ERROR_MAX
@@ -184,6 +186,7 @@ mod tests {
                 held_error: Some((1050.0 + inertia) / 1000.0 - 1.0),
                 travel: 0.0,
                 work: 0.0,
+                follows_curve: false,
             };
             BTreeMap::from([(
                 "holder".to_string(),
@@ -198,5 +201,54 @@ mod tests {
         let w = check(&figures(0.0, false), &tools(0.0));
         assert_eq!(w.len(), 1);
         assert!(w[0].contains("holder delivered +5.00 %"), "{}", w[0]);
+    }
+
+    /// A gas-spring step: its prescribed force climbs the curve (from 1000
+    /// to 1500 N, not steady), and it is checked all the same; a ramp that
+    /// climbs as much is not.
+    #[test]
+    fn a_gas_spring_step_is_checked_though_its_force_varies() {
+        use super::super::tools_report::{ForceStats, ToolStepSummary};
+        let tools = |follows_curve: bool, delivered: f64| {
+            let step = ToolStepSummary {
+                index: 0,
+                duration_s: 1e-3,
+                direction: [0.0, 0.0, 1.0],
+                force_along: ForceStats {
+                    mean: delivered,
+                    min: 0.9 * delivered,
+                    max: 1.1 * delivered,
+                },
+                force_total: ForceStats {
+                    mean: delivered,
+                    min: 0.9 * delivered,
+                    max: 1.1 * delivered,
+                },
+                force_prescribed: Some(ForceStats {
+                    mean: 1250.0,
+                    min: 1000.0,
+                    max: 1500.0,
+                }),
+                delivered_error: Some(delivered / 1250.0 - 1.0),
+                force_inertia: Some(0.0),
+                held_error: Some(delivered / 1250.0 - 1.0),
+                travel: -40.0,
+                work: 0.0,
+                follows_curve,
+            };
+            BTreeMap::from([(
+                "holder".to_string(),
+                ToolSummary {
+                    travel: -40.0,
+                    work: 0.0,
+                    steps: BTreeMap::from([("draw".to_string(), step)]),
+                },
+            )])
+        };
+        assert!(check(&figures(0.0, false), &tools(true, 1251.0)).is_empty());
+        let w = check(&figures(0.0, false), &tools(true, 1200.0));
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].contains("holder delivered -4.00 %"), "{}", w[0]);
+        assert!(check(&figures(0.0, false), &tools(false, 1200.0)).is_empty());
     }
 }
