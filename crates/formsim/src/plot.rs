@@ -152,6 +152,25 @@ pub(crate) fn axes<'a, 'b>(
     Ok(chart)
 }
 
+/// The legend every chart of formsim draws: a white box with a black
+/// border at `position`, labels in `font`-point sans-serif.
+///
+/// # Errors
+/// The drawing backend fails.
+pub(crate) fn legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+    font: u32,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", font))
+        .draw()
+}
+
 /// Draw panels stacked vertically into a PNG of `width × (height_per_panel · n)` pixels.
 ///
 /// # Errors
@@ -194,13 +213,7 @@ pub fn draw_panels(
                     PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
                 });
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(|e| fail(&e))?;
+        legend(&mut chart, SeriesLabelPosition::MiddleRight, 14).map_err(|e| fail(&e))?;
     }
     root.present().map_err(|e| fail(&e))
 }

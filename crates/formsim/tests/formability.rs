@@ -105,6 +105,19 @@ fn sequence(path: &[((f64, f64), FldPoint)]) -> Vec<(Zone, usize)> {
     seq
 }
 
+/// The zones of a stretched sheet, in the order a path meets them.
+const STRETCHED: [Zone; 4] = [
+    Zone::InsufficientStretch,
+    Zone::Safe,
+    Zone::Marginal,
+    Zone::Failure,
+];
+
+/// The zones of `seq`, without the steps.
+fn zones_met(seq: &[(Zone, usize)]) -> Vec<Zone> {
+    seq.iter().map(|s| s.0).collect()
+}
+
 /// The step where `zone` starts brackets the major true strain `eps1`: the
 /// step before is below it, that step at or above.
 fn brackets(path: &[((f64, f64), FldPoint)], seq: &[(Zone, usize)], zone: Zone, eps1: f64) {
@@ -127,16 +140,7 @@ fn brackets(path: &[((f64, f64), FldPoint)], seq: &[(Zone, usize)], zone: Zone, 
 fn plane_strain_path_fails_at_fld0() {
     let path = drive(1000.0, Some(0.0), 4.0e-3);
     let seq = sequence(&path);
-    let zones: Vec<Zone> = seq.iter().map(|s| s.0).collect();
-    assert_eq!(
-        zones,
-        [
-            Zone::InsufficientStretch,
-            Zone::Safe,
-            Zone::Marginal,
-            Zone::Failure
-        ]
-    );
+    assert_eq!(zones_met(&seq), STRETCHED);
     assert!(path.iter().all(|((_, e2), _)| e2.abs() < 1e-9));
     brackets(&path, &seq, Zone::Safe, 0.02);
     brackets(&path, &seq, Zone::Marginal, (1.0 + FLD0 - 0.10_f64).ln());
@@ -149,16 +153,7 @@ fn plane_strain_path_fails_at_fld0() {
 fn equibiaxial_path_fails_on_the_right_branch() {
     let path = drive(1000.0, Some(1000.0), 9.5e-3);
     let seq = sequence(&path);
-    let zones: Vec<Zone> = seq.iter().map(|s| s.0).collect();
-    assert_eq!(
-        zones,
-        [
-            Zone::InsufficientStretch,
-            Zone::Safe,
-            Zone::Marginal,
-            Zone::Failure
-        ]
-    );
+    assert_eq!(zones_met(&seq), STRETCHED);
     assert!(path.iter().all(|((e1, e2), _)| (e1 - e2).abs() < 1e-9));
     brackets(
         &path,
@@ -177,16 +172,7 @@ fn equibiaxial_path_fails_on_the_right_branch() {
 fn uniaxial_path_fails_at_the_plane_strain_thickness_strain() {
     let path = drive(1000.0, None, 9.0e-3);
     let seq = sequence(&path);
-    let zones: Vec<Zone> = seq.iter().map(|s| s.0).collect();
-    assert_eq!(
-        zones,
-        [
-            Zone::InsufficientStretch,
-            Zone::Safe,
-            Zone::Marginal,
-            Zone::Failure
-        ]
-    );
+    assert_eq!(zones_met(&seq), STRETCHED);
     let k = seq.iter().find(|s| s.0 == Zone::Failure).unwrap().1;
     let ((e1, e2), p) = path[k];
     let ((b1, b2), _) = path[k - 1];
@@ -212,8 +198,10 @@ fn uniaxial_path_fails_at_the_plane_strain_thickness_strain() {
 fn drawing_path_is_compression() {
     let path = drive(1000.0, Some(-1000.0), 3.0e-3);
     let seq = sequence(&path);
-    let zones: Vec<Zone> = seq.iter().map(|s| s.0).collect();
-    assert_eq!(zones, [Zone::InsufficientStretch, Zone::Compression]);
+    assert_eq!(
+        zones_met(&seq),
+        [Zone::InsufficientStretch, Zone::Compression]
+    );
     // Compression starts where the minor strain reaches −0.02.
     let k = seq[1].1;
     assert!(path[k - 1].0.1 > -0.02 && path[k].0.1 <= -0.02);
@@ -228,8 +216,10 @@ fn drawing_path_is_compression() {
 fn pure_compression_path_tends_to_wrinkle() {
     let path = drive(0.0, Some(-1000.0), 2.0e-3);
     let seq = sequence(&path);
-    let zones: Vec<Zone> = seq.iter().map(|s| s.0).collect();
-    assert_eq!(zones, [Zone::InsufficientStretch, Zone::WrinklingTendency]);
+    assert_eq!(
+        zones_met(&seq),
+        [Zone::InsufficientStretch, Zone::WrinklingTendency]
+    );
     let k = seq[1].1;
     assert!(path[k - 1].0.1 > -0.02 && path[k].0.1 <= -0.02);
 }

@@ -96,13 +96,6 @@ pub fn draw(
         .map_err(|e| fail(&e))?
         .label(format!("margin line ({m})"))
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], orange.stroke_width(1)));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 14))
-        .draw()
-        .map_err(|e| fail(&e))?;
+    crate::plot::legend(&mut chart, SeriesLabelPosition::UpperRight, 14).map_err(|e| fail(&e))?;
     root.present().map_err(|e| fail(&e))
 }

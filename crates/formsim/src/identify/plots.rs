@@ -127,13 +127,7 @@ pub fn draw(path: &Path, panels: &[MarkPanel]) -> Result<(), PlotError> {
             .map_err(|e| fail(&e))?
             .label("measured (95 % bars where se is given)")
             .legend(|(x, y)| Cross::new((x + 9, y), 6, BLACK.stroke_width(2)));
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
-            .draw()
+        crate::plot::legend(&mut chart, SeriesLabelPosition::UpperRight, 13)
             .map_err(|e| fail(&e))?;
     }
     root.present().map_err(|e| fail(&e))

@@ -156,14 +156,7 @@ pub fn draw(out: &Path, r: &Results) -> Result<(), PlotError> {
             .label(name.as_str())
             .legend(move |(x, y)| EmptyElement::at((x + 9, y)) + marker(g, color));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 14))
-        .draw()
-        .map_err(|e| fail(&e))?;
+    crate::plot::legend(&mut chart, SeriesLabelPosition::UpperRight, 14).map_err(|e| fail(&e))?;
     root.present().map_err(|e| fail(&e))
 }
 
