@@ -741,7 +741,7 @@ fn formability_keys_and_curve_files_are_checked() {
     );
     refused(
         &["blank.material.hardening={kind=\"perfect\", sigma_y=200.0}"],
-        "formability.n: required: Keeler–Brazier needs the hardening exponent",
+        "formability.n: required: Keeler–Brazier needs the sheet's hardening exponent",
     );
     let dir = std::env::temp_dir().join(format!("formsim-flc-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -129,7 +129,7 @@ impl Formability {
                     _ => {
                         return Err(key(
                             "n",
-                            "required: Keeler–Brazier needs the hardening exponent, and blank.material.hardening is not Swift".into(),
+                            "required: Keeler–Brazier needs the sheet's hardening exponent, and blank.material.hardening is not Swift (give formability.n, or curve = \"table\")".into(),
                         ));
                     }
                 };
