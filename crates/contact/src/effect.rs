@@ -12,8 +12,12 @@ use plugins_api::{PointNeeds, ToolSurface, Vec3};
 use rayon::prelude::*;
 use std::time::Instant;
 
+use crate::drawbead::{BeadInputs, BeadSet};
 use crate::tool_log::{ToolSample, ToolStepLog, record};
-use crate::{BlankGeometry, BlankView, ContactEnergy, ContactPair, ContactTiming};
+use crate::{
+    BeadEnergy, BlankGeometry, BlankView, ContactEnergy, ContactPair, ContactTiming, Drawbead,
+    DrawbeadSpec,
+};
 
 /// Tools and contact pairs over one blank, as a [`fem_core::Effect`].
 ///
@@ -80,6 +84,8 @@ pub struct ContactEffect {
     /// Seconds spent moving the tools and updating the nodal geometry (the
     /// pairs keep their own stages).
     timing: ContactTiming,
+    /// The drawbeads ([`ContactEffect::with_drawbeads`]).
+    beads: BeadSet,
 }
 
 impl std::fmt::Debug for ContactEffect {
@@ -154,7 +160,44 @@ impl ContactEffect {
             flow_stress,
             energy: ContactEnergy::default(),
             timing: ContactTiming::default(),
+            beads: BeadSet::default(),
         })
+    }
+
+    /// Add drawbeads ([`Drawbead`], docs/drawbeads.md): each acts where it
+    /// crosses blank touching its tool, through that tool's pairs. Their
+    /// points are given in the global frame at the tools' current poses
+    /// (the scene's frame, at set-up) and are fixed to the tool from then on.
+    ///
+    /// # Errors
+    /// A bead on a missing tool, or a bead [`Drawbead::new`] refuses.
+    pub fn with_drawbeads(mut self, specs: Vec<DrawbeadSpec>) -> Result<Self, crate::ContactError> {
+        let quads = self.geometry.quads().len();
+        let mut beads = Vec::new();
+        for mut spec in specs {
+            let Some(tool) = self.tools.get(spec.tool) else {
+                return Err(crate::ContactError::NoSuchTool {
+                    pair: format!("drawbead {}", spec.name),
+                    tool: spec.tool,
+                    count: self.tools.len(),
+                });
+            };
+            let pose = tool.pose();
+            spec.points.iter_mut().for_each(|p| *p = pose.to_local(p));
+            beads.push(Drawbead::new(spec, quads)?);
+        }
+        self.beads = BeadSet::new(beads, self.geometry.node_count());
+        Ok(self)
+    }
+
+    /// The drawbeads.
+    pub fn drawbeads(&self) -> &[Drawbead] {
+        &self.beads.beads
+    }
+
+    /// The drawbeads' energies together (N·mm).
+    pub fn bead_energy(&self) -> BeadEnergy {
+        self.beads.energy()
     }
 
     /// What the pairs read, united (friction-math §6).
@@ -311,6 +354,22 @@ impl ContactEffect {
         self.energy.friction += friction;
         self.energy.tool_work += tool_work;
         self.energy.blank_work += blank_work;
+        if !self.beads.beads.is_empty() {
+            let inputs = BeadInputs {
+                pairs: &self.pairs,
+                active: &self.active,
+                tools: &self.tools,
+                geometry: &self.geometry,
+                view: &view,
+                dt: ctx.dt,
+            };
+            self.beads.step(
+                &inputs,
+                &mut forces.f,
+                &mut self.reactions,
+                &mut self.tool_work_step,
+            );
+        }
         for (load, r) in self.loads.iter_mut().zip(&self.reactions) {
             load.force = *r;
         }
@@ -467,19 +526,26 @@ impl Effect for ContactEffect {
     }
 
     fn stiffens_nodes(&self) -> bool {
-        self.pairs.iter().any(ContactPair::touching)
+        self.pairs.iter().any(ContactPair::touching) || self.beads.engaged()
     }
 
     /// The penalty and stick springs of the touching points, summed over
-    /// the pairs (a flange node between die and holder gets both).
+    /// the pairs (a flange node between die and holder gets both), and the
+    /// drawbeads' stick springs.
     fn nodal_stiffness(&self, _state: &NodalState, stiffness: &mut [f64]) {
         for p in &self.pairs {
             p.add_nodal_stiffness(&self.geometry.area, stiffness);
         }
+        for (s, b) in stiffness.iter_mut().zip(&self.beads.stiffness) {
+            *s += b;
+        }
     }
 
+    /// The pairs' springs, and the drawbeads' stick springs alone
+    /// (`2 √(m / s)` per node; they are soft beside the penalty springs).
     fn stable_dt(&self, state: &NodalState) -> Option<StableDt> {
-        self.pairs
+        let pairs = self
+            .pairs
             .iter()
             .filter_map(|p| p.stable_dt(&state.mass, &self.geometry.area))
             .min_by(|a, b| a.0.total_cmp(&b.0))
@@ -487,7 +553,25 @@ impl Effect for ContactEffect {
                 dt,
                 element: node,
                 what: "contact springs (penalty + stick) at a blank node (element = node index)",
-            })
+            });
+        let beads = self
+            .beads
+            .stiffness
+            .iter()
+            .zip(&state.mass)
+            .enumerate()
+            .filter(|(_, (s, _))| **s > 0.0)
+            .map(|(i, (s, m))| (2.0 * (m / s).sqrt(), i))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(dt, node)| StableDt {
+                dt,
+                element: node,
+                what: "drawbead stick springs at a blank node (element = node index)",
+            });
+        match (pairs, beads) {
+            (Some(p), Some(b)) => Some(if b.dt < p.dt { b } else { p }),
+            (p, b) => p.or(b),
+        }
     }
 
     /// The force and contact stiffness of the blank on each tool in the
@@ -496,12 +580,17 @@ impl Effect for ContactEffect {
         &self.loads
     }
 
+    /// The pairs' energies and the drawbeads': their dissipation is `bead`,
+    /// the rest of what their tools put in and the blank did not receive
+    /// (the stick springs' energy) joins `contact`.
     fn energies(&self) -> EnergyTally {
         let e = self.energy();
+        let b = self.bead_energy();
         EnergyTally {
-            contact: e.contact(),
+            contact: e.contact() + (b.tool_work - b.blank_work - b.dissipation),
             friction: e.friction,
-            external: e.tool_work,
+            bead: b.dissipation,
+            external: e.tool_work + b.tool_work,
             ..EnergyTally::default()
         }
     }

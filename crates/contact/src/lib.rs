@@ -26,8 +26,12 @@
 //! elements (it reads the nodal thickness and flow stress as `fem-core` shared
 //! fields, [`fem_core::NodalField`], written by whichever effect owns the
 //! shells) or about scenes.
+//!
+//! Drawbeads ([`Drawbead`], docs/drawbeads.md) ride on the effect: each is a
+//! line force fixed to a tool, acting where the blank touches that tool.
 
 mod blank;
+mod drawbead;
 mod effect;
 mod error;
 mod friction_record;
@@ -38,6 +42,7 @@ mod timing;
 mod tool_log;
 
 pub use blank::{BlankGeometry, BlankView};
+pub use drawbead::{BeadEnergy, Drawbead, DrawbeadSpec};
 pub use effect::ContactEffect;
 pub use error::ContactError;
 pub use friction_record::{FrictionRecord, RECORD_NEEDS};

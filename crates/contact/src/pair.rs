@@ -561,6 +561,14 @@ impl ContactPair {
         added
     }
 
+    /// Mark the node of every point touching in the last step (the
+    /// drawbeads' clamping test).
+    pub(crate) fn mark_touching(&self, touching: &mut [bool]) {
+        for &k in &self.batch.points {
+            touching[self.nodes[k as usize] as usize] = true;
+        }
+    }
+
     /// Whether any point touched the tool in the last step.
     pub fn touching(&self) -> bool {
         !self.batch.points.is_empty()

@@ -21,6 +21,7 @@ pub struct StableDt {
 /// `internal` excludes `hourglass` and includes plastic work; `plastic` is the
 /// dissipated part of `internal`, reported separately and never added twice.
 /// `contact` is stored (penalty) energy; `friction` is dissipated energy;
+/// `bead` is energy dissipated by drawbeads' restraint;
 /// `external` is work done on the model by agents the effect owns (rigid
 /// tools moved by the press, pushing the blank through contact).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -35,6 +36,8 @@ pub struct EnergyTally {
     pub contact: f64,
     /// Frictional dissipation (mJ).
     pub friction: f64,
+    /// Drawbead dissipation (mJ).
+    pub bead: f64,
     /// Work done on the model by the effect's external agents (mJ).
     pub external: f64,
 }
@@ -47,6 +50,7 @@ impl EnergyTally {
         self.plastic += o.plastic;
         self.contact += o.contact;
         self.friction += o.friction;
+        self.bead += o.bead;
         self.external += o.external;
     }
 }

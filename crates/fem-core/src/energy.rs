@@ -22,7 +22,7 @@
 //!   sample (exact; zero at a constant step). Without it a block landing on a
 //!   tool, which shortens the step its contact springs limit, left 0.4 % of
 //!   the external work unbalanced per landing.
-//! - `internal`, `hourglass`, `plastic`, `contact`, `friction`: the sum of
+//! - `internal`, `hourglass`, `plastic`, `contact`, `friction`, `bead`: the sum of
 //!   the effects' [`EnergyTally`](crate::EnergyTally) at `t_n`.
 //! - `damping`: energy dissipated by dynamic-relaxation damping (`>= 0`).
 //! - `external_loads`: work of the nodal loads; `external_prescribed`: work
@@ -49,16 +49,19 @@
 //!   the energy the added inertia takes up: the work of its inertia force
 //!   `ΔM a` by the loads' rule (zero otherwise).
 //!
+//! - `bead`: energy dissipated by drawbeads' restraint (`>= 0`,
+//!   docs/drawbeads.md).
+//!
 //! Balance (energies that count: kinetic, kinetic_added, integration, internal, hourglass,
-//! contact, friction, damping; `plastic` is part of `internal` and not added
+//! contact, friction, bead, damping; `plastic` is part of `internal` and not added
 //! again):
 //!
 //! ```text
 //! E_total = kinetic + kinetic_added + integration + internal + hourglass
-//!           + contact + friction + damping
+//!           + contact + friction + bead + damping
 //! balance_abs   = E_total − E_total(t_0) − external
 //! balance_error = |balance_abs| / max(|kinetic| + |integration| + |internal| + |hourglass|
-//!                   + |contact| + |friction| + |damping|, |external|, 1e-30)
+//!                   + |contact| + |friction| + |bead| + |damping|, |external|, 1e-30)
 //! ```
 
 use std::io::Write;
@@ -90,6 +93,8 @@ pub struct EnergyLedger {
     pub contact: f64,
     /// Frictional dissipation (mJ).
     pub friction: f64,
+    /// Drawbead dissipation (mJ).
+    pub bead: f64,
     /// Dissipation by dynamic-relaxation damping (mJ).
     pub damping: f64,
     /// Work of the nodal loads (mJ).
@@ -109,7 +114,7 @@ pub struct EnergyLedger {
 }
 
 impl EnergyLedger {
-    /// `kinetic + kinetic_added + integration + internal + hourglass + contact + friction + damping` (mJ).
+    /// `kinetic + kinetic_added + integration + internal + hourglass + contact + friction + bead + damping` (mJ).
     pub fn total(&self) -> f64 {
         self.kinetic
             + self.kinetic_added
@@ -118,6 +123,7 @@ impl EnergyLedger {
             + self.hourglass
             + self.contact
             + self.friction
+            + self.bead
             + self.damping
     }
 
@@ -135,6 +141,7 @@ impl EnergyLedger {
             + self.hourglass.abs()
             + self.contact.abs()
             + self.friction.abs()
+            + self.bead.abs()
             + self.damping.abs())
         .max(self.external.abs())
         .max(1e-30);
@@ -143,7 +150,7 @@ impl EnergyLedger {
 }
 
 /// The columns of [`History::write_csv`].
-const CSV_HEADER: [&str; 20] = [
+const CSV_HEADER: [&str; 21] = [
     "step",
     "time_s",
     "dt_s",
@@ -156,6 +163,7 @@ const CSV_HEADER: [&str; 20] = [
     "plastic_mJ",
     "contact_mJ",
     "friction_mJ",
+    "bead_mJ",
     "damping_mJ",
     "external_loads_mJ",
     "external_prescribed_mJ",
@@ -254,6 +262,7 @@ impl History {
                     e.plastic,
                     e.contact,
                     e.friction,
+                    e.bead,
                     e.damping,
                     e.external_loads,
                     e.external_prescribed,
@@ -302,13 +311,13 @@ mod tests {
         assert_eq!(
             lines.next().unwrap(),
             "step,time_s,dt_s,energy_time_s,kinetic_mJ,kinetic_rotational_mJ,integration_mJ,\
-             internal_mJ,hourglass_mJ,plastic_mJ,contact_mJ,friction_mJ,damping_mJ,\
+             internal_mJ,hourglass_mJ,plastic_mJ,contact_mJ,friction_mJ,bead_mJ,damping_mJ,\
              external_loads_mJ,external_prescribed_mJ,external_mass_scaling_mJ,external_tools_mJ,\
              external_mJ,balance_abs_mJ,balance_error\n"
         );
         assert_eq!(
             lines.next().unwrap(),
-            "42,7.5e-1,1e-7,5e-1,1.5e3,-0e0,-2.5e-12,1e-1,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,NaN\n"
+            "42,7.5e-1,1e-7,5e-1,1.5e3,-0e0,-2.5e-12,1e-1,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,NaN\n"
         );
         assert_eq!(lines.next(), None);
     }

@@ -1765,6 +1765,7 @@ impl Solver {
             plastic: self.tally.plastic,
             contact: self.tally.contact,
             friction: self.tally.friction,
+            bead: self.tally.bead,
             damping: -w.damping_work,
             external_loads: w.loads,
             external_prescribed: w.prescribed,

@@ -825,6 +825,9 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
         model.formulation,
         model.contact().map_or(0, |c| c.pairs().len())
     );
+    for line in formsim::scene::drawbeads::describe(s) {
+        say!("  drawbead    {line}");
+    }
     for (i, st) in s.steps.iter().enumerate() {
         use formsim::scene::schema::StepKind;
         let springback = st.kind == StepKind::Springback;

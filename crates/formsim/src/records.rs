@@ -21,9 +21,9 @@ pub struct HistoryRow {
 
 impl HistoryRow {
     /// The row of `energy.csv`: time, stroke, step, then the energies
-    /// (internal, kinetic, hourglass, plastic, contact, friction, external
-    /// work, balance error).
-    pub fn energy_row(&self) -> [f64; 11] {
+    /// (internal, kinetic, hourglass, plastic, contact, friction, drawbead
+    /// dissipation, external work, balance error).
+    pub fn energy_row(&self) -> [f64; 12] {
         let e = &self.energy;
         [
             self.time,
@@ -35,6 +35,7 @@ impl HistoryRow {
             e.plastic,
             e.contact,
             e.friction,
+            e.bead,
             e.external,
             e.balance_error,
         ]

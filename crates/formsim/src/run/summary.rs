@@ -26,6 +26,8 @@ pub struct EnergySummary {
     pub contact: f64,
     /// Frictional dissipation.
     pub friction: f64,
+    /// Drawbead dissipation (0 without drawbeads).
+    pub bead: f64,
     /// Plastic dissipation (part of internal).
     pub plastic: f64,
     /// Work of the tools, loads and prescribed motions (and mass added in the run).
@@ -182,6 +184,9 @@ pub struct Summary {
     pub tools: BTreeMap<String, ToolSummary>,
     /// What each contact pair did.
     pub pairs: BTreeMap<String, PairSummary>,
+    /// What each drawbead did (absent without drawbeads).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub beads: BTreeMap<String, super::tools_report::BeadSummary>,
     /// Whether a law's clamp (WH's `μ_min`) was active at some step.
     pub friction_clamp_active: bool,
     /// Bounds the run exceeded (docs/scene-format.md, "Warnings"), one line each.
@@ -367,6 +372,7 @@ impl Summary {
                 hourglass: e.hourglass,
                 contact: e.contact,
                 friction: e.friction,
+                bead: e.bead,
                 plastic: e.plastic,
                 external_work: e.external,
                 balance_error_rel: e.balance_error,
@@ -390,6 +396,7 @@ impl Summary {
             reference,
             tools,
             pairs: tools_report::pairs(i.model),
+            beads: tools_report::beads(i.model),
             friction_clamp_active: i.clamp_seen,
             warnings,
             settings: settings(scene),

@@ -93,6 +93,31 @@ pub struct PairSummary {
     pub mean_pressure: f64,
 }
 
+/// What one drawbead did (docs/drawbeads.md).
+#[derive(Debug, Clone, Serialize)]
+pub struct BeadSummary {
+    /// The tool it is fixed to.
+    pub tool: String,
+    /// Its length (mm).
+    pub length: f64,
+    /// Stick stiffness per unit length, `max F_t / elastic_slip` (N/mm²).
+    pub stiffness: f64,
+    /// Restraining force on the blank at the end (N).
+    pub restraining_force: f64,
+    /// Largest restraining force of the run (N).
+    pub restraining_force_max: f64,
+    /// Clamping force on the blank at the end (N).
+    pub normal_force: f64,
+    /// Length over clamped blank at the end (mm).
+    pub length_engaged: f64,
+    /// Largest length over clamped blank of the run (mm).
+    pub length_engaged_max: f64,
+    /// Dissipation of its restraint over the run (mJ).
+    pub dissipation: f64,
+    /// Work its tool did through it (mJ).
+    pub tool_work: f64,
+}
+
 /// The tools' block of `summary.json`.
 pub fn tools(model: &Model) -> BTreeMap<String, ToolSummary> {
     let Some(c) = model.contact() else {
@@ -200,6 +225,33 @@ pub fn pairs(model: &Model) -> BTreeMap<String, PairSummary> {
                     friction_dissipation: p.energy.friction,
                     contact_area,
                     mean_pressure,
+                },
+            )
+        })
+        .collect()
+}
+
+/// The drawbeads' block of `summary.json`.
+pub fn beads(model: &Model) -> BTreeMap<String, BeadSummary> {
+    let Some(c) = model.contact() else {
+        return BTreeMap::new();
+    };
+    c.drawbeads()
+        .iter()
+        .map(|b| {
+            (
+                b.name().to_string(),
+                BeadSummary {
+                    tool: model.tool_names[b.tool()].clone(),
+                    length: b.length(),
+                    stiffness: b.stiffness(),
+                    restraining_force: b.restraining_force,
+                    restraining_force_max: b.restraining_force_max,
+                    normal_force: b.normal_force,
+                    length_engaged: b.length_engaged,
+                    length_engaged_max: b.length_engaged_max,
+                    dissipation: b.energy.dissipation,
+                    tool_work: b.energy.tool_work,
                 },
             )
         })

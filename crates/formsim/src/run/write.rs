@@ -367,6 +367,7 @@ fn energy_csv(path: &Path, result: &RunResult) -> Result<(), OutputError> {
         "plastic",
         "contact",
         "friction",
+        "bead",
         "external_work",
         "balance_error",
     ])

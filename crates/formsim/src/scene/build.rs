@@ -420,8 +420,13 @@ fn add_contact(
         }
         pairs.push(pair);
     }
-    let effect = ContactEffect::new(tools, pairs, geometry, vec![s.blank.thickness; n_nodes])
+    let mut effect = ContactEffect::new(tools, pairs, geometry, vec![s.blank.thickness; n_nodes])
         .map_err(|e| loaded.key_error("contact", e.to_string()))?;
+    if !s.drawbeads.is_empty() {
+        effect = effect
+            .with_drawbeads(super::drawbeads::specs(loaded, tool_names))
+            .map_err(|e| loaded.key_error("drawbeads", e.to_string()))?;
+    }
     Ok((solver.add_effect(effect), names.0, names.1))
 }
 

@@ -611,11 +611,11 @@ mod tests {
     use super::*;
 
     /// The documented size of a history sample (docs/scene-format.md:
-    /// 216 + 40 × tools bytes) is the size of the rows the run keeps.
+    /// 224 + 40 × tools bytes) is the size of the rows the run keeps.
     #[test]
     fn history_sample_size_is_the_documented_one() {
-        assert_eq!(history_row_bytes(0), 216.0);
-        assert_eq!(history_row_bytes(3), 216.0 + 3.0 * 40.0);
+        assert_eq!(history_row_bytes(0), 224.0);
+        assert_eq!(history_row_bytes(3), 224.0 + 3.0 * 40.0);
     }
 
     /// A Hill'48 blank's run time is estimated at its registered relative

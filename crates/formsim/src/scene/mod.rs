@@ -11,6 +11,7 @@
 pub mod blank_mesh;
 pub mod build;
 pub mod check_table;
+pub mod drawbeads;
 pub mod error;
 pub mod estimate;
 pub mod kind;

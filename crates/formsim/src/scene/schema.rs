@@ -34,6 +34,9 @@ pub struct Scene {
     /// `[[springs]]`: springs from node sets to anchors dragged along an axis.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub springs: Vec<AnchorSpring>,
+    /// `[[drawbeads]]`: drawbeads as equivalent line forces on tools.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub drawbeads: Vec<super::drawbeads::DrawbeadEntry>,
     /// `[output]`: what to write.
     #[serde(default)]
     pub output: Output,

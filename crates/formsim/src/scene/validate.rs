@@ -28,6 +28,7 @@ pub fn validate(loaded: &LoadedScene) -> Result<(), SceneError> {
     blank(loaded)?;
     material(loaded)?;
     tools_and_contact(loaded)?;
+    super::drawbeads::validate(loaded)?;
     press(loaded)?;
     solver(loaded)?;
     boundary_and_loads(loaded)?;
