@@ -254,9 +254,15 @@ pub fn run_staged(
         rec,
         out,
         wall,
-        stop,
-        saved,
+        Ending { stop, saved },
     )
+}
+
+/// How the step loop ended: why it stopped early (if it did), and the
+/// state it saved (`--save-state`, a completed run only).
+struct Ending {
+    stop: Option<Stop>,
+    saved: Option<summary::StateRecord>,
 }
 
 /// Write the blank's whole state to `path` (docs/stages.md); its record
@@ -390,9 +396,9 @@ fn finish(
     mut rec: Recorder<'_>,
     out: &std::path::Path,
     wall: f64,
-    stop: Option<Stop>,
-    saved: Option<summary::StateRecord>,
+    ending: Ending,
 ) -> Result<RunResult, RunError> {
+    let Ending { stop, saved } = ending;
     let o = &loaded.scene.output;
     let finish = Instant::now();
     let time = model.solver.time();
