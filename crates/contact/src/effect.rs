@@ -9,6 +9,8 @@ use fem_core::{
 };
 use plugins_api::{PointNeeds, ToolSurface, Vec3};
 
+mod saved_state;
+
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -469,6 +471,30 @@ const READS_ALL: [NodalField; 5] = [
 impl Effect for ContactEffect {
     fn name(&self) -> &str {
         "contact"
+    }
+
+    /// Every pair's per-point state (friction history, warm starts) and the
+    /// blank's deformation gradients.
+    fn save_state(&self, out: &mut fem_core::StateArrays) {
+        self.save_arrays(out);
+    }
+
+    /// The saved state, pairs matched by name (a dropped pair's state
+    /// noted). Drawbeads keep no saved state: each starts with its
+    /// restraining springs unloaded, and a note says so.
+    fn restore_state(
+        &mut self,
+        saved: &fem_core::StateArrays,
+        notes: &mut Vec<String>,
+    ) -> Result<(), String> {
+        self.restore_arrays(saved, notes)?;
+        if !self.drawbeads().is_empty() {
+            notes.push(
+                "drawbeads start with their restraining springs unloaded (a state file does not carry them)"
+                    .into(),
+            );
+        }
+        Ok(())
     }
 
     /// The nodal thickness, and the outer-fibre flow stress when a pair's

@@ -5,6 +5,8 @@
 use plugins_api::{PointIntegrator, PointNeeds, PointState, ToolSurface, Vec3};
 use std::time::Instant;
 
+mod saved_state;
+
 use crate::penalty::{PenaltySettings, nodal_stiffness};
 use crate::stages::broad_phase::broad_phase;
 use crate::stages::friction::{friction, no_friction};

@@ -199,6 +199,28 @@ pub trait Effect: Any + Send {
         Err(format!("{} has no static form", self.name()))
     }
 
+    /// Push this effect's state (what its next [`Effect::add_forces`] reads:
+    /// stresses, histories, per-point contact state, …) to `out`, to continue
+    /// in another run ([`crate::resume`]). The default saves nothing.
+    fn save_state(&self, out: &mut crate::StateArrays) {
+        let _ = out;
+    }
+
+    /// Take back a state [`Effect::save_state`] gave, before the first step;
+    /// push to `notes` one line per part of it this effect drops (e.g. a
+    /// contact pair no longer there). The default takes nothing.
+    ///
+    /// # Errors
+    /// The state does not fit this effect (one line naming what differs).
+    fn restore_state(
+        &mut self,
+        saved: &crate::StateArrays,
+        notes: &mut Vec<String>,
+    ) -> Result<(), String> {
+        let _ = (saved, notes);
+        Ok(())
+    }
+
     /// Take back the state of a static solve: `solved` is the static form
     /// [`Effect::static_form`] gave, after the solve (its committed state,
     /// the last converged increment), and `x` the nodes' positions there

@@ -80,6 +80,7 @@ pub mod mesh_io;
 pub mod nodal_limit;
 pub mod press;
 pub mod relaxation;
+pub mod resume;
 pub mod rigid_modes;
 pub mod selective_mass;
 pub mod settings;
@@ -101,6 +102,7 @@ pub use press::{
     ForceLaw, Press, PressStep, ReleaseMethod, StepChange, StepEnd, ToolLoad, ToolMotion,
 };
 pub use relaxation::SpringbackReport;
+pub use resume::{SolverResume, StateArrays, ToolResume};
 pub use selective_mass::{MassBlocks, SelectiveStats};
 pub use settings::{MassScaling, SolverSettings};
 pub use solver::{

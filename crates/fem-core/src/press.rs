@@ -354,6 +354,61 @@ impl Press {
         })
     }
 
+    /// Each tool's rigid-body state, with `loads` the last step's loads on
+    /// the tools (index: tool), to continue in another run.
+    pub fn save_tools(&self, loads: &[ToolLoad]) -> Vec<crate::ToolResume> {
+        (0..self.names.len())
+            .map(|i| crate::ToolResume {
+                name: self.names[i].clone(),
+                initial: self.initial[i],
+                pose: self.poses[i],
+                velocity: self.velocities[i],
+                free_speed: self.free_speed[i],
+                applied: self.applied[i],
+                last_reaction: self.last_reaction[i],
+                load: loads.get(i).copied().unwrap_or_default(),
+            })
+            .collect()
+    }
+
+    /// Start every tool named in `saved` where a run left it (pose, velocity,
+    /// force-control state), before the first step; `loads` (index: tool)
+    /// takes their last loads. Returns one line per saved tool not in this
+    /// press.
+    pub fn resume_tools(
+        &mut self,
+        saved: &[crate::ToolResume],
+        loads: &mut [ToolLoad],
+    ) -> Vec<String> {
+        let mut notes = Vec::new();
+        for t in saved {
+            let Some(i) = self.names.iter().position(|n| *n == t.name) else {
+                notes.push(format!(
+                    "tool `{}` of the initial state is not in this press: its pose is dropped",
+                    t.name
+                ));
+                continue;
+            };
+            self.initial[i] = t.initial;
+            self.poses[i] = t.pose;
+            self.step_start_pose[i] = t.pose;
+            self.velocities[i] = t.velocity;
+            self.free_speed[i] = t.free_speed;
+            self.applied[i] = t.applied;
+            self.last_reaction[i] = t.last_reaction;
+            if let Some(l) = loads.get_mut(i) {
+                *l = t.load;
+            }
+        }
+        notes
+    }
+
+    /// Start the programme at `time` (s) instead of 0, before the first
+    /// advance (a run continuing from a saved state).
+    pub fn start_at(&mut self, time: f64) {
+        self.step_start = time;
+    }
+
     /// Tool names, in index order.
     pub fn tool_names(&self) -> &[String] {
         &self.names
@@ -456,6 +511,21 @@ impl Press {
             None => true,
             Some(list) => list.contains(&pair),
         }
+    }
+
+    /// The end times (s) of the press steps of fixed duration from the
+    /// current one on, up to the first step that ends otherwise (by travel,
+    /// or at rest).
+    pub fn step_ends(&self) -> Vec<f64> {
+        let mut t = self.step_start;
+        let mut ends = Vec::new();
+        for s in &self.steps[self.current..] {
+            let StepEnd::Duration(d) = s.end else { break };
+            // The same sum as `advance`'s `step_start + duration`.
+            t += d;
+            ends.push(t);
+        }
+        ends
     }
 
     /// Total nominal duration of the programme (s): the sum of the steps'

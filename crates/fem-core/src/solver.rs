@@ -44,6 +44,7 @@ use crate::selective_mass::SelectiveMass;
 
 mod implicit_release;
 pub(crate) mod node_chunks;
+mod resume_state;
 use crate::{
     Amplitude, BoundaryCondition, Dof, Dofs, Effect, EnergyLedger, EnergyTally, FemError, Forces,
     MassScaling, Mesh, MotionKind, NodalField, NodalLoad, NodalState, Press, SelectiveStats,

@@ -21,5 +21,6 @@ pub mod point_driver;
 pub mod records;
 pub mod run;
 pub mod scene;
+pub mod state_file;
 pub mod study;
 pub mod tools_cli;

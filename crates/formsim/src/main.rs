@@ -164,6 +164,10 @@ struct RunArgs {
     /// Override a scene value, e.g. contact.law=wvs, blank.mesh.divisions=25 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// Write the blank's whole state to FILE when the run completes, for a
+    /// later scene's `blank.initial_state` (docs/stages.md).
+    #[arg(long = "save-state", value_name = "FILE")]
+    save_state: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -792,10 +796,13 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
     let loaded = formsim::scene::load(path, set).map_err(|e| e.to_string())?;
     let mut model = formsim::scene::build(&loaded).map_err(|e| e.to_string())?;
     formsim::run::post::check_lines(&loaded, &model.mesh).map_err(|e| e.to_string())?;
-    let setup = model
-        .solver
-        .initialize()
-        .map_err(|e| loaded.key_error("solver", e.to_string()).to_string())?;
+    let (setup, notes) = model.set_up().map_err(|e| {
+        let key = match model.initial_state {
+            Some(_) => "blank.initial_state",
+            None => "solver",
+        };
+        loaded.key_error(key, e.to_string()).to_string()
+    })?;
     let s = &loaded.scene;
     let est = estimate::estimate(s, estimate::MeshSize::of_mesh(&model.mesh));
     say!("{}: ok", path.display());
@@ -818,6 +825,21 @@ fn scene_check(path: &Path, set: &[String], resolved: bool) -> Outcome {
         s.blank.thickness,
         s.blank.integration_points
     );
+    if let Some(st) = &model.initial_state {
+        say!(
+            "  initial     {} (checksum {}): {} nodes, {} {} shells, {} tools; the first step is {:.4e} s",
+            st.path.display(),
+            st.checksum,
+            st.file.nodes(),
+            st.file.quads.len(),
+            st.file.element,
+            st.file.resume.tools.len(),
+            st.file.resume.dt_next
+        );
+        for n in &notes {
+            say!("  initial     {n}");
+        }
+    }
     say!("  tools       {}", model.tool_names.join(", "));
     say!(
         "  friction    {} + {} ({} pairs)",
@@ -927,7 +949,7 @@ fn run(args: &RunArgs) -> Outcome {
     }) {
         tracing::warn!("Ctrl-C will end the run without writing its results: {e}");
     }
-    let result = match formsim::run::run(
+    let result = match formsim::run::run_staged(
         &loaded,
         &formsim::run::RunOptions {
             out: out.clone(),
@@ -937,6 +959,7 @@ fn run(args: &RunArgs) -> Outcome {
                 formsim::run::Progress::Hidden
             },
         },
+        args.save_state.as_deref(),
     ) {
         Ok(r) => r,
         Err(e @ formsim::run::RunError::Interrupted { .. }) => {
@@ -963,6 +986,9 @@ fn run(args: &RunArgs) -> Outcome {
             ""
         }
     );
+    if let Some(st) = &s.saved_state {
+        say!("  state       {} (checksum {})", st.path, st.checksum);
+    }
     Ok(ExitCode::SUCCESS)
 }
 

@@ -20,6 +20,8 @@ use fem_core::{
 };
 use rayon::prelude::*;
 
+mod saved_state;
+
 use crate::block_nodes::BlockNodes;
 use crate::error::ShellError;
 use crate::formulation::{ElementBlock, ElementResult, ElementState, ShellFormulation};
@@ -921,6 +923,20 @@ fn inverse_valence(nodes: usize, quads: &[[u32; 4]]) -> Vec<f64> {
 impl<E: ShellFormulation, M: Material> Effect for ShellSet<E, M> {
     fn name(&self) -> &str {
         &self.name
+    }
+
+    /// Every point's stress and history, the element state and thickness.
+    fn save_state(&self, out: &mut fem_core::StateArrays) {
+        self.save_arrays(out);
+    }
+
+    /// The saved state, refused for another mesh or point layout.
+    fn restore_state(
+        &mut self,
+        saved: &fem_core::StateArrays,
+        _notes: &mut Vec<String>,
+    ) -> Result<(), String> {
+        self.restore_arrays(saved)
     }
 
     /// The formulation's static form of the set ([`ShellFormulation::static_form`]).

@@ -167,6 +167,20 @@ pub struct RunResult {
 /// [`RunError::Interrupted`] for a run that stopped early (after writing what
 /// was computed so far); output errors.
 pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunError> {
+    run_staged(loaded, options, None)
+}
+
+/// [`run`], and with `save_state` the blank's whole state written there
+/// when the run completes (`formsim run --save-state`, docs/stages.md);
+/// `summary.json` records it under `saved_state`.
+///
+/// # Errors
+/// As [`run`]; a state that cannot be written is an output error.
+pub fn run_staged(
+    loaded: &LoadedScene,
+    options: &RunOptions,
+    save_state: Option<&std::path::Path>,
+) -> Result<RunResult, RunError> {
     reference_checks::ensure_linked();
     let scene = &loaded.scene;
     let out = &options.out;
@@ -183,10 +197,24 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         out = %out.display(),
         "run"
     );
-    let setup = model.solver.initialize().map_err(|e| {
+    let (setup, notes) = model.set_up().map_err(|e| {
         let message = FileIds::rename(model.file_ids.as_ref(), &e.to_string());
-        loaded.key_error("solver", message)
+        let key = match model.initial_state {
+            Some(_) => "blank.initial_state",
+            None => "solver",
+        };
+        loaded.key_error(key, message)
     })?;
+    if let Some(st) = &model.initial_state {
+        tracing::info!(
+            path = %st.path.display(),
+            checksum = %st.checksum,
+            "the blank starts from its saved state"
+        );
+    }
+    for n in &notes {
+        tracing::info!("initial state: {n}");
+    }
     tracing::info!(
         dt_initial = setup.dt_initial,
         added_mass_percent = setup.added_mass_percent,
@@ -212,6 +240,10 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         _ => {}
     }
     let wall = started.elapsed().as_secs_f64();
+    let saved = match (save_state, &stop) {
+        (Some(path), None) => Some(save(loaded, &model, path)?),
+        _ => None,
+    };
     finish(
         loaded,
         &model,
@@ -222,8 +254,37 @@ pub fn run(loaded: &LoadedScene, options: &RunOptions) -> Result<RunResult, RunE
         rec,
         out,
         wall,
-        stop,
+        Ending { stop, saved },
     )
+}
+
+/// How the step loop ended: why it stopped early (if it did), and the
+/// state it saved (`--save-state`, a completed run only).
+struct Ending {
+    stop: Option<Stop>,
+    saved: Option<summary::StateRecord>,
+}
+
+/// Write the blank's whole state to `path` (docs/stages.md); its record
+/// for `summary.json`.
+fn save(
+    loaded: &LoadedScene,
+    model: &Model,
+    path: &std::path::Path,
+) -> Result<summary::StateRecord, RunError> {
+    let state = crate::state_file::StateFile {
+        element: loaded.scene.blank.element.clone(),
+        material: crate::scene::schema::material_model(&loaded.scene),
+        quads: model.mesh.quads.clone(),
+        resume: model.solver.save_resume(),
+    };
+    let checksum = crate::state_file::write(path, &state)
+        .map_err(|e| OutputError::io(path, std::io::Error::other(e)))?;
+    tracing::info!(path = %path.display(), "state saved");
+    Ok(summary::StateRecord {
+        path: path.display().to_string(),
+        checksum,
+    })
 }
 
 /// The set-up report and its warnings, for [`finish`].
@@ -254,6 +315,11 @@ fn step_loop(
     bar: Option<&indicatif::ProgressBar>,
 ) -> Option<Stop> {
     let end = model.end_time;
+    // With `solver.land_on_step_ends`, the press steps' ends to land on.
+    let landings = match (model.press(), model.land_on_step_ends) {
+        (Some(p), true) => p.step_ends(),
+        _ => Vec::new(),
+    };
     let mut press_log = PressLog::default();
     let mut mark = Instant::now();
     loop {
@@ -280,8 +346,14 @@ fn step_loop(
                 ),
             });
         }
-        // The steps `Solver::run_until(end, …)` takes, landing on `end`.
-        let stepped = model.solver.step_toward(end);
+        // The steps `Solver::run_until(end, …)` takes, landing on `end`
+        // (and on the press steps' ends, when asked).
+        let now = model.solver.time();
+        let target = landings
+            .iter()
+            .find(|&&t| t > now)
+            .map_or(end, |&t| t.min(end));
+        let stepped = model.solver.step_toward(target);
         mark = Instant::now();
         if let Err(err) = stepped {
             // The caller reports the stop; at -vv it shows where the log stood.
@@ -324,8 +396,9 @@ fn finish(
     mut rec: Recorder<'_>,
     out: &std::path::Path,
     wall: f64,
-    stop: Option<Stop>,
+    ending: Ending,
 ) -> Result<RunResult, RunError> {
+    let Ending { stop, saved } = ending;
     let o = &loaded.scene.output;
     let finish = Instant::now();
     let time = model.solver.time();
@@ -375,6 +448,12 @@ fn finish(
         springback: springback.as_ref().map(|(s, _)| s.clone()),
         profiles: &profiles,
     });
+    let mut summary = summary;
+    summary.initial_state = model.initial_state.as_ref().map(|s| summary::StateRecord {
+        path: s.path.display().to_string(),
+        checksum: s.checksum.clone(),
+    });
+    summary.saved_state = saved;
     let mut result = RunResult {
         summary,
         history: rec.history,

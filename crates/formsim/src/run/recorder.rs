@@ -49,7 +49,8 @@ impl<'a> Recorder<'a> {
     /// the first frame).
     pub fn new(loaded: &'a LoadedScene, model: &Model, out: &Path) -> Self {
         let o = &loaded.scene.output;
-        let end = model.end_time;
+        let (start, end) = (model.start_time, model.end_time);
+        let span = end - start;
         let vtk_dir = out.join("vtk");
         let mut strokes = o.report_strokes.clone();
         strokes.sort_by(f64::total_cmp);
@@ -57,14 +58,14 @@ impl<'a> Recorder<'a> {
             loaded,
             post: Post::new(&model.mesh, &o.sections, &o.draw_in, o.punch_edge_distance),
             vtk_dir,
-            sample_every: end / (o.history_points as f64 - 1.0),
+            sample_every: span / (o.history_points as f64 - 1.0),
             frame_every: if o.frames > 0 {
-                end / o.frames as f64
+                span / o.frames as f64
             } else {
                 f64::INFINITY
             },
-            next_sample: 0.0,
-            next_frame: 0.0,
+            next_sample: start,
+            next_frame: start,
             release_framed: false,
             axes: tools_report::press_axes(model),
             strokes,
@@ -96,7 +97,7 @@ impl<'a> Recorder<'a> {
         let e = *model.solver.ledger();
         let forming = match model.stroke {
             Some(_) => stroke >= o.forming_starts_at,
-            None => time >= 0.1 * end,
+            None => time - model.start_time >= 0.1 * (end - model.start_time),
         };
         // A springback step's motion is the release itself, not a sign of a
         // forming run too fast to be quasi-static.

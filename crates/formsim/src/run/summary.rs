@@ -107,6 +107,15 @@ pub struct MaterialPlugin {
     pub parameters: std::collections::BTreeMap<String, f64>,
 }
 
+/// A state file of forming in stages (docs/stages.md).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StateRecord {
+    /// Its path.
+    pub path: String,
+    /// FNV-1a 64 of its bytes (16 hex digits).
+    pub checksum: String,
+}
+
 /// `summary.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
@@ -196,6 +205,12 @@ pub struct Summary {
     pub settings: serde_json::Value,
     /// `--set` overrides applied.
     pub overrides: Vec<String>,
+    /// The state the blank started from (`blank.initial_state`), when given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub initial_state: Option<StateRecord>,
+    /// The state this run saved (`--save-state`), when asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub saved_state: Option<StateRecord>,
     /// What the springback step did, when the scene has one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub springback: Option<super::springback::SpringbackSummary>,
@@ -401,6 +416,8 @@ impl Summary {
             warnings,
             settings: settings(scene),
             overrides: i.loaded.overrides.clone(),
+            initial_state: None,
+            saved_state: None,
             springback,
             selective_mass,
             profiles,

@@ -43,6 +43,8 @@ pub struct Model {
     pub mesh: Mesh,
     /// Initial thickness (mm).
     pub thickness0: f64,
+    /// Start of the run (s): 0, or the time of the initial state.
+    pub start_time: f64,
     /// End of the run (s).
     pub end_time: f64,
     /// Stroke tool, if the scene names one.
@@ -54,8 +56,23 @@ pub struct Model {
     /// The file's node and element numbers, when the blank mesh was read
     /// from a file (messages name nodes and elements by them).
     pub file_ids: Option<super::blank_mesh::FileIds>,
+    /// The state the blank starts from (`blank.initial_state`).
+    pub initial_state: Option<InitialState>,
+    /// `solver.land_on_step_ends`.
+    pub land_on_step_ends: bool,
     /// The forming limit curve and zones of `[formability]`, if any.
     pub formability: Option<crate::formability::Formability>,
+}
+
+/// A state file the run starts from, read and checked against the model.
+#[derive(Debug, Clone)]
+pub struct InitialState {
+    /// Its path (resolved against the scene's directory).
+    pub path: std::path::PathBuf,
+    /// Its checksum ([`crate::state_file::checksum`]).
+    pub checksum: String,
+    /// Its content.
+    pub file: crate::state_file::StateFile,
 }
 
 impl std::fmt::Debug for Model {
@@ -64,11 +81,31 @@ impl std::fmt::Debug for Model {
             .field("elements", &self.mesh.quads.len())
             .field("tools", &self.tool_names)
             .field("end_time", &self.end_time)
+            .field(
+                "initial_state",
+                &self
+                    .initial_state
+                    .as_ref()
+                    .map(|s| s.path.display().to_string()),
+            )
             .finish()
     }
 }
 
 impl Model {
+    /// Set the solver up: from the initial state when the scene gives one
+    /// ([`fem_core::Solver::resume`]; the notes say what of the state is
+    /// dropped), else afresh ([`fem_core::Solver::initialize`], no notes).
+    ///
+    /// # Errors
+    /// The solver's set-up failed, or refused the state.
+    pub fn set_up(&mut self) -> Result<(fem_core::SetupReport, Vec<String>), fem_core::FemError> {
+        match &self.initial_state {
+            Some(s) => self.solver.resume(&s.file.resume),
+            None => Ok((self.solver.initialize()?, Vec::new())),
+        }
+    }
+
     /// The blank's shells.
     pub fn shells(&self) -> &dyn ShellView {
         self.shells
@@ -227,6 +264,15 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
     add_boundary_and_loads(loaded, &mut solver, &mesh)?;
     let stroke = stroke_tool(loaded, &tool_names)?;
     let formability = crate::formability::Formability::from_scene(loaded)?;
+    let initial_state = initial_state(loaded, &mesh)?;
+    // A stage goes on from the time its state was saved at.
+    let start_time = initial_state.as_ref().map_or(0.0, |s| s.file.resume.time);
+    let end_time = start_time + end_time;
+    let mut mesh = mesh;
+    if let Some(st) = &initial_state {
+        // Draw-in and displacements count from where the first stage began.
+        mesh.nodes.clone_from(&st.file.resume.nodes.x0);
+    }
     Ok(Model {
         solver,
         shells,
@@ -234,13 +280,40 @@ pub fn build(loaded: &LoadedScene) -> Result<Model, SceneError> {
         tool_names,
         mesh,
         thickness0: s.blank.thickness,
+        start_time,
         end_time,
         stroke,
         law,
         formulation,
         file_ids,
         formability,
+        initial_state,
+        land_on_step_ends: s.solver.land_on_step_ends,
     })
+}
+
+/// The state of `blank.initial_state`, read and checked against the
+/// scene's element, material and mesh (`None` without the key).
+fn initial_state(loaded: &LoadedScene, mesh: &Mesh) -> Result<Option<InitialState>, SceneError> {
+    let Some(rel) = &loaded.scene.blank.initial_state else {
+        return Ok(None);
+    };
+    let key = "blank.initial_state";
+    let path = loaded.base_dir().join(rel);
+    let (file, checksum) = crate::state_file::read(&path).map_err(|e| loaded.key_error(key, e))?;
+    let material = super::schema::material_model(&loaded.scene);
+    file.check_model(&crate::state_file::ModelKey {
+        element: &loaded.scene.blank.element,
+        material: &material,
+        nodes: mesh.nodes.len(),
+        quads: &mesh.quads,
+    })
+    .map_err(|e| loaded.key_error(key, format!("{}: {e}", path.display())))?;
+    Ok(Some(InitialState {
+        path,
+        checksum,
+        file,
+    }))
 }
 
 /// The scene's tools, boxed for the contact effect.

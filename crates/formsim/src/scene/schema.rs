@@ -144,6 +144,10 @@ pub struct Blank {
     pub warping_correction: bool,
     /// `[blank.material]`.
     pub material: Material,
+    /// A state file saved by `formsim run --save-state` (relative to the
+    /// scene file): the blank starts from it (docs/stages.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial_state: Option<String>,
 }
 
 fn default_points() -> usize {
@@ -691,6 +695,11 @@ pub struct SolverSection {
     /// stops, naming the element or node, where the stable limit falls below it.
     #[serde(default)]
     pub fixed_dt: Option<f64>,
+    /// Land on the end of every press step of fixed duration, as a run
+    /// ending there does (default off; docs/stages.md): a single run then
+    /// takes the same steps as the same programme formed in stages.
+    #[serde(default)]
+    pub land_on_step_ends: bool,
 }
 
 impl Default for SolverSection {
@@ -704,6 +713,7 @@ impl Default for SolverSection {
             end_time: None,
             dt_max: None,
             fixed_dt: None,
+            land_on_step_ends: false,
         }
     }
 }

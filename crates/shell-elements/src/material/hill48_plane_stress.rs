@@ -230,6 +230,19 @@ pub struct Hill48History {
     pub sigma_y: f64,
 }
 
+impl super::HistoryWords for Hill48History {
+    const WORDS: usize = 2;
+    fn write_words(&self, out: &mut Vec<f64>) {
+        out.extend([self.eps_p, self.sigma_y]);
+    }
+    fn read_words(words: &[f64]) -> Self {
+        Self {
+            eps_p: words[0],
+            sigma_y: words[1],
+        }
+    }
+}
+
 impl Hill48PlaneStress {
     /// A validated material with RD along the element's `e1`: `young` E
     /// (MPa, positive), `poisson` ν in [0, 0.5), `density` ρ (tonne/mm³,

@@ -63,6 +63,19 @@ pub struct J2History {
     pub sigma_y: f64,
 }
 
+impl super::HistoryWords for J2History {
+    const WORDS: usize = 2;
+    fn write_words(&self, out: &mut Vec<f64>) {
+        out.extend([self.eps_p, self.sigma_y]);
+    }
+    fn read_words(words: &[f64]) -> Self {
+        Self {
+            eps_p: words[0],
+            sigma_y: words[1],
+        }
+    }
+}
+
 impl J2PlaneStress {
     /// A validated material: `young` E (MPa) > 0, `poisson` ν in [0, 0.5),
     /// `density` ρ (tonne/mm³) > 0, and a valid hardening curve.

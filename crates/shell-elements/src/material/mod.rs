@@ -32,6 +32,17 @@ pub struct PointUpdate<T = f64> {
     pub dissipation: T,
 }
 
+/// A point history as a fixed number of `f64`s, to save it and read it back
+/// exactly (forming in stages).
+pub trait HistoryWords: Sized {
+    /// Numbers per history.
+    const WORDS: usize;
+    /// Push the history's [`HistoryWords::WORDS`] numbers to `out`.
+    fn write_words(&self, out: &mut Vec<f64>);
+    /// The history from its numbers (`words.len() == WORDS`).
+    fn read_words(words: &[f64]) -> Self;
+}
+
 /// A plane-stress constitutive model, evaluated in the element's co-rotational frame.
 ///
 /// Stresses are `[σ_xx, σ_yy, σ_xy]` (MPa, tensor shear); strain increments
@@ -40,7 +51,7 @@ pub struct PointUpdate<T = f64> {
 /// the thickness-strain increment that goes with it.
 pub trait Material: Clone + Send + Sync + 'static {
     /// The state a point carries between steps (plastic strain, back stress, …).
-    type History: Copy + Send + Sync + std::fmt::Debug + 'static;
+    type History: Copy + Send + Sync + std::fmt::Debug + HistoryWords + 'static;
 
     /// Short name used in reports (e.g. `j2-swift`).
     fn name(&self) -> &'static str;

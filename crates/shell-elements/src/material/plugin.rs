@@ -37,6 +37,23 @@ pub struct PluginHistory {
     pub flow_stress: f64,
 }
 
+impl super::HistoryWords for PluginHistory {
+    const WORDS: usize = MAX_STATE + 2;
+    fn write_words(&self, out: &mut Vec<f64>) {
+        out.extend(self.state);
+        out.extend([self.plastic_strain, self.flow_stress]);
+    }
+    fn read_words(words: &[f64]) -> Self {
+        let mut state = [0.0; MAX_STATE];
+        state.copy_from_slice(&words[..MAX_STATE]);
+        Self {
+            state,
+            plastic_strain: words[MAX_STATE],
+            flow_stress: words[MAX_STATE + 1],
+        }
+    }
+}
+
 /// Whether a batch slot is being filled or read back.
 #[derive(Clone, Copy, Debug)]
 enum Io {
