@@ -134,6 +134,84 @@ impl EnergyLedger {
             + self.external_mass_scaling
             + self.external_tools;
         self.balance_abs = self.total() - total0 - self.external;
+        self.relative_balance();
+    }
+
+    /// The ledger of a run continued from a saved state (forming in
+    /// stages): the energies this run accumulated since it started, plus
+    /// those of the runs before (`before`, their ledger when the state was
+    /// saved). The kinetic energy and the central-difference term are of
+    /// now; the balance adds the earlier runs' own.
+    pub fn carry(&mut self, before: &EnergyLedger) {
+        self.kinetic_added += before.kinetic_added;
+        self.internal += before.internal;
+        self.hourglass += before.hourglass;
+        self.plastic += before.plastic;
+        self.contact += before.contact;
+        self.friction += before.friction;
+        self.bead += before.bead;
+        self.damping += before.damping;
+        self.external_loads += before.external_loads;
+        self.external_prescribed += before.external_prescribed;
+        self.external_mass_scaling += before.external_mass_scaling;
+        self.external_tools += before.external_tools;
+        self.external += before.external;
+        self.balance_abs += before.balance_abs;
+        self.relative_balance();
+    }
+
+    /// The fields of the ledger in a fixed order (a state file's words).
+    pub fn to_words(&self) -> [f64; 19] {
+        [
+            self.time,
+            self.kinetic,
+            self.kinetic_rotational,
+            self.kinetic_added,
+            self.integration,
+            self.internal,
+            self.hourglass,
+            self.plastic,
+            self.contact,
+            self.friction,
+            self.bead,
+            self.damping,
+            self.external_loads,
+            self.external_prescribed,
+            self.external_mass_scaling,
+            self.external_tools,
+            self.external,
+            self.balance_abs,
+            self.balance_error,
+        ]
+    }
+
+    /// The ledger of [`EnergyLedger::to_words`]' words.
+    pub fn from_words(w: &[f64; 19]) -> Self {
+        Self {
+            time: w[0],
+            kinetic: w[1],
+            kinetic_rotational: w[2],
+            kinetic_added: w[3],
+            integration: w[4],
+            internal: w[5],
+            hourglass: w[6],
+            plastic: w[7],
+            contact: w[8],
+            friction: w[9],
+            bead: w[10],
+            damping: w[11],
+            external_loads: w[12],
+            external_prescribed: w[13],
+            external_mass_scaling: w[14],
+            external_tools: w[15],
+            external: w[16],
+            balance_abs: w[17],
+            balance_error: w[18],
+        }
+    }
+
+    /// `balance_error` from `balance_abs` and the energies (module docs).
+    fn relative_balance(&mut self) {
         let scale = (self.kinetic.abs()
             + self.kinetic_added.abs()
             + self.integration.abs()
@@ -283,6 +361,36 @@ impl History {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A ledger goes through its words and back unchanged; carried on, the
+    /// accumulated energies and the balance add, the kinetic energy is of
+    /// now.
+    #[test]
+    fn a_ledger_round_trips_and_carries_on() {
+        let mut a = EnergyLedger {
+            time: 1.0,
+            kinetic: 2.0,
+            internal: 10.0,
+            plastic: 8.0,
+            friction: 3.0,
+            external_tools: 15.0,
+            ..Default::default()
+        };
+        a.close(0.0);
+        assert_eq!(EnergyLedger::from_words(&a.to_words()), a);
+        let mut b = EnergyLedger {
+            kinetic: 1.0,
+            internal: 5.0,
+            external_tools: 4.0,
+            ..Default::default()
+        };
+        b.close(2.0);
+        let (b_abs, mut c) = (b.balance_abs, b);
+        c.carry(&a);
+        assert_eq!((c.kinetic, c.internal, c.plastic), (1.0, 15.0, 8.0));
+        assert_eq!((c.external_tools, c.external), (19.0, 19.0));
+        assert_eq!(c.balance_abs, a.balance_abs + b_abs);
+    }
 
     /// The header, then per row the step and every number as `{:e}`, `,`
     /// between, `\n` after each line.

@@ -11,7 +11,7 @@
 //! step count, energies and prescribed displacements count from the start
 //! of each run.
 
-use crate::{Forces, NodalState, ToolLoad, Vec3};
+use crate::{EnergyLedger, Forces, NodalState, ToolLoad, Vec3};
 use plugins_api::{RigidPose, RigidVelocity};
 
 /// An effect's state as named arrays of numbers (integers stored exactly as
@@ -121,4 +121,7 @@ pub struct SolverResume {
     pub tools: Vec<ToolResume>,
     /// Each effect's state, by effect name.
     pub effects: Vec<(String, StateArrays)>,
+    /// The energy ledger when the state was saved (the runs before
+    /// included): a continued run carries it on.
+    pub ledger: EnergyLedger,
 }

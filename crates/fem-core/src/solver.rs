@@ -466,6 +466,8 @@ pub struct Solver {
     tally: EnergyTally,
     work: WorkSums,
     total0: f64,
+    /// The ledger of the runs before, when this one continues a saved state.
+    carried: Option<EnergyLedger>,
     ledger: EnergyLedger,
     physical_mass: f64,
     added_mass: f64,
@@ -552,6 +554,7 @@ impl Solver {
             tally: EnergyTally::default(),
             work: WorkSums::default(),
             total0: 0.0,
+            carried: None,
             ledger: EnergyLedger::default(),
             physical_mass: 0.0,
             added_mass: 0.0,
@@ -1778,6 +1781,9 @@ impl Solver {
             self.total0 = ledger.total();
         }
         ledger.close(self.total0);
+        if let Some(before) = &self.carried {
+            ledger.carry(before);
+        }
         self.ledger = ledger;
         ledger
     }

@@ -34,6 +34,7 @@ impl Solver {
                 .as_ref()
                 .map_or_else(Vec::new, |p| p.save_tools(&self.tool_loads)),
             effects,
+            ledger: self.ledger,
         }
     }
 
@@ -100,6 +101,7 @@ impl Solver {
         self.dt_prev = saved.dt_prev;
         self.dt_next = saved.dt_next;
         self.dt_floor = saved.dt_floor;
+        self.carried = Some(saved.ledger);
         self.physical_mass = saved.physical_mass;
         self.added_mass = saved.added_mass;
         let report = SetupReport {

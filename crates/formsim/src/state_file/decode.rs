@@ -185,6 +185,10 @@ pub fn from_bytes(bytes: &[u8]) -> Read<StateFile> {
     let effects = (0..i.u64("the effect count")?)
         .map(|_| i.arrays())
         .collect::<Read<Vec<_>>>()?;
+    let mut words = [0.0; 19];
+    for w in &mut words {
+        *w = i.f64("the energy ledger")?;
+    }
     if i.at != bytes.len() {
         return Err(format!(
             "{} bytes after the last section: damaged file",
@@ -206,6 +210,7 @@ pub fn from_bytes(bytes: &[u8]) -> Read<StateFile> {
             added_mass,
             tools,
             effects,
+            ledger: fem_core::EnergyLedger::from_words(&words),
         },
     })
 }

@@ -94,6 +94,7 @@ pub fn to_bytes(state: &StateFile) -> Vec<u8> {
     r.tools.iter().for_each(|t| o.tool(t));
     o.u64(r.effects.len());
     r.effects.iter().for_each(|(name, a)| o.arrays(name, a));
+    r.ledger.to_words().iter().for_each(|&x| o.f64(x));
     o.0
 }
 
