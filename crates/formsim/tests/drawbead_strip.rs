@@ -4,8 +4,8 @@
 #[allow(dead_code)]
 mod common;
 
-use common::root;
-use formsim::run::{RunOptions, RunResult, run};
+use common::{root, run_loaded};
+use formsim::run::RunResult;
 use formsim::scene;
 
 /// Width of the strip of `scenes/strip-draw.toml` (mm).
@@ -16,17 +16,7 @@ fn strip_with(beads: &str, sets: &[&str]) -> (tempfile::TempDir, RunResult) {
     let path = root().join("scenes/strip-draw.toml");
     let text = std::fs::read_to_string(&path).unwrap() + beads;
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let loaded = scene::parse(&text, &path, &sets).unwrap();
-    let dir = tempfile::tempdir().unwrap();
-    let r = run(
-        &loaded,
-        &RunOptions {
-            out: dir.path().to_path_buf(),
-            progress: Default::default(),
-        },
-    )
-    .unwrap();
-    (dir, r)
+    run_loaded(&scene::parse(&text, &path, &sets).unwrap())
 }
 
 /// A straight bead on the holder's face (z = 1) across the strip at `x`,

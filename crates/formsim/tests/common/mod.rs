@@ -18,11 +18,17 @@ pub fn root() -> PathBuf {
 /// Run the ready scene `scenes/NAME.toml` with `sets` into a fresh
 /// temporary directory (kept alive by the returned handle).
 pub fn run_scene(name: &str, sets: &[&str]) -> (tempfile::TempDir, RunResult) {
-    let dir = tempfile::tempdir().unwrap();
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let loaded = scene::load(&root().join(format!("scenes/{name}.toml")), &sets).unwrap();
+    run_loaded(&loaded)
+}
+
+/// Run `loaded` into a fresh temporary directory (kept alive by the
+/// returned handle).
+pub fn run_loaded(loaded: &scene::LoadedScene) -> (tempfile::TempDir, RunResult) {
+    let dir = tempfile::tempdir().unwrap();
     let r = run(
-        &loaded,
+        loaded,
         &RunOptions {
             out: dir.path().to_path_buf(),
             progress: Default::default(),
