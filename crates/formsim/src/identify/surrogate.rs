@@ -32,7 +32,7 @@ pub const SIMPLEX_STEP: f64 = 0.05;
 pub const SURROGATE_ITERATIONS: u64 = 2000;
 
 /// The default sweep for `n` fitted values: `10 n` points, the rule of
-/// Loeppky, Sacks and Welch (Technometrics 51, 2009) for a Gaussian
+/// Loeppky, Sacks and Welch (Technometrics 51) for a Gaussian
 /// process of a computer model.
 pub fn default_samples(n: usize) -> usize {
     10 * n
