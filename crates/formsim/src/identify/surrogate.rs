@@ -1,10 +1,11 @@
 //! `--method surrogate` (docs/identification.md, "Surrogate"): a Latin
 //! hypercube sweep of the fitted values over their bounds, run as one
 //! parallel batch; a Gaussian process ([`super::gp`]) of every measured
-//! quantity over the sweep; the objective minimised on the processes'
-//! means with their predictive variance, from the best sweep points; then
+//! quantity over the sweep; the objective minimised on the processes
+//! (their predictive variance added for `wls`), from the best sweep
+//! points; then
 //! the check run at the optimum, its Jacobian and the roughness probes as
-//! one batch ([`super::at_optimum`]).
+//! one batch (the uncertainty the other methods take at their end).
 
 use super::evaluate::{Evaluation, Evaluator};
 use super::gp::Gp;
