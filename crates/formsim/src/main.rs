@@ -93,9 +93,13 @@ struct IdentifyArgs {
     /// Objective: `mae` (the thesis's mean absolute error) or `wls` (weighted least squares; needs standard errors).
     #[arg(long, default_value = "mae")]
     objective: String,
-    /// Optimiser: `nelder-mead` (argmin) or `lm` (Levenberg–Marquardt on finite-difference Jacobians).
+    /// Optimiser: `nelder-mead` (argmin), `lm` (Levenberg–Marquardt on finite-difference Jacobians)
+    /// or `surrogate` (Gaussian processes over a Latin hypercube sweep, minimised, checked by one run).
     #[arg(long, default_value = "nelder-mead")]
     method: String,
+    /// `--method surrogate`: points of the sweep (default 10 per fitted value).
+    #[arg(long, value_name = "N")]
+    samples: Option<usize>,
     /// Stop after this many evaluations (one evaluation runs every data set once).
     #[arg(long, default_value_t = 40)]
     max_evaluations: usize,
@@ -1237,6 +1241,7 @@ fn identify(args: &IdentifyArgs, threads: Option<u16>) -> Outcome {
         fd_step: args.fd_step,
         out: args.out.clone(),
         progress: cli_io::bars_wanted(),
+        samples: args.samples,
     };
     let data = Measurements::read(&args.measurements).map_err(err)?;
     if args.fresh {
@@ -1280,6 +1285,16 @@ fn identify(args: &IdentifyArgs, threads: Option<u16>) -> Outcome {
         report.wall_s,
         report.stop
     );
+    if let Some(f) = &report.surrogate {
+        say!(
+            "surrogate: {} sweep points, objective {:.6} on it at its optimum, {} by the check run; largest error {} % of a measured value",
+            f.samples,
+            f.objective_surrogate,
+            f.objective_check.map_or("-".into(), |v| format!("{v:.6}")),
+            f.check_max_relative_error
+                .map_or("-".into(), |v| format!("{:.4}", 100.0 * v))
+        );
+    }
     if let Some(u) = &report.uncertainty {
         for w in &u.warnings {
             note!("warning: {w}");

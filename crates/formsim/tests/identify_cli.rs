@@ -79,6 +79,21 @@ fn identify_bad_input_gives_one_line_before_any_run() {
             vec!["--fit", "contact.params.ac.mu=0.02..0.3", "--fd-step", "0"],
             vec!["--fd-step 0"],
         ),
+        (
+            vec![
+                "--fit",
+                "contact.params.ac.mu=0.02..0.3",
+                "--method",
+                "surrogate",
+                "--samples",
+                "4",
+            ],
+            vec!["--samples 4", "from 5"],
+        ),
+        (
+            vec!["--fit", "contact.params.ac.mu=0.02..0.3", "--samples", "10"],
+            vec!["--samples 10", "only --method surrogate"],
+        ),
     ];
     for (extra, needles) in cases {
         let mut args = vec!["identify", scene, "--measurements", csv, "--out", out];

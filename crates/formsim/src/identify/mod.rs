@@ -10,14 +10,18 @@
 //! - [`objective`]: the thesis's mean absolute error, or weighted least squares.
 //! - [`nelder_mead`] (argmin) and [`levenberg`] (Levenberg–Marquardt on
 //!   finite-difference Jacobians, [`jacobian`]).
+//! - [`surrogate`]: `--method surrogate`, a Gaussian-process surrogate
+//!   ([`gp`]) trained on a Latin hypercube sweep ([`lhs`]) and inverted.
 //! - [`uncertainty`]: the linearised covariance, intervals, correlations.
 //! - [`mod@sensitivity`]: the normalised sensitivity table ([`sensitivity()`] writes it).
 //! - [`report`]: `identification.json`, `identification.md` and the plots.
 
 pub mod evaluate;
+pub mod gp;
 pub mod jacobian;
 pub mod journal;
 pub mod levenberg;
+pub mod lhs;
 pub mod measurements;
 pub mod nelder_mead;
 pub mod objective;
@@ -26,6 +30,7 @@ pub mod params;
 pub mod plots;
 pub mod report;
 pub mod sensitivity;
+pub mod surrogate;
 pub mod uncertainty;
 
 use evaluate::{Evaluation, Evaluator};
@@ -93,10 +98,13 @@ pub enum Method {
     NelderMead,
     /// Levenberg–Marquardt on finite-difference Jacobians, projected on the bounds.
     LevenbergMarquardt,
+    /// A Gaussian-process surrogate of every measured value over a Latin
+    /// hypercube sweep, minimised and checked by one run ([`surrogate`]).
+    Surrogate,
 }
 
 impl Method {
-    /// Parse `nelder-mead` or `lm`.
+    /// Parse `nelder-mead`, `lm` or `surrogate`.
     ///
     /// # Errors
     /// Another name.
@@ -104,8 +112,9 @@ impl Method {
         match name {
             "nelder-mead" | "nm" => Ok(Self::NelderMead),
             "lm" | "levenberg-marquardt" => Ok(Self::LevenbergMarquardt),
+            "surrogate" => Ok(Self::Surrogate),
             other => Err(IdentifyError::Option(format!(
-                "--method {other}: expected nelder-mead or lm"
+                "--method {other}: expected nelder-mead, lm or surrogate"
             ))),
         }
     }
@@ -115,6 +124,7 @@ impl Method {
         match self {
             Self::NelderMead => "nelder-mead",
             Self::LevenbergMarquardt => "lm",
+            Self::Surrogate => "surrogate",
         }
     }
 }
@@ -142,6 +152,9 @@ pub struct Options {
     pub out: PathBuf,
     /// Progress bar.
     pub progress: bool,
+    /// `--method surrogate`: the sweep's points (`None`:
+    /// [`surrogate::default_samples`]).
+    pub samples: Option<usize>,
 }
 
 /// The start of each value: its START, else the scene's own value when it is
@@ -225,6 +238,15 @@ pub fn check(options: &Options, data: &Measurements) -> Result<(), IdentifyError
             "--objective wls needs a standard error on every measured value; {missing} has none"
         )));
     }
+    if let Some(samples) = options.samples {
+        if options.method != Method::Surrogate {
+            return Err(IdentifyError::Option(format!(
+                "--samples {samples}: only --method surrogate takes a sweep (the method is {})",
+                options.method.name()
+            )));
+        }
+        surrogate::check_samples(samples, options.params.len())?;
+    }
     if options.max_evaluations < options.params.len() + 2 {
         return Err(IdentifyError::Option(format!(
             "--max-evaluations {}: at least {} are needed for {} fitted values",
@@ -304,7 +326,11 @@ pub fn identify_on(
         executor,
     )?;
     if options.progress {
-        ev = ev.with_progress(options.max_evaluations);
+        let limit = match options.method {
+            Method::Surrogate => surrogate::evaluations(options),
+            _ => options.max_evaluations,
+        };
+        ev = ev.with_progress(limit);
     }
     let stop = match options.method {
         Method::NelderMead => nelder_mead::minimise(
@@ -326,6 +352,7 @@ pub fn identify_on(
                 max_evaluations: options.max_evaluations,
             },
         )?,
+        Method::Surrogate => return identify_by_surrogate(options, data, &ev),
     };
     let log = ev.log();
     let first = log
@@ -343,6 +370,27 @@ pub fn identify_on(
     let uncertainty = at_optimum(&ev, &end.values, options.fd_step, data.all_have_se());
     ev.finish();
     let report = report::Report::new(options, &ev, &first, &end, stop, uncertainty);
+    report.write(&options.out, data)?;
+    Ok(report)
+}
+
+/// [`identify`] by the surrogate ([`surrogate::identify`]).
+fn identify_by_surrogate(
+    options: &Options,
+    data: &Measurements,
+    ev: &Evaluator<'_>,
+) -> Result<report::Report, IdentifyError> {
+    let outcome = surrogate::identify(options, ev)?;
+    ev.finish();
+    let report = report::Report::new(
+        options,
+        ev,
+        &outcome.first,
+        &outcome.end,
+        outcome.stop,
+        outcome.uncertainty,
+    )
+    .with_surrogate(outcome.figures);
     report.write(&options.out, data)?;
     Ok(report)
 }
@@ -447,6 +495,7 @@ pub fn sensitivity(
         fd_step: options.step,
         out: options.out.clone(),
         progress: false,
+        samples: None,
     };
     check(&check_options, data)?;
     let x = start_values(&options.scene, &options.sets, &options.params)?;

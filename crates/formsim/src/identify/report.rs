@@ -6,6 +6,7 @@ use super::evaluate::{Evaluation, Evaluator};
 use super::measurements::{Measurements, Quantity};
 use super::plots::{MarkPanel, draw};
 use super::sensitivity::Table;
+use super::surrogate::SurrogateFigures;
 use super::uncertainty::Uncertainty;
 use super::{IdentifyError, Options, SensitivityOptions};
 use crate::plot::{Panel, Series, draw_panels};
@@ -107,6 +108,9 @@ pub struct Report {
     /// `summary.json`'s `states` of each data set's run at the end: what the
     /// identified model predicts at every report stroke.
     pub end_states: BTreeMap<String, serde_json::Value>,
+    /// `--method surrogate`'s figures (absent for the other methods).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub surrogate: Option<SurrogateFigures>,
 }
 
 fn finite(v: f64) -> Option<f64> {
@@ -201,7 +205,14 @@ impl Report {
             uncertainty_error,
             predictions,
             end_states,
+            surrogate: None,
         }
+    }
+
+    /// The report with the surrogate's figures.
+    pub fn with_surrogate(mut self, figures: SurrogateFigures) -> Self {
+        self.surrogate = Some(figures);
+        self
     }
 
     /// Write `identification.json`, `identification.md` and the plots to `out`.
@@ -266,6 +277,7 @@ impl Report {
             self.from_journal,
             self.wall_s
         );
+        self.markdown_surrogate(&mut s);
         self.markdown_uncertainty(&mut s);
         let _ = writeln!(
             s,
@@ -286,6 +298,38 @@ impl Report {
         }
         let _ = writeln!(s, "\n![objective](objective.png)\n\n![fit](fit.png)");
         s
+    }
+
+    fn markdown_surrogate(&self, s: &mut String) {
+        let Some(f) = &self.surrogate else {
+            return;
+        };
+        let num =
+            |v: Option<f64>, digits: usize| v.map_or("—".into(), |v| format!("{v:.digits$}"));
+        let _ = writeln!(
+            s,
+            "Surrogate: {} sweep points ({} ran, {} runs made by this call, {:.1} s), {} Gaussian processes fitted and minimised from {} starts ({:.2} s); at the optimum one batch of {} points (the check run, the Jacobian, the probes: {} runs made, {:.1} s).\n",
+            f.samples,
+            f.samples_used,
+            f.sweep_runs,
+            f.sweep_wall_s,
+            f.quantities,
+            f.starts,
+            f.surrogate_wall_s,
+            f.optimum_points,
+            f.optimum_runs,
+            f.optimum_wall_s
+        );
+        let _ = writeln!(
+            s,
+            "| figure | value |\n|---|---:|\n| objective, best sweep point | {:.6} |\n| objective on the surrogate at its optimum | {:.6} |\n| objective of the check run there | {} |\n| largest surrogate error at the check run, % of the measured value | {} |\n| largest surrogate error at the check run, in its σ | {} |\n| largest surrogate σ at the optimum, % of the measured value | {:.4} |\n",
+            f.objective_best_sample,
+            f.objective_surrogate,
+            num(f.objective_check, 6),
+            num(f.check_max_relative_error.map(|v| 100.0 * v), 4),
+            num(f.check_max_error_in_sigma, 2),
+            100.0 * f.sigma_max_relative
+        );
     }
 
     fn markdown_uncertainty(&self, s: &mut String) {
