@@ -9,6 +9,7 @@
 //! join as the engine crates arrive. It must not re-implement physics: every
 //! friction number comes from `plugins-api`'s return mapping and the laws.
 
+pub mod batch;
 pub mod compare;
 pub mod components;
 mod csv_records;

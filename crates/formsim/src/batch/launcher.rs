@@ -1,0 +1,61 @@
+//! Whether this process was started by an MPI launcher (`mpirun`, `mpiexec`,
+//! `srun`), read from the variables the launchers set. Compiled with or
+//! without the `mpi` feature, so that a build without it can refuse to run
+//! as one of several copies that would all write the same folder.
+
+/// Variables that hold the number of processes of the job, by launcher:
+/// Open MPI's `mpirun`, PMI-1/PMI-2 (MPICH's `mpiexec`, `srun --mpi=pmi2`)
+/// and Slurm's step (`srun`, any `--mpi`).
+const SIZE_VARIABLES: [&str; 3] = ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "SLURM_STEP_NUM_TASKS"];
+
+/// Variables whose presence alone says a launcher started this process
+/// (PMIx sets a rank but no size).
+const RANK_VARIABLES: [&str; 4] = [
+    "OMPI_COMM_WORLD_RANK",
+    "PMI_RANK",
+    "PMIX_RANK",
+    "SLURM_PROCID",
+];
+
+/// What the environment says about a launcher: `None` when no launcher
+/// variable is set (a plain start), else the job's size when a size
+/// variable holds a number (`Some(None)` when only a rank is known).
+pub fn detect(var: &dyn Fn(&str) -> Option<String>) -> Option<Option<usize>> {
+    let size = SIZE_VARIABLES
+        .iter()
+        .find_map(|v| var(v).and_then(|s| s.trim().parse::<usize>().ok()));
+    let launched = size.is_some() || RANK_VARIABLES.iter().any(|v| var(v).is_some());
+    launched.then_some(size)
+}
+
+/// [`detect`] on this process's environment.
+pub fn launched() -> Option<Option<usize>> {
+    detect(&|v| std::env::var(v).ok())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn env<'a>(pairs: &'a [(&'a str, &'a str)]) -> impl Fn(&str) -> Option<String> + 'a {
+        move |v| pairs.iter().find(|p| p.0 == v).map(|p| p.1.to_string())
+    }
+
+    #[test]
+    fn a_plain_start_is_no_launch() {
+        assert_eq!(detect(&env(&[("HOME", "/root")])), None);
+    }
+
+    #[test]
+    fn mpirun_srun_and_pmix_are_recognised() {
+        let ompi = [("OMPI_COMM_WORLD_SIZE", "3"), ("OMPI_COMM_WORLD_RANK", "1")];
+        assert_eq!(detect(&env(&ompi)), Some(Some(3)));
+        let srun = [("SLURM_PROCID", "0"), ("SLURM_STEP_NUM_TASKS", "8")];
+        assert_eq!(detect(&env(&srun)), Some(Some(8)));
+        assert_eq!(detect(&env(&[("PMIX_RANK", "0")])), Some(None));
+        assert_eq!(
+            detect(&env(&[("PMI_SIZE", "x"), ("PMI_RANK", "0")])),
+            Some(None)
+        );
+    }
+}
