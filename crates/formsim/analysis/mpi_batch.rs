@@ -8,6 +8,10 @@
 //! - `mpi_batch empty N`: N jobs that do nothing, handed to one worker
 //!   (rank 0 only dispatches); prints the hand-out, serialisation and
 //!   return time per job.
+//! - `mpi_batch wait block|poll`: rank 1 sends one message after 3 s; rank 0
+//!   waits for it in a blocking receive (`block`) or polling with
+//!   [`formsim::batch::mpi::POLL`] sleeps (`poll`, as the executor does);
+//!   prints rank 0's CPU seconds while it waited.
 //!
 //! Run from the repository's root, e.g.
 //! `mpirun -n 2 target/release/examples/mpi_batch cup 8 /tmp/cups`.
@@ -20,9 +24,18 @@ use std::time::Instant;
 
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: mpi_batch cup N OUT | mpi_batch empty N (under mpirun)";
+    let usage =
+        "usage: mpi_batch cup N OUT | mpi_batch empty N | mpi_batch wait block|poll (under mpirun)";
+    if let [m, how] = args.as_slice()
+        && m == "wait"
+    {
+        return wait(how == "poll");
+    }
     let (mode, n) = match args.as_slice() {
-        [m, n, ..] => (m.as_str(), n.parse::<usize>().map_err(|e| format!("N: {n}: {e}"))?),
+        [m, n, ..] => (
+            m.as_str(),
+            n.parse::<usize>().map_err(|e| format!("N: {n}: {e}"))?,
+        ),
         _ => return Err(usage.into()),
     };
     let out = PathBuf::from(args.get(2).map_or("/tmp/mpi_batch", String::as_str));
@@ -59,8 +72,10 @@ fn main() -> Result<(), String> {
     let exec = w.executor(1, mode == "cup");
     let t = Instant::now();
     let mut failed = 0;
-    exec.run(&jobs, work, &mut |_, r| failed += usize::from(r.outcome.is_err()))
-        .map_err(|e| e.to_string())?;
+    exec.run(&jobs, work, &mut |_, r| {
+        failed += usize::from(r.outcome.is_err())
+    })
+    .map_err(|e| e.to_string())?;
     let wall = t.elapsed().as_secs_f64();
     match mode {
         "cup" => println!(
@@ -74,6 +89,45 @@ fn main() -> Result<(), String> {
             1e3 * wall / n as f64
         ),
     }
+    Ok(())
+}
+
+/// Rank 0's CPU seconds while it waits 3 s for rank 1's message.
+fn wait(poll: bool) -> Result<(), String> {
+    use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
+    use mpi::topology::{Communicator, SimpleCommunicator};
+    let w = world()
+        .map_err(|e| e.to_string())?
+        .ok_or("not under mpirun")?;
+    let comm = SimpleCommunicator::world();
+    if w.rank() == 1 {
+        std::thread::sleep(std::time::Duration::from_secs(3));
+        comm.process_at_rank(0).send(&[1u8][..]);
+        return Ok(());
+    }
+    if w.rank() > 1 {
+        return Ok(());
+    }
+    let cpu = cpu_time::ProcessTime::now();
+    let wall = Instant::now();
+    let from = comm.process_at_rank(1);
+    if poll {
+        loop {
+            if let Some(m) = from.immediate_matched_probe() {
+                m.matched_receive_vec::<u8>();
+                break;
+            }
+            std::thread::sleep(formsim::batch::mpi::POLL);
+        }
+    } else {
+        from.receive_vec::<u8>();
+    }
+    println!(
+        "{}: rank 0 waited {:.2} s wall, {:.2} s CPU",
+        if poll { "polling" } else { "blocking receive" },
+        wall.elapsed().as_secs_f64(),
+        cpu.elapsed().as_secs_f64()
+    );
     Ok(())
 }
 
