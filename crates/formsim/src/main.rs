@@ -367,6 +367,11 @@ fn main() -> ExitCode {
         note!("error: --threads {n}: {e}");
         return ExitCode::FAILURE;
     }
+    // Several copies started by mpirun or srun would each do the whole work.
+    if let Err(e) = formsim::batch::launcher::single_copy() {
+        note!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     let result = match cli.command {
         Command::Laws(args) => laws(&args),
         Command::Plugin {

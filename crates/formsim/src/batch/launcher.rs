@@ -33,6 +33,24 @@ pub fn launched() -> Option<Option<usize>> {
     detect(&|v| std::env::var(v).ok())
 }
 
+/// For a command that runs in one process (every command of a build
+/// without the `mpi` feature): an error when a launcher started several
+/// copies of this process, which would each do the whole work into the
+/// same folder.
+///
+/// # Errors
+/// The launcher says the job has more than one process.
+pub fn single_copy() -> Result<(), super::BatchError> {
+    match launched() {
+        Some(Some(n)) if n > 1 => Err(super::BatchError::Executor(format!(
+            "started as {n} processes by an MPI launcher, but this command runs in one \
+             process: start one (docs/scale-out.md says which commands share their runs \
+             over MPI)"
+        ))),
+        _ => Ok(()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

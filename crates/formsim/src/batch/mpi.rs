@@ -24,6 +24,34 @@
 //! worker silent for [`MpiExecutor::silence_limit`] as lost, records its
 //! run as failed, gives it no more work and finishes the batch on the
 //! others.
+//!
+//! How a command uses it (`main.rs`, for `study`; `compare` and `identify`
+//! alike, with their own quantities): every rank parses and plans (bad
+//! input fails on every rank alike, before MPI starts), then
+//!
+//! ```ignore
+//! let world = formsim::batch::mpi::world()?; // None outside a launcher
+//! if let Some(w) = &world && w.rank() > 0 {
+//!     // A worker: no folder, journal or report; the runs only.
+//!     let clock = std::time::Instant::now();
+//!     let extract = |r: &RunResult| {
+//!         let v = study::VariantRun::of(r, &quantities)?;
+//!         serde_json::to_value(v).map_err(|e| e.to_string())
+//!     };
+//!     w.serve(threads, &|_, spec| {
+//!         batch::run_job(Scene::File(&args.scene), spec, Progress::Hidden, clock, &extract)
+//!     })?;
+//!     return Ok(ExitCode::SUCCESS);
+//! }
+//! let mpi = world.as_ref().map(|w| w.executor(threads, true));
+//! let executor: &dyn Executor = match &mpi { Some(m) => m, None => &local };
+//! // … the engine on `executor`, as without MPI; `world` is dropped last
+//! // (rank 0 then tells the workers to stop), on errors too.
+//! ```
+//!
+//! A command that does not share its runs so (and every command of a build
+//! without the feature) calls [`super::launcher::single_copy`] instead,
+//! which refuses to run as one of several copies.
 
 use super::{BatchError, Executor, JobSpec, Record, Work, largest_first, panic_message};
 use mpi::Threading;
