@@ -50,6 +50,7 @@ failure_from!(
     formsim::point_driver::PointError,
     formsim::tools_cli::ToolsError,
     formsim::compare::CompareError,
+    formsim::batch::BatchError,
     formsim::study::StudyError,
     formsim::study::quantity::MeasureError,
 );

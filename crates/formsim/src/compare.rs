@@ -18,11 +18,13 @@
 //! stops the comparison at once, named `case X, law Y, formulation Z: …`,
 //! instead of surfacing after the valid rows have run.
 
+use crate::batch::{self, BatchError, Engine, JobSpec};
 use crate::output::csv_text::CsvText;
 use crate::plot::{Panel, PlotError, Series, draw_panels};
-use crate::run::{Progress, RunError, RunOptions, RunResult, run};
+use crate::run::post::{SectionRow, SectionSummary};
+use crate::run::{Progress, RunResult};
 use crate::scene::{self, SceneError};
-use rayon::prelude::*;
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -81,6 +83,9 @@ pub enum CompareError {
     /// A plot cannot be drawn.
     #[error(transparent)]
     Plot(#[from] PlotError),
+    /// The batch engine failed (journal, executor).
+    #[error(transparent)]
+    Batch(#[from] BatchError),
 }
 
 /// `row: `, or nothing for a matrix of one unnamed row.
@@ -163,8 +168,67 @@ pub struct Entry {
     pub law: String,
     /// Formulation name.
     pub formulation: String,
-    /// The result, or why the run failed.
-    pub result: Result<RunResult, RunError>,
+    /// The row's figures, or why the run failed.
+    pub result: Result<RowResult, String>,
+    /// Whether the result was read from the journal of an earlier call.
+    pub from_journal: bool,
+}
+
+/// What a comparison takes from a row's run (what its table and plots
+/// show, and what its journal keeps).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RowResult {
+    /// Scene name.
+    pub scene: String,
+    /// Law.
+    pub law: String,
+    /// Formulation.
+    pub formulation: String,
+    /// Shell elements.
+    pub elements: usize,
+    /// Increments.
+    pub increments: u64,
+    /// Wall seconds of the run (`summary.json`'s `wall_time_s`).
+    pub wall_time_s: f64,
+    /// Relative energy balance error.
+    pub balance_error_rel: f64,
+    /// Extremes of each section at the end.
+    pub sections: BTreeMap<String, SectionSummary>,
+    /// Largest thinning (-).
+    pub thinning_max: f64,
+    /// Frictional share of the external work (-).
+    pub friction_energy_share: f64,
+    /// Largest punch force (N).
+    pub punch_force_max: f64,
+    /// Largest kinetic energy over external work after forming starts (-).
+    pub kinetic_to_work_max: f64,
+    /// The run's warnings.
+    pub warnings: Vec<String>,
+    /// Each section's curve at the end.
+    pub curves: BTreeMap<String, Vec<SectionRow>>,
+}
+
+impl RowResult {
+    /// A row's figures from its run.
+    pub fn of(r: &RunResult) -> Self {
+        let s = &r.summary;
+        Self {
+            scene: s.scene.clone(),
+            law: s.law.clone(),
+            formulation: s.formulation.clone(),
+            elements: s.elements,
+            increments: s.increments,
+            wall_time_s: s.wall_time_s,
+            balance_error_rel: s.energy.balance_error_rel,
+            sections: s.sections.clone(),
+            thinning_max: s.thinning_max,
+            friction_energy_share: s.friction_energy_share,
+            punch_force_max: s.punch_force_max,
+            kinetic_to_work_max: s.kinetic_to_work_max,
+            warnings: s.warnings.clone(),
+            curves: r.last.curves.clone(),
+        }
+    }
 }
 
 /// One row of a comparison, checked and ready to run.
@@ -178,6 +242,8 @@ struct Row {
     law: String,
     /// Formulation name.
     formulation: String,
+    /// The row's overrides (after the command's).
+    sets: Vec<String>,
     /// The scene with the row's overrides.
     loaded: scene::LoadedScene,
 }
@@ -228,7 +294,7 @@ fn check_row(
     case: Option<&Case>,
     law: Option<&String>,
     formulation: Option<&String>,
-) -> Result<scene::LoadedScene, CompareError> {
+) -> Result<(scene::LoadedScene, Vec<String>), CompareError> {
     let mut sets = sets.to_vec();
     if let Some(c) = case {
         sets.extend(c.sets.iter().cloned());
@@ -251,7 +317,7 @@ fn check_row(
     // parameters): an unknown law or a bad parameter is found here, not after
     // the rows before it have run. The model is dropped; the run builds its own.
     scene::build(&loaded).map_err(row_error(&name))?;
-    Ok(loaded)
+    Ok((loaded, sets))
 }
 
 /// Check every row of `matrix` on `scene_path` (cases × laws × formulations,
@@ -289,7 +355,7 @@ pub fn plan(scene_path: &Path, matrix: &Matrix) -> Result<Plan, CompareError> {
     for case in &cases {
         for law in &laws {
             for f in &forms {
-                let loaded = check_row(scene_path, &matrix.sets, *case, *law, *f)?;
+                let (loaded, sets) = check_row(scene_path, &matrix.sets, *case, *law, *f)?;
                 let law = loaded.scene.contact.law.clone();
                 let formulation = loaded.scene.contact.formulation.clone();
                 let combo = format!("{law}-{formulation}");
@@ -306,6 +372,7 @@ pub fn plan(scene_path: &Path, matrix: &Matrix) -> Result<Plan, CompareError> {
                     case: case.map(|c| c.name.clone()),
                     law,
                     formulation,
+                    sets,
                     loaded,
                 });
             }
@@ -314,41 +381,63 @@ pub fn plan(scene_path: &Path, matrix: &Matrix) -> Result<Plan, CompareError> {
     Ok(Plan { rows })
 }
 
-/// Run the rows of `plan` and write the table and plots to `out`; with
-/// `progress`, one bar per row on the terminal.
+/// Run the rows of `plan` on `engine` (rows its journal holds finished are
+/// read back) and write the table and plots to `out`; with `progress`, one
+/// bar per row on the terminal. `on_done` is told of each row as it ends.
 ///
 /// # Errors
-/// No run succeeds; the output cannot be written.
+/// No run succeeds; the engine fails; the output cannot be written.
 pub fn execute(
     plan: Plan,
     out: &Path,
     progress: bool,
-    on_done: &(dyn Fn(&Entry) + Sync),
+    engine: &Engine<'_>,
+    on_done: &mut dyn FnMut(&Entry),
 ) -> Result<Vec<Entry>, CompareError> {
     std::fs::create_dir_all(out).map_err(CompareError::io(out))?;
     let bars = progress_bars(progress, plan.labels());
-    let entries: Vec<Entry> = plan
+    let jobs: Vec<JobSpec> = plan
         .rows
-        .into_par_iter()
-        .zip(bars)
-        .map(|(row, bar)| {
-            let result = run(
-                &row.loaded,
-                &RunOptions {
-                    out: out.join(&row.label),
-                    progress: bar.map_or(Progress::Hidden, Progress::Bar),
-                },
-            );
-            let entry = Entry {
-                label: row.label,
-                case: row.case,
-                law: row.law,
-                formulation: row.formulation,
-                result,
-            };
-            on_done(&entry);
-            entry
+        .iter()
+        .map(|row| JobSpec {
+            label: row.label.clone(),
+            sets: row.sets.clone(),
+            out: out.join(&row.label),
+            estimate: batch::estimate_s(&row.loaded),
         })
+        .collect();
+    let extract = |r: &RunResult| serde_json::to_value(RowResult::of(r)).map_err(|e| e.to_string());
+    let work = |i: usize, spec: &JobSpec| {
+        let progress = bars[i].clone().map_or(Progress::Hidden, Progress::Bar);
+        let scene = batch::Scene::Planned(&plan.rows[i].loaded);
+        batch::run_job(scene, spec, progress, engine.clock(), &extract)
+    };
+    let entry = |i: usize, record: &batch::Record, from_journal: bool| {
+        let row = &plan.rows[i];
+        Entry {
+            label: row.label.clone(),
+            case: row.case.clone(),
+            law: row.law.clone(),
+            formulation: row.formulation.clone(),
+            result: record
+                .outcome
+                .clone()
+                .and_then(|v| serde_json::from_value::<RowResult>(v).map_err(|e| e.to_string())),
+            from_journal,
+        }
+    };
+    let mut from_journal = vec![false; jobs.len()];
+    let records = engine.run(&jobs, &work, &mut |i, record, journalled| {
+        from_journal[i] = journalled;
+        if journalled && let Some(b) = &bars[i] {
+            b.finish_with_message("from the journal");
+        }
+        on_done(&entry(i, record, journalled));
+    })?;
+    let entries: Vec<Entry> = records
+        .iter()
+        .enumerate()
+        .map(|(i, r)| entry(i, r, from_journal[i]))
         .collect();
     if entries.iter().all(|e| e.result.is_err()) {
         return Err(CompareError::AllFailed);
@@ -358,8 +447,10 @@ pub fn execute(
     Ok(entries)
 }
 
-/// [`plan`] then [`execute`]: check every row of `matrix` on `scene_path`,
-/// then run them and write the table and plots to `out`.
+/// [`plan`] then [`execute`] on the local executor without a journal:
+/// check every row of `matrix` on `scene_path`, then run them (all at once,
+/// one thread each, up to the machine's threads) and write the table and
+/// plots to `out`.
 ///
 /// # Errors
 /// As [`plan`] (nothing has run then) and [`execute`].
@@ -368,9 +459,12 @@ pub fn compare(
     matrix: &Matrix,
     out: &Path,
     progress: bool,
-    on_done: &(dyn Fn(&Entry) + Sync),
+    on_done: &mut dyn FnMut(&Entry),
 ) -> Result<Vec<Entry>, CompareError> {
-    execute(plan(scene_path, matrix)?, out, progress, on_done)
+    let plan = plan(scene_path, matrix)?;
+    let cores = rayon::current_num_threads();
+    let local = batch::local::Local::sized(None, None, cores, plan.rows.len());
+    execute(plan, out, progress, &Engine::new(&local, None), on_done)
 }
 
 /// One bar per row, labelled, in a `MultiProgress` (or none at all).
@@ -397,52 +491,46 @@ fn progress_bars<'a>(
 }
 
 /// A column of the table: name and value of a run.
-type Column = (String, Box<dyn Fn(&RunResult) -> Option<f64>>);
+type Column = (String, Box<dyn Fn(&RowResult) -> Option<f64>>);
 
-fn columns(reference: &RunResult) -> Vec<Column> {
+fn columns(reference: &RowResult) -> Vec<Column> {
     let mut cols: Vec<Column> = Vec::new();
-    for name in reference.summary.sections.keys() {
+    for name in reference.sections.keys() {
         let n = name.clone();
         cols.push((
             format!("{name} major max"),
-            Box::new(move |r: &RunResult| r.summary.sections.get(&n).map(|s| s.major_max)),
+            Box::new(move |r: &RowResult| r.sections.get(&n).map(|s| s.major_max)),
         ));
         let n = name.clone();
         cols.push((
             format!("{name} minor min"),
-            Box::new(move |r: &RunResult| r.summary.sections.get(&n).map(|s| s.minor_min)),
+            Box::new(move |r: &RowResult| r.sections.get(&n).map(|s| s.minor_min)),
         ));
-        if reference.summary.sections[name]
-            .minor_at_punch_edge
-            .is_some()
-        {
+        if reference.sections[name].minor_at_punch_edge.is_some() {
             let n = name.clone();
             cols.push((
                 format!("{name} minor at punch edge"),
-                Box::new(move |r: &RunResult| {
-                    r.summary
-                        .sections
-                        .get(&n)
-                        .and_then(|s| s.minor_at_punch_edge)
+                Box::new(move |r: &RowResult| {
+                    r.sections.get(&n).and_then(|s| s.minor_at_punch_edge)
                 }),
             ));
         }
     }
     cols.push((
         "thinning max".into(),
-        Box::new(|r: &RunResult| Some(r.summary.thinning_max)),
+        Box::new(|r: &RowResult| Some(r.thinning_max)),
     ));
     cols.push((
         "friction share".into(),
-        Box::new(|r: &RunResult| Some(r.summary.friction_energy_share)),
+        Box::new(|r: &RowResult| Some(r.friction_energy_share)),
     ));
     cols.push((
         "punch force max (kN)".into(),
-        Box::new(|r: &RunResult| Some(1e-3 * r.summary.punch_force_max)),
+        Box::new(|r: &RowResult| Some(1e-3 * r.punch_force_max)),
     ));
     cols.push((
         "kinetic/work max".into(),
-        Box::new(|r: &RunResult| Some(r.summary.kinetic_to_work_max)),
+        Box::new(|r: &RowResult| Some(r.kinetic_to_work_max)),
     ));
     cols
 }
@@ -460,7 +548,7 @@ fn write_table(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
     let mut md = format!(
         "# {}: {}\n\nEach value, then in parentheses as % of {ref_name}. \
          Wall time and increments relative to {ref_name}.\n\n|",
-        reference.summary.scene,
+        reference.scene,
         if with_case {
             "cases"
         } else {
@@ -500,20 +588,20 @@ fn write_table(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
                         _ => md.push_str(" – |"),
                     }
                 }
-                let s = &r.summary;
+                let s = r;
                 let _ = writeln!(
                     md,
                     " {} | {:.1} | {:.2} | {} | {:.2} | {:.1e} |",
                     s.elements,
                     s.wall_time_s,
-                    s.wall_time_s / reference.summary.wall_time_s,
+                    s.wall_time_s / reference.wall_time_s,
                     s.increments,
-                    s.increments as f64 / reference.summary.increments as f64,
-                    s.energy.balance_error_rel
+                    s.increments as f64 / reference.increments as f64,
+                    s.balance_error_rel
                 );
             }
             Err(msg) => {
-                let _ = writeln!(md, " failed: {} |", msg.to_string().replace('|', "/"));
+                let _ = writeln!(md, " failed: {} |", msg.replace('|', "/"));
             }
         }
     }
@@ -531,12 +619,7 @@ fn write_warnings(md: &mut String, entries: &[Entry]) {
     let mut lines = Vec::new();
     for e in entries {
         if let Ok(r) = &e.result {
-            lines.extend(
-                r.summary
-                    .warnings
-                    .iter()
-                    .map(|w| format!("- `{}`: {w}", e.label)),
-            );
+            lines.extend(r.warnings.iter().map(|w| format!("- `{}`: {w}", e.label)));
         }
     }
     if !lines.is_empty() {
@@ -553,7 +636,7 @@ fn write_warnings(md: &mut String, entries: &[Entry]) {
 /// reference of zero); a failed run's row ends with `failed`.
 fn compare_csv(
     entries: &[Entry],
-    reference: &RunResult,
+    reference: &RowResult,
     cols: &[Column],
     with_case: bool,
 ) -> std::io::Result<CsvText> {
@@ -599,14 +682,14 @@ fn compare_csv(
             };
             row.extend([v, pct]);
         }
-        let s = &r.summary;
+        let s = r;
         row.extend([
             s.elements.to_string(),
             s.wall_time_s.to_string(),
-            (s.wall_time_s / reference.summary.wall_time_s).to_string(),
+            (s.wall_time_s / reference.wall_time_s).to_string(),
             s.increments.to_string(),
-            (s.increments as f64 / reference.summary.increments as f64).to_string(),
-            s.energy.balance_error_rel.to_string(),
+            (s.increments as f64 / reference.increments as f64).to_string(),
+            s.balance_error_rel.to_string(),
         ]);
         csv.record(&row)?;
     }
@@ -614,7 +697,7 @@ fn compare_csv(
 }
 
 fn write_plots(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
-    let ok: Vec<(&Entry, &RunResult)> = entries
+    let ok: Vec<(&Entry, &RowResult)> = entries
         .iter()
         .filter_map(|e| e.result.as_ref().ok().map(|r| (e, r)))
         .collect();
@@ -623,7 +706,7 @@ fn write_plots(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
     };
     let dir = out.join("plots");
     std::fs::create_dir_all(&dir).map_err(CompareError::io(&dir))?;
-    for name in first.last.curves.keys() {
+    for name in first.curves.keys() {
         let mut panels = Vec::new();
         for (which, pick) in [
             (
@@ -635,7 +718,7 @@ fn write_plots(out: &Path, entries: &[Entry]) -> Result<(), CompareError> {
             let series = ok
                 .iter()
                 .filter_map(|(e, r)| {
-                    r.last.curves.get(name).map(|rows| Series {
+                    r.curves.get(name).map(|rows| Series {
                         label: e.label.clone(),
                         points: rows.iter().map(|row| (row.distance, pick(row))).collect(),
                     })
@@ -668,13 +751,15 @@ mod tests {
             formulations: vec!["convective".into(), "jaumann".into()],
             ..Default::default()
         };
-        let mut entries =
-            compare(&scene, &matrix, &dir.path().join("runs"), false, &|_| {}).unwrap();
-        entries[1].result = Err(RunError::Failed {
-            time: 1e-3,
-            message: "diverged".into(),
-            out: "runs/d2-ac-jaumann".into(),
-        });
+        let mut entries = compare(
+            &scene,
+            &matrix,
+            &dir.path().join("runs"),
+            false,
+            &mut |_| {},
+        )
+        .unwrap();
+        entries[1].result = Err("diverged".into());
         write_table(dir.path(), &entries).unwrap();
         let csv = std::fs::read_to_string(dir.path().join("compare.csv")).unwrap();
         let rows: Vec<&str> = csv.lines().collect();

@@ -7,6 +7,7 @@ mod cli_io;
 
 use clap::{Args, Parser, Subcommand};
 use cli_io::{Failure, Outcome, note, say};
+use formsim::batch::{self, Engine, journal, local::Local};
 use formsim::components::{self, LawSource};
 use formsim::plot::{Panel, Series};
 use formsim::run::out_dir;
@@ -107,6 +108,13 @@ struct IdentifyArgs {
     /// Override a scene value for every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// Start over: forget the journal of an earlier call in --out DIR.
+    #[arg(long)]
+    fresh: bool,
+    /// Runs at a time in a batch of evaluations (default: a batch of one run
+    /// on every thread, of several one thread each).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
+    jobs: Option<u16>,
 }
 
 #[derive(Args, Debug)]
@@ -192,13 +200,23 @@ struct CompareArgs {
 /// The options every command that runs several scenes into one directory shares.
 #[derive(Args, Debug)]
 struct BatchArgs {
-    /// Output directory; if it is not empty, --force is needed.
+    /// Output directory. A second call with the same arguments resumes from
+    /// its journal (runs only what is missing or failed); another non-empty
+    /// DIR needs --force.
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
     /// Replace the results in a non-empty --out DIR (only the files formsim
-    /// writes are removed; other files are kept).
+    /// writes are removed, the journal too; other files are kept).
     #[arg(long)]
     force: bool,
+    /// Start over: forget the journal of an earlier call in --out DIR and
+    /// replace its results (as --force).
+    #[arg(long)]
+    fresh: bool,
+    /// Runs at a time (default: as many as fill the cores with --threads
+    /// each; `study` one at a time, so that its timings are not shared).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
+    jobs: Option<u16>,
     /// Override a scene value for every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
@@ -388,10 +406,10 @@ fn main() -> ExitCode {
                 },
         } => scene_check(&scene, &set, resolved),
         Command::Run(args) => run(&args),
-        Command::Compare(args) => compare(&args),
-        Command::Identify(args) => identify(&args),
+        Command::Compare(args) => compare(&args, cli.threads),
+        Command::Identify(args) => identify(&args, cli.threads),
         Command::Sensitivity(args) => sensitivity(&args),
-        Command::Study(args) => study(&args),
+        Command::Study(args) => study(&args, cli.threads),
         Command::Components => components_list(),
     };
     match result {
@@ -997,7 +1015,19 @@ fn run(args: &RunArgs) -> Outcome {
     Ok(ExitCode::SUCCESS)
 }
 
-fn compare(args: &CompareArgs) -> Outcome {
+/// The local executor of a batch of `runs`: `jobs` runs of `threads` each,
+/// what is not given filling the cores (neither: as many runs as fill them).
+fn local_executor(jobs: Option<u16>, threads: Option<u16>, runs: usize) -> Local {
+    // Without --threads the global pool has the machine's (or
+    // RAYON_NUM_THREADS) threads; with it, count the machine's cores.
+    let cores = match threads {
+        None => rayon::current_num_threads(),
+        Some(_) => std::thread::available_parallelism().map_or(1, usize::from),
+    };
+    Local::sized(jobs.map(usize::from), threads.map(usize::from), cores, runs)
+}
+
+fn compare(args: &CompareArgs, threads: Option<u16>) -> Outcome {
     use formsim::compare::{Case, Matrix};
     let cases = args
         .cases
@@ -1026,21 +1056,30 @@ fn compare(args: &CompareArgs) -> Outcome {
     let progress = cli_io::bars_wanted();
     let plan = formsim::compare::plan(&args.scene, &matrix)?;
     let labels: Vec<String> = plan.labels().map(String::from).collect();
-    out_dir::prepare(
+    let context = journal::Context::new("compare", &args.scene, vec![format!("{matrix:?}")])?;
+    let journal = batch::prepare(
         &args.batch.out,
         out_dir::Owner::Compare(&labels),
-        args.batch.force,
+        args.batch.fresh || args.batch.force,
+        &context,
     )?;
-    let entries = formsim::compare::execute(plan, &args.batch.out, progress, &|e| {
+    let executor = local_executor(args.batch.jobs, threads, labels.len());
+    let engine = Engine::new(&executor, Some(journal));
+    let entries = formsim::compare::execute(plan, &args.batch.out, progress, &engine, &mut |e| {
         if progress {
             return;
         }
+        let journalled = if e.from_journal {
+            " (from the journal)"
+        } else {
+            ""
+        };
         match &e.result {
             Ok(r) => note!(
-                "done {}: {} increments, {:.1} s",
+                "done {}: {} increments, {:.1} s{journalled}",
                 e.label,
-                r.summary.increments,
-                r.summary.wall_time_s
+                r.increments,
+                r.wall_time_s
             ),
             Err(m) => note!("failed {}: {m}", e.label),
         }
@@ -1066,7 +1105,7 @@ fn compare(args: &CompareArgs) -> Outcome {
     })
 }
 
-fn study(args: &StudyArgs) -> Outcome {
+fn study(args: &StudyArgs, threads: Option<u16>) -> Outcome {
     use formsim::study::{self, Knob, Spec, quantity::Quantity};
     let mut knobs = args
         .vary
@@ -1099,28 +1138,40 @@ fn study(args: &StudyArgs) -> Outcome {
             .collect::<Result<Vec<_>, _>>()?,
     };
     let progress = cli_io::bars_wanted();
+    let context = journal::Context::new("study", &args.scene, vec![format!("{spec:?}")])?;
     let plan = study::plan(&args.scene, spec)?;
     let labels = plan.labels();
-    out_dir::prepare(
+    let journal = batch::prepare(
         &args.batch.out,
         out_dir::Owner::Study(&labels),
-        args.batch.force,
+        args.batch.fresh || args.batch.force,
+        &context,
     )?;
+    let resumed = journal.len();
+    // One run at a time unless asked: a study times its runs.
+    let executor = local_executor(Some(args.batch.jobs.unwrap_or(1)), threads, 1);
     note!(
-        "study: {} variants × {} run(s) on {} thread(s)",
+        "study: {} variants × {} run(s), {} at a time on {} thread(s) each{}",
         plan.variants.len(),
         args.repeat,
-        rayon::current_num_threads()
+        executor.jobs,
+        executor.threads,
+        if resumed > 0 {
+            format!(" ({resumed} runs in the journal of an earlier call)")
+        } else {
+            String::new()
+        }
     );
-    let results = study::execute(plan, &args.batch.out, progress, &|label, r| {
+    let engine = Engine::new(&executor, Some(journal));
+    let results = study::execute(plan, &args.batch.out, progress, &engine, &|label, r| {
         if progress {
             return;
         }
         match r {
             Ok(r) => note!(
                 "done {label}: {} increments, {:.1} s",
-                r.summary.increments,
-                r.summary.wall_time_s
+                r.increments,
+                r.wall_time_s
             ),
             Err(m) => note!("failed {label}: {m}"),
         }
@@ -1155,7 +1206,7 @@ fn study(args: &StudyArgs) -> Outcome {
     })
 }
 
-fn identify(args: &IdentifyArgs) -> Outcome {
+fn identify(args: &IdentifyArgs, threads: Option<u16>) -> Outcome {
     use formsim::identify::{
         self, Method, Options, measurements::Measurements, objective::Objective, params::FitParam,
     };
@@ -1193,7 +1244,18 @@ fn identify(args: &IdentifyArgs) -> Outcome {
         progress: cli_io::bars_wanted(),
     };
     let data = Measurements::read(&args.measurements).map_err(err)?;
-    let report = identify::identify(&options, &data).map_err(err)?;
+    if args.fresh {
+        identify::journal::remove(&args.out).map_err(err)?;
+    }
+    let executor = formsim::batch::local::PerBatch {
+        jobs: args.jobs.map(usize::from),
+        threads: threads.map(usize::from),
+        cores: match threads {
+            None => rayon::current_num_threads(),
+            Some(_) => std::thread::available_parallelism().map_or(1, usize::from),
+        },
+    };
+    let report = identify::identify_on(&options, &data, &executor).map_err(err)?;
     for p in &report.params {
         let interval = report
             .uncertainty

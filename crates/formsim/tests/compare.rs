@@ -43,7 +43,7 @@ fn compare_crosses_cases_with_formulations() {
         formulations: strings(&["convective", "jaumann"]),
         sets: Vec::new(),
     };
-    let entries = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap();
+    let entries = compare(&scene(), &matrix, dir.path(), false, &mut |_| {}).unwrap();
     let labels: Vec<&str> = entries.iter().map(|e| e.label.as_str()).collect();
     assert_eq!(
         labels,
@@ -57,8 +57,8 @@ fn compare_crosses_cases_with_formulations() {
     for e in &entries {
         let r = e.result.as_ref().unwrap();
         let n = if e.label.starts_with("d2") { 4 } else { 16 };
-        assert_eq!(r.summary.elements, n, "{}", e.label);
-        assert_eq!(r.summary.formulation, e.formulation);
+        assert_eq!(r.elements, n, "{}", e.label);
+        assert_eq!(r.formulation, e.formulation);
         assert!(dir.path().join(&e.label).join("summary.json").is_file());
     }
     let md = std::fs::read_to_string(dir.path().join("compare.md")).unwrap();
@@ -84,7 +84,7 @@ fn compare_rejects_a_bad_case_before_running() {
         ],
         ..Default::default()
     };
-    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {})
+    let e = compare(&scene(), &matrix, dir.path(), false, &mut |_| {})
         .unwrap_err()
         .to_string();
     assert!(
@@ -96,7 +96,7 @@ fn compare_rejects_a_bad_case_before_running() {
         cases: vec![Case::parse("a").unwrap(), Case::parse("a").unwrap()],
         ..Default::default()
     };
-    let e = compare(&scene(), &twice, dir.path(), false, &|_| {})
+    let e = compare(&scene(), &twice, dir.path(), false, &mut |_| {})
         .unwrap_err()
         .to_string();
     assert!(e.contains("used twice"), "{e}");
@@ -113,7 +113,7 @@ fn compare_rejects_an_unknown_law_before_running_any_row() {
         sets: strings(&["blank.mesh.divisions=2"]),
         ..Default::default()
     };
-    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {})
+    let e = compare(&scene(), &matrix, dir.path(), false, &mut |_| {})
         .unwrap_err()
         .to_string();
     assert!(
@@ -137,7 +137,7 @@ fn compare_rejects_a_case_that_does_not_build_before_running() {
         ],
         ..Default::default()
     };
-    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {})
+    let e = compare(&scene(), &matrix, dir.path(), false, &mut |_| {})
         .unwrap_err()
         .to_string();
     assert!(
@@ -155,7 +155,7 @@ fn compare_rejects_a_row_listed_twice() {
         laws: strings(&["ac", "ac"]),
         ..Default::default()
     };
-    let e = compare(&scene(), &matrix, dir.path(), false, &|_| {})
+    let e = compare(&scene(), &matrix, dir.path(), false, &mut |_| {})
         .unwrap_err()
         .to_string();
     assert!(e.contains("`ac-convective` appears twice"), "{e}");
@@ -178,10 +178,10 @@ fn compare_lists_each_rows_warnings() {
         formulations: Vec::new(),
         sets: strings(&["output.plots=false", "output.frames=0"]),
     };
-    let entries = compare(&scene(), &matrix, dir.path(), false, &|_| {}).unwrap();
+    let entries = compare(&scene(), &matrix, dir.path(), false, &mut |_| {}).unwrap();
     let warned: Vec<&String> = entries
         .iter()
-        .flat_map(|e| &e.result.as_ref().unwrap().summary.warnings)
+        .flat_map(|e| &e.result.as_ref().unwrap().warnings)
         .collect();
     assert_eq!(warned.len(), 1, "{warned:?}");
     assert!(warned[0].contains("no analytic reference"), "{warned:?}");

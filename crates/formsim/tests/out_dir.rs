@@ -125,8 +125,10 @@ fn compare_refuses_old_results_and_force_replaces_its_rows() {
     let before = tree(&dir);
     let o = compare(&[], "jaumann");
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    // The folder's journal says which batch its results are of.
     assert!(
-        stderr(&o).contains("exists and holds results; pass --force to replace them"),
+        stderr(&o).contains("exists and holds the results of another batch")
+            && stderr(&o).contains("pass --force (or --fresh) to replace them"),
         "{}",
         stderr(&o)
     );

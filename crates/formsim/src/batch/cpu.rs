@@ -27,7 +27,7 @@ mod tests {
             .unwrap();
         let (before, after) = pool.install(|| {
             let before = pool_seconds();
-            let spin = |_| {
+            let spin = |_: rayon::BroadcastContext<'_>| {
                 let t = std::time::Instant::now();
                 let mut x = 0u64;
                 while t.elapsed().as_secs_f64() < 0.05 {

@@ -2,10 +2,10 @@
 //! simulated values and the objective, taken from the journal when they are
 //! there and run in parallel when they are not.
 //!
-//! A batch of points is run as one parallel loop over its (point, data set)
-//! runs on the global thread pool: a batch of one run gets every thread for
-//! its own parallel loops, a batch of several runs shares them (results are
-//! the same bits either way).
+//! A batch of points is one batch of the engine ([`crate::batch`]) over its
+//! (point, data set) runs: on the local executor a batch of one run gets
+//! every thread for its own parallel loops, a batch of several runs shares
+//! them (results are the same bits either way).
 
 use super::IdentifyError;
 use super::journal::{Context, Entry, Journal};
@@ -13,10 +13,10 @@ use super::measurements::Measurements;
 use super::objective::Objective;
 use super::observe::{Observables, ObserveError};
 use super::params::{FitParam, assignment};
+use crate::batch::{self, Executor, JobSpec, Record};
 use crate::run::summary::stroke_key;
-use crate::run::{Progress, RunError, RunOptions, run};
-use crate::scene::{self, SceneError};
-use rayon::prelude::*;
+use crate::run::{Progress, RunResult};
+use crate::scene;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -46,17 +46,9 @@ pub enum PredictionFailure {
     NotJournalled,
 }
 
-/// Why one data set's run at a point gave no observables; the journal keeps
-/// its message.
-#[derive(Debug, thiserror::Error)]
-enum RunFailure {
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    #[error(transparent)]
-    Run(#[from] RunError),
-    #[error(transparent)]
-    Summary(#[from] serde_json::Error),
-}
+/// One data set's run at a point: its observables (or the run's error)
+/// and its wall seconds.
+type PairRun = (Result<Observables, String>, f64);
 
 /// One evaluated point.
 #[derive(Debug, Clone)]
@@ -92,6 +84,7 @@ pub struct Evaluator<'a> {
     params: &'a [FitParam],
     objective: Objective,
     journal: Journal,
+    executor: &'a dyn Executor,
     runs_dir: PathBuf,
     /// Every evaluation asked for, in order (repeats included).
     log: Mutex<Vec<Evaluation>>,
@@ -130,7 +123,7 @@ pub fn run_overrides(data: &Measurements, scene_strokes: &[f64]) -> Vec<String> 
 
 impl<'a> Evaluator<'a> {
     /// Set up the evaluations of `params` against `data` on the scene at
-    /// `scene_path` (with `sets`), journalled in `out`.
+    /// `scene_path` (with `sets`), journalled in `out`, run on `executor`.
     ///
     /// # Errors
     /// The scene does not load; the journal belongs to other arguments.
@@ -141,6 +134,7 @@ impl<'a> Evaluator<'a> {
         params: &'a [FitParam],
         objective: Objective,
         out: &Path,
+        executor: &'a dyn Executor,
     ) -> Result<Self, IdentifyError> {
         let loaded =
             scene::load(scene_path, sets).map_err(|e| IdentifyError::Scene(e.to_string()))?;
@@ -167,6 +161,7 @@ impl<'a> Evaluator<'a> {
             params,
             objective,
             journal,
+            executor,
             runs_dir: out.join("runs"),
             log: Mutex::new(Vec::new()),
             bar: None,
@@ -281,23 +276,16 @@ impl<'a> Evaluator<'a> {
                 missing.push((self.journal.next_index(), p.clone()));
             }
         }
-        let jobs: Vec<(usize, usize)> = (0..missing.len())
+        let pairs: Vec<(usize, usize)> = (0..missing.len())
             .flat_map(|m| (0..self.data.sets.len()).map(move |s| (m, s)))
             .collect();
-        let results: Vec<(Result<Observables, RunFailure>, f64)> = jobs
-            .par_iter()
-            .map(|&(m, s)| self.run_one(missing[m].0, s, &missing[m].1))
-            .collect();
+        let results = self.run_pairs(&missing, &pairs)?;
         for (m, (index, values)) in missing.iter().enumerate() {
             let mut sets = BTreeMap::new();
             let mut wall_s = 0.0;
-            for (&(mm, s), (obs, wall)) in jobs.iter().zip(&results) {
+            for (&(mm, s), (obs, wall)) in pairs.iter().zip(&results) {
                 if mm == m {
-                    let journalled = match obs {
-                        Ok(o) => Ok(o.clone()),
-                        Err(e) => Err(e.to_string()),
-                    };
-                    sets.insert(self.data.sets[s].name.clone(), journalled);
+                    sets.insert(self.data.sets[s].name.clone(), obs.clone());
                     wall_s += wall;
                 }
             }
@@ -325,34 +313,50 @@ impl<'a> Evaluator<'a> {
         Ok(evaluations)
     }
 
-    /// One data set's run at `values`: its observables (or error) and wall seconds.
-    fn run_one(
+    /// The runs of the `(point, data set)` pairs of `missing` points on the
+    /// executor: each one's observables (or error) and wall seconds.
+    fn run_pairs(
         &self,
-        index: usize,
-        set: usize,
-        values: &[f64],
-    ) -> (Result<Observables, RunFailure>, f64) {
-        let start = Instant::now();
-        let out = self
-            .runs_dir
-            .join(format!("eval-{index:04}"))
-            .join(&self.data.sets[set].name);
-        let result = self.observe(set, values, out);
-        (result, start.elapsed().as_secs_f64())
-    }
-
-    /// Load the scene with data set `set`'s overrides at `values`, run it
-    /// into `out` and take its observables.
-    fn observe(&self, set: usize, values: &[f64], out: PathBuf) -> Result<Observables, RunFailure> {
-        let loaded = scene::load(&self.scene_path, &self.overrides_at(set, values))?;
-        let r = run(
-            &loaded,
-            &RunOptions {
-                out,
-                progress: Progress::Hidden,
-            },
-        )?;
-        Ok(Observables::from_run(&r)?)
+        missing: &[(usize, Vec<f64>)],
+        pairs: &[(usize, usize)],
+    ) -> Result<Vec<PairRun>, IdentifyError> {
+        let jobs: Vec<JobSpec> = pairs
+            .iter()
+            .map(|&(m, set)| {
+                let (index, values) = (missing[m].0, &missing[m].1);
+                let name = &self.data.sets[set].name;
+                JobSpec {
+                    label: format!("eval-{index:04}/{name}"),
+                    sets: self.overrides_at(set, values),
+                    out: self.runs_dir.join(format!("eval-{index:04}")).join(name),
+                    estimate: 1.0,
+                }
+            })
+            .collect();
+        let extract = |r: &RunResult| {
+            let o = Observables::from_run(r).map_err(|e| e.to_string())?;
+            serde_json::to_value(o).map_err(|e| e.to_string())
+        };
+        let clock = self.started;
+        let work = |_: usize, spec: &JobSpec| {
+            let scene = batch::Scene::File(&self.scene_path);
+            batch::run_job(scene, spec, Progress::Hidden, clock, &extract)
+        };
+        let mut records: Vec<Option<Record>> = vec![None; jobs.len()];
+        self.executor
+            .run(&jobs, &work, &mut |i, r| records[i] = Some(r))?;
+        Ok(records
+            .into_iter()
+            .map(|r| match r {
+                Some(r) => {
+                    let obs = r.outcome.and_then(|v| {
+                        serde_json::from_value::<Observables>(v).map_err(|e| e.to_string())
+                    });
+                    (obs, r.wall_s)
+                }
+                None => (Err("the executor lost the run".into()), 0.0),
+            })
+            .collect())
     }
 
     /// Predictions and objective of a journal entry.

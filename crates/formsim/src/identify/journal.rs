@@ -165,33 +165,39 @@ impl Journal {
     }
 }
 
-/// A fingerprint of the running executable's bytes (the standard library's
-/// default hasher with its fixed keys, hex), or `unknown` when it cannot be read. Only compared between calls of
-/// the same machine, so the hash need not be stable across Rust versions.
+/// Remove the journal of `out` (its context and its evaluations), so that
+/// the next call starts over (`--fresh`); the runs' folders stay and are
+/// written over.
+///
+/// # Errors
+/// A file cannot be removed.
+pub fn remove(out: &Path) -> Result<(), IdentifyError> {
+    let dir = out.join("journal");
+    if !dir.is_dir() {
+        return Ok(());
+    }
+    for item in std::fs::read_dir(&dir).map_err(|e| io_error(&dir, e))? {
+        let path = item.map_err(|e| io_error(&dir, e))?.path();
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        let ours = name == "context.json" || (name.starts_with("eval-") && name.contains(".json"));
+        if path.is_file() && ours {
+            std::fs::remove_file(&path).map_err(|e| io_error(&path, e))?;
+        }
+    }
+    let _ = std::fs::remove_dir(&dir);
+    Ok(())
+}
+
+/// A fingerprint of the running executable (the batch engine's,
+/// [`crate::batch::journal::build_fingerprint`]).
 pub fn build_fingerprint() -> String {
-    use std::hash::Hasher;
-    static FINGERPRINT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
-    FINGERPRINT
-        .get_or_init(|| {
-            let Some(bytes) = std::env::current_exe()
-                .ok()
-                .and_then(|p| std::fs::read(p).ok())
-            else {
-                return "unknown".into();
-            };
-            let mut h = std::collections::hash_map::DefaultHasher::new();
-            h.write(&bytes);
-            format!("{:016x}", h.finish())
-        })
-        .clone()
+    crate::batch::journal::build_fingerprint()
 }
 
 /// Write `text` to `path` through a temporary file and a rename, so that a
 /// kill leaves either the whole file or none.
 fn write_atomic(path: &Path, text: &str) -> Result<(), IdentifyError> {
-    let tmp = path.with_extension("json.tmp");
-    std::fs::write(&tmp, text).map_err(|e| io_error(&tmp, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| io_error(path, e))
+    crate::batch::journal::write_atomic(path, text).map_err(IdentifyError::from)
 }
 
 /// What differs between two contexts, in a few words.

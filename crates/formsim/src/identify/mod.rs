@@ -70,6 +70,20 @@ pub enum IdentifyError {
     /// A report file cannot be written.
     #[error("{0}")]
     Report(String),
+    /// The batch engine cannot run the evaluations.
+    #[error(transparent)]
+    Batch(#[from] crate::batch::BatchError),
+}
+
+/// The local executor identify runs on when none is given: a batch of one
+/// run on every thread of the global pool, a batch of several one thread
+/// each.
+pub fn default_executor() -> crate::batch::local::PerBatch {
+    crate::batch::local::PerBatch {
+        jobs: None,
+        threads: None,
+        cores: rayon::current_num_threads(),
+    }
 }
 
 /// The optimiser.
@@ -273,6 +287,18 @@ pub fn check(options: &Options, data: &Measurements) -> Result<(), IdentifyError
 /// Bad options or measurements; the journal belongs to other arguments; a
 /// run needed for a derivative failed; the report cannot be written.
 pub fn identify(options: &Options, data: &Measurements) -> Result<report::Report, IdentifyError> {
+    identify_on(options, data, &default_executor())
+}
+
+/// [`identify`] with its runs on `executor`.
+///
+/// # Errors
+/// As [`identify`]; the executor cannot run.
+pub fn identify_on(
+    options: &Options,
+    data: &Measurements,
+    executor: &dyn crate::batch::Executor,
+) -> Result<report::Report, IdentifyError> {
     check(options, data)?;
     let start = start_values(&options.scene, &options.sets, &options.params)?;
     let mut ev = Evaluator::new(
@@ -282,6 +308,7 @@ pub fn identify(options: &Options, data: &Measurements) -> Result<report::Report
         &options.params,
         options.objective,
         &options.out,
+        executor,
     )?;
     if options.progress {
         ev = ev.with_progress(options.max_evaluations);
@@ -430,6 +457,7 @@ pub fn sensitivity(
     };
     check(&check_options, data)?;
     let x = start_values(&options.scene, &options.sets, &options.params)?;
+    let executor = default_executor();
     let ev = Evaluator::new(
         &options.scene,
         &options.sets,
@@ -437,6 +465,7 @@ pub fn sensitivity(
         &options.params,
         options.objective,
         &options.out,
+        &executor,
     )?;
     let table = sensitivity::table(&ev, &x, options.step)?;
     report::write_sensitivity(&options.out, &table, options)?;

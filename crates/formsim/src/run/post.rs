@@ -83,7 +83,7 @@ pub fn check_lines(loaded: &LoadedScene, mesh: &Mesh) -> Result<(), SceneError> 
 }
 
 /// One point of a section curve.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct SectionRow {
     /// Initial distance from the section's start (mm).
     pub distance: f64,
@@ -98,7 +98,7 @@ pub struct SectionRow {
 }
 
 /// Extremes of one section.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct SectionSummary {
     /// Largest major strain (-).
     pub major_max: f64,
@@ -107,7 +107,7 @@ pub struct SectionSummary {
     /// Largest thinning `(t0 − t)/t0` along the section (-).
     pub thinning_max: f64,
     /// Minor strain at `output.punch_edge_distance` (linear interpolation), when asked.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub minor_at_punch_edge: Option<f64>,
 }
 

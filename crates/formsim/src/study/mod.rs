@@ -33,12 +33,13 @@ pub mod report;
 pub mod richardson;
 pub mod schedule;
 
-use crate::run::{RunError, RunResult};
+use crate::batch::{BatchError, Engine};
+use crate::run::RunError;
 use crate::scene::{self, SceneError};
 use quantity::{MeasureError, Measured, Quantity, QuantityError};
+pub use schedule::VariantRun;
 use schedule::{Runs, run_rounds};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// What can go wrong in a study: its options, a variant's scene, a run, the
 /// reports.
@@ -158,9 +159,9 @@ pub enum StudyError {
         /// The variant's label.
         label: String,
     },
-    /// The process's CPU time cannot be read.
-    #[error("process CPU time: {0}")]
-    CpuTime(std::io::Error),
+    /// The batch engine failed (journal, executor).
+    #[error(transparent)]
+    Batch(#[from] BatchError),
     /// A run failed.
     #[error(transparent)]
     Run(#[from] RunError),
@@ -315,6 +316,8 @@ pub struct Variant {
     /// The level (0 = coarsest) when the variant is one of the refinement
     /// sequence's.
     pub level: Option<usize>,
+    /// The scene's overrides (the study's, then the variant's).
+    pub sets: Vec<String>,
     loaded: scene::LoadedScene,
 }
 
@@ -647,6 +650,7 @@ fn variant(
         settings,
         changed,
         level: None,
+        sets,
         loaded,
     })
 }
@@ -687,7 +691,8 @@ pub fn execute(
     plan: Plan,
     out: &Path,
     progress: bool,
-    on_run: &dyn Fn(&str, Result<&RunResult, &str>),
+    engine: &Engine<'_>,
+    on_run: &dyn Fn(&str, Result<&VariantRun, &str>),
 ) -> Result<Results, StudyError> {
     std::fs::create_dir_all(out).map_err(|source| StudyError::Io {
         path: out.to_path_buf(),
@@ -699,33 +704,31 @@ pub fn execute(
         scene_path,
     } = plan;
     let bar = progress.then(indicatif::ProgressBar::no_length);
-    let clock = Instant::now();
-    let rounds = |vs: &[&Variant]| {
-        run_rounds(
-            vs,
-            &spec.quantities,
-            spec.repeat,
+    let rounds = |vs: &[&Variant], call: usize| {
+        let r = schedule::Rounds {
+            engine,
             out,
-            clock,
-            bar.as_ref(),
+            bar: bar.as_ref(),
             on_run,
-        )
+            call,
+        };
+        run_rounds(vs, &spec.quantities, spec.repeat, &r)
     };
-    let mut runs = rounds(&variants.iter().collect::<Vec<_>>())?;
-    let mut results = tabulate(&spec, &variants, &runs)?;
+    let mut runs = rounds(&variants.iter().collect::<Vec<_>>(), 0)?;
+    let mut results = tabulate(&spec, &variants, &runs, engine.threads())?;
     if !spec.cross
         && let Some(pick) = combination(&spec, &variants[0].settings, &results)
     {
         let reference: Vec<String> = variants[0].settings.iter().map(|s| s.1.clone()).collect();
         let mut v = variant(&scene_path, &spec, &reference, pick, &[])?;
         v.label = COMBINED.into();
-        let mut extra = rounds(&[&variants[0], &v])?.into_iter();
+        let mut extra = rounds(&[&variants[0], &v], 1)?.into_iter();
         let (again, combined) = (extra.next(), extra.next());
         if let (Some(again), Some(combined)) = (again, combined) {
             runs[0].merge(again, &variants[0].label)?;
             runs.push(combined);
             variants.push(v);
-            results = tabulate(&spec, &variants, &runs)?;
+            results = tabulate(&spec, &variants, &runs, engine.threads())?;
         }
     }
     if let Some(b) = bar {
@@ -737,7 +740,12 @@ pub fn execute(
 /// Errors and costs of every completed variant against the reference (the
 /// first): each run's speed-up is the reference's CPU time at that moment
 /// ([`schedule::reference_at`]) over the run's.
-fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results, StudyError> {
+fn tabulate(
+    spec: &Spec,
+    variants: &[Variant],
+    runs: &[Runs],
+    threads: usize,
+) -> Result<Results, StudyError> {
     let ref_runs = &runs[0];
     let Some(ref_result) = &ref_runs.first else {
         return Err(StudyError::ReferenceFailed {
@@ -808,14 +816,14 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
                     .collect(),
             },
             level: v.level,
-            increments: result.summary.increments,
+            increments: result.increments,
             runs: r.cpu.len(),
             cpu_s: Spread::of(&r.cpu),
             wall_s: Spread::of(&r.wall),
-            balance_error: result.summary.energy.balance_error_rel,
-            kinetic_to_internal_max: result.summary.kinetic_to_internal_max,
-            kinetic_to_work_max: result.summary.kinetic_to_work_max,
-            warnings: result.summary.warnings.clone(),
+            balance_error: result.balance_error_rel,
+            kinetic_to_internal_max: result.kinetic_to_internal_max,
+            kinetic_to_work_max: result.kinetic_to_work_max,
+            warnings: result.warnings.clone(),
             values: r
                 .values
                 .iter()
@@ -832,8 +840,8 @@ fn tabulate(spec: &Spec, variants: &[Variant], runs: &[Runs]) -> Result<Results,
     }
     Ok(Results {
         spec: spec.clone(),
-        scene: ref_result.summary.scene.clone(),
-        threads: rayon::current_num_threads(),
+        scene: ref_result.scene.clone(),
+        threads,
         outcomes,
         failed,
         converged,

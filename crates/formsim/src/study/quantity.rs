@@ -115,7 +115,7 @@ pub enum Quantity {
 }
 
 /// What a run gave for a quantity.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Measured {
     /// A number.
     Scalar(f64),

@@ -9,21 +9,61 @@
 
 use super::quantity::{Measured, Quantity, measure_all};
 use super::{StudyError, Variant};
-use crate::run::{Progress, RunOptions, RunResult, run};
-use std::path::Path;
-use std::time::Instant;
+use crate::batch::{self, Engine, JobSpec, Record};
+use crate::run::{Progress, RunResult};
 
 /// The reference runs again after this many variants in a round.
 pub const REFERENCE_EVERY: usize = 4;
+
+/// What a study takes from a run (what its journal keeps).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct VariantRun {
+    /// Scene name.
+    pub scene: String,
+    /// Increments.
+    pub increments: u64,
+    /// Wall seconds of the run (`summary.json`'s `wall_time_s`).
+    pub wall_time_s: f64,
+    /// Relative energy balance error.
+    pub balance_error_rel: f64,
+    /// Largest kinetic/internal energy ratio after forming starts.
+    pub kinetic_to_internal_max: f64,
+    /// Largest kinetic energy over external work after forming starts.
+    pub kinetic_to_work_max: f64,
+    /// The run's warnings.
+    pub warnings: Vec<String>,
+    /// The study's quantities, in order.
+    pub values: Vec<Measured>,
+}
+
+impl VariantRun {
+    /// The figures of `result` and its `quantities`.
+    ///
+    /// # Errors
+    /// A quantity cannot be measured.
+    pub fn of(result: &RunResult, quantities: &[Quantity]) -> Result<Self, String> {
+        let s = &result.summary;
+        Ok(Self {
+            scene: s.scene.clone(),
+            increments: s.increments,
+            wall_time_s: s.wall_time_s,
+            balance_error_rel: s.energy.balance_error_rel,
+            kinetic_to_internal_max: s.kinetic_to_internal_max,
+            kinetic_to_work_max: s.kinetic_to_work_max,
+            warnings: s.warnings.clone(),
+            values: measure_all(quantities, result).map_err(|e| e.to_string())?,
+        })
+    }
+}
 
 /// A variant's runs so far.
 #[derive(Default)]
 pub(crate) struct Runs {
     /// The first completed run.
-    pub first: Option<RunResult>,
+    pub first: Option<VariantRun>,
     /// The quantities of the first run.
     pub values: Vec<Measured>,
-    /// Process CPU seconds per run.
+    /// CPU seconds per run (of the threads that ran it).
     pub cpu: Vec<f64>,
     /// Wall seconds per run.
     pub wall: Vec<f64>,
@@ -94,105 +134,123 @@ pub fn reference_at(runs: &[(f64, f64)], t: f64) -> f64 {
     }
 }
 
+/// Where a study's runs go and what it is told of them.
+pub(crate) struct Rounds<'a> {
+    /// The engine (executor, journal, clock).
+    pub engine: &'a Engine<'a>,
+    /// The study's output folder.
+    pub out: &'a std::path::Path,
+    /// The study's bar, if any.
+    pub bar: Option<&'a indicatif::ProgressBar>,
+    /// Told after each run.
+    pub on_run: &'a dyn Fn(&str, Result<&VariantRun, &str>),
+    /// Which call of [`run_rounds`] this is (journal labels differ).
+    pub call: usize,
+}
+
 /// `repeat` rounds over `variants` (the first is the reference) in the
-/// order of [`round_order`]; `clock` is the study's start.
+/// order of [`round_order`]. Each round goes to the engine in batches in
+/// which no variant appears twice (so that two runs never write one
+/// folder at once); one run at a time, that is the order itself.
 pub(crate) fn run_rounds(
     variants: &[&Variant],
     quantities: &[Quantity],
     repeat: usize,
-    out: &Path,
-    clock: Instant,
-    bar: Option<&indicatif::ProgressBar>,
-    on_run: &dyn Fn(&str, Result<&RunResult, &str>),
+    r: &Rounds<'_>,
 ) -> Result<Vec<Runs>, StudyError> {
     let mut runs: Vec<Runs> = variants.iter().map(|_| Runs::default()).collect();
     for round in 0..repeat {
-        for i in round_order(variants.len(), round) {
-            let (v, r) = (variants[i], &mut runs[i]);
-            if r.failure.is_some() {
-                continue;
-            }
-            if let Some(b) = bar {
-                b.set_message(format!("round {}/{repeat}: {}", round + 1, v.label));
-            }
-            let start = clock.elapsed().as_secs_f64();
-            match run_once(v, out, bar) {
-                Err(e) => {
-                    let m = e.to_string();
-                    on_run(&v.label, Err(&m));
-                    r.failure = Some(m);
+        let mut position = 0;
+        for chunk in distinct_batches(&round_order(variants.len(), round)) {
+            let first = position;
+            position += chunk.len();
+            let (positions, chunk): (Vec<usize>, Vec<usize>) = (first..)
+                .zip(chunk)
+                .filter(|&(_, i)| runs[i].failure.is_none())
+                .unzip();
+            let jobs: Vec<JobSpec> = chunk
+                .iter()
+                .zip(&positions)
+                .map(|(&i, j)| JobSpec {
+                    // Unique in the study: which call, round and place in it.
+                    label: format!("{}/{}.{round}.{j}", variants[i].label, r.call),
+                    sets: variants[i].sets.clone(),
+                    out: r.out.join(&variants[i].label),
+                    estimate: 0.0,
+                })
+                .collect();
+            let extract = |result: &RunResult| {
+                let v = VariantRun::of(result, quantities)?;
+                serde_json::to_value(v).map_err(|e| e.to_string())
+            };
+            let (bar, clock) = (r.bar, r.engine.clock());
+            let work = |k: usize, spec: &JobSpec| {
+                let v = variants[chunk[k]];
+                if let Some(b) = bar {
+                    b.reset();
+                    b.set_message(format!("round {}/{repeat}: {}", round + 1, v.label));
                 }
-                Ok(t) => {
-                    on_run(&v.label, Ok(&t.result));
-                    let middle = start + 0.5 * t.wall_s;
-                    record(v, r, t, middle, quantities)?;
+                let progress = bar.map_or(Progress::Hidden, |b| Progress::Bar(b.clone()));
+                let scene = batch::Scene::Planned(&v.loaded);
+                batch::run_job(scene, spec, progress, clock, &extract)
+            };
+            let records = r.engine.run(&jobs, &work, &mut |k, record, _| {
+                let label = &variants[chunk[k]].label;
+                match decode(record) {
+                    Ok(v) => (r.on_run)(label, Ok(&v)),
+                    Err(m) => (r.on_run)(label, Err(&m)),
                 }
+            })?;
+            for (k, record) in records.iter().enumerate() {
+                let i = chunk[k];
+                keep(variants[i], &mut runs[i], record)?;
             }
         }
     }
     Ok(runs)
 }
 
-/// One timed run's figures.
-struct Timed {
-    result: RunResult,
-    cpu_s: f64,
-    wall_s: f64,
+/// `order` cut into consecutive batches in which no index appears twice.
+fn distinct_batches(order: &[usize]) -> Vec<Vec<usize>> {
+    let mut batches: Vec<Vec<usize>> = vec![Vec::new()];
+    for &i in order {
+        let last = batches.last_mut().expect("one batch at least");
+        if last.contains(&i) {
+            batches.push(vec![i]);
+        } else {
+            last.push(i);
+        }
+    }
+    batches.retain(|b| !b.is_empty());
+    batches
 }
 
-/// Run a variant once into `out/LABEL`, timed.
-fn run_once(
-    v: &Variant,
-    out: &Path,
-    bar: Option<&indicatif::ProgressBar>,
-) -> Result<Timed, StudyError> {
-    if let Some(b) = bar {
-        b.reset();
-    }
-    let cpu = cpu_time::ProcessTime::try_now().map_err(StudyError::CpuTime)?;
-    let wall = Instant::now();
-    let result = run(
-        &v.loaded,
-        &RunOptions {
-            out: out.join(&v.label),
-            progress: bar.map_or(Progress::Hidden, |b| Progress::Bar(b.clone())),
-        },
-    )?;
-    let cpu_s = cpu
-        .try_elapsed()
-        .map_err(StudyError::CpuTime)?
-        .as_secs_f64();
-    Ok(Timed {
-        result,
-        cpu_s,
-        wall_s: wall.elapsed().as_secs_f64(),
-    })
+/// The study's figures of a record, or why the run failed.
+fn decode(record: &Record) -> Result<VariantRun, String> {
+    record
+        .outcome
+        .clone()
+        .and_then(|v| serde_json::from_value(v).map_err(|e| e.to_string()))
 }
 
 /// Keep a run's figures; a repeat must give the first run's bits.
-fn record(
-    v: &Variant,
-    r: &mut Runs,
-    t: Timed,
-    at: f64,
-    quantities: &[Quantity],
-) -> Result<(), StudyError> {
-    let values = match measure_all(quantities, &t.result) {
-        Ok(values) => values,
-        Err(e) => {
-            r.failure = Some(e.to_string());
+fn keep(v: &Variant, r: &mut Runs, record: &Record) -> Result<(), StudyError> {
+    let run = match decode(record) {
+        Ok(run) => run,
+        Err(m) => {
+            r.failure = Some(m);
             return Ok(());
         }
     };
     if r.first.is_none() {
-        r.values = values;
-        r.first = Some(t.result);
-    } else if values != r.values {
+        r.values = run.values.clone();
+        r.first = Some(run);
+    } else if run.values != r.values {
         return Err(not_the_same_bits(&v.label));
     }
-    r.cpu.push(t.cpu_s);
-    r.wall.push(t.wall_s);
-    r.at.push(at);
+    r.cpu.push(record.cpu_s);
+    r.wall.push(record.wall_s);
+    r.at.push(record.started_s + 0.5 * record.wall_s);
     Ok(())
 }
 
@@ -210,6 +268,15 @@ mod tests {
             "every {REFERENCE_EVERY}"
         );
         assert_eq!(round_order(7, 1), [0, 6, 5, 4, 3, 0, 2, 1, 0]);
+    }
+
+    #[test]
+    fn batches_never_hold_a_variant_twice() {
+        assert_eq!(
+            distinct_batches(&round_order(7, 0)),
+            [vec![0, 1, 2, 3, 4], vec![0, 5, 6], vec![0]]
+        );
+        assert_eq!(distinct_batches(&[0]), [vec![0]]);
     }
 
     #[test]
