@@ -326,6 +326,11 @@ impl Executor for MpiExecutor<'_> {
 }
 
 impl MpiExecutor<'_> {
+    /// Runs at a time: one per worker rank, and one on rank 0 with `local`.
+    pub fn ranks(&self) -> usize {
+        self.world.size - 1 + usize::from(self.local)
+    }
+
     /// Rank 0's main loop: hand out, take in, count the silent as lost,
     /// until every job has its record.
     fn dispatch(
