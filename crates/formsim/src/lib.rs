@@ -19,6 +19,7 @@ pub mod identify;
 pub mod output;
 pub mod plot;
 pub mod point_driver;
+pub mod quantity;
 pub mod records;
 pub mod run;
 pub mod scene;

@@ -1108,7 +1108,7 @@ fn compare(args: &CompareArgs, threads: Option<u16>) -> Outcome {
 }
 
 fn study(args: &StudyArgs, threads: Option<u16>) -> Outcome {
-    use formsim::study::{self, Knob, Spec, quantity::Quantity};
+    use formsim::study::{self, Knob, Spec};
     let mut knobs = args
         .vary
         .iter()
@@ -1123,7 +1123,7 @@ fn study(args: &StudyArgs, threads: Option<u16>) -> Outcome {
     let quantities = args
         .quantities
         .iter()
-        .map(|q| Quantity::parse(q))
+        .map(|q| study::quantity::parse(q))
         .collect::<Result<Vec<_>, _>>()?;
     let spec = Spec {
         knobs,

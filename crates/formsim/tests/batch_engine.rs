@@ -265,3 +265,47 @@ fn identify_on_the_engine_gives_the_identification_of_before() {
         untimed_json(&gold("identification.json"))
     );
 }
+
+/// A row that fails when it runs (a fixed step above the stable limit,
+/// found at set-up) is recorded in the journal with its message, the other
+/// rows finish, the command exits 1; called again, the finished row comes
+/// from the journal and the failed one runs again.
+#[test]
+fn a_failed_run_is_journalled_and_run_again_while_the_others_are_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cmp");
+    let args = [
+        "compare",
+        "scenes/block-on-plane.toml",
+        "--case",
+        "ok:blank.mesh.divisions=2",
+        "--case",
+        "bad:blank.mesh.divisions=2;solver.fixed_dt=1e-5",
+        "--set",
+        "output.frames=0",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let o = formsim(&args);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("failed bad: ") && err.contains("fixed_dt"),
+        "{err}"
+    );
+    let journal: Value = serde_json::from_str(&read(&out.join("journal/runs/bad.json"))).unwrap();
+    let message = journal["record"]["outcome"]["Err"].as_str().unwrap();
+    assert!(message.contains("fixed time step 1e-5 s"), "{message}");
+    assert!(out.join("journal/runs/ok.json").is_file());
+    let md = read(&out.join("compare.md"));
+    assert!(md.contains("| bad | ac | convective | failed: "), "{md}");
+
+    let again = formsim(&args);
+    let err = String::from_utf8_lossy(&again.stderr).to_string();
+    assert_eq!(again.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("done ok: ") && err.contains("(from the journal)"),
+        "{err}"
+    );
+    assert!(err.contains("failed bad: "), "{err}");
+}

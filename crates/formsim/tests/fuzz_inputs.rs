@@ -597,7 +597,7 @@ fn fuzz_study_identify_and_compare_options() {
                 one_line("--reference", &e.to_string())?;
             }
             for q in t.split(',') {
-                if let Err(e) = formsim::study::quantity::Quantity::parse(q) {
+                if let Err(e) = formsim::study::quantity::parse(q) {
                     one_line("--quantities", &e.to_string())?;
                 }
             }

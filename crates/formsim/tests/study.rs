@@ -384,3 +384,65 @@ fn a_quantity_the_scene_does_not_report_stops_the_study_before_any_run() {
         assert!(!out.exists(), "{q}");
     }
 }
+
+/// The punch force at a stroke (`punch_force@STROKE`) is the run's
+/// `punch_force.csv` interpolated linearly at that stroke, recomputed
+/// here from the file; a quantity the scene does not report
+/// (`OD@33:major`, no report stroke at 33 mm) is refused before any run.
+#[test]
+fn the_punch_force_at_a_stroke_is_the_runs_force_history_interpolated() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let o = formsim(&[
+        "study",
+        "scenes/square-cup.toml",
+        "--set",
+        "blank.mesh.divisions=4",
+        "--set",
+        "output.frames=0",
+        "--set",
+        "output.plots=false",
+        "--vary",
+        "contact.law=ac,wh",
+        "--quantities",
+        "punch_force@20",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = json(&out.join("study.json"));
+    let got = s["variants"][0]["values"][0].as_f64().unwrap();
+    let csv = std::fs::read_to_string(out.join("reference/punch_force.csv")).unwrap();
+    let rows: Vec<(f64, f64)> = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let c: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+            (c[1], c[2])
+        })
+        .collect();
+    let k = rows.iter().position(|r| r.0 >= 20.0).unwrap();
+    let ((s0, f0), (s1, f1)) = (rows[k - 1], rows[k]);
+    let expected = f0 + (f1 - f0) * (20.0 - s0) / (s1 - s0);
+    assert!(
+        (got - expected).abs() <= 1e-9 * expected.abs(),
+        "{got} against {expected} from punch_force.csv"
+    );
+    assert!(got > 1000.0, "{got} N: the punch pushes at 20 mm");
+
+    let bad = formsim(&[
+        "study",
+        "scenes/square-cup.toml",
+        "--vary",
+        "contact.law=ac,wh",
+        "--quantities",
+        "OD@33:major",
+        "--out",
+        dir.path().join("bad").to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(!bad.status.success());
+    assert!(err.contains("OD") && err.contains("33"), "{err}");
+    assert!(!dir.path().join("bad").exists(), "{err}");
+}

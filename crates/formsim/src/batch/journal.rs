@@ -230,8 +230,19 @@ pub fn write_atomic(path: &Path, text: &str) -> Result<(), BatchError> {
     std::fs::rename(&tmp, path).map_err(|e| io_error(path, e))
 }
 
-/// What differs between two contexts, in a few words.
-fn difference(old: &Context, new: &Context) -> String {
+/// What a journal's runs depend on whatever the command: formsim's version,
+/// its build and the scene's text.
+pub(crate) struct Basis<'a> {
+    /// formsim's version.
+    pub version: &'a str,
+    /// The executable's fingerprint.
+    pub build: &'a str,
+    /// The scene file's text.
+    pub scene_text: &'a str,
+}
+
+/// What differs between the bases of two journals, in a few words each.
+pub(crate) fn basis_difference(old: &Basis<'_>, new: &Basis<'_>) -> Vec<String> {
     let mut what = Vec::new();
     if old.version != new.version {
         what.push(format!(
@@ -242,11 +253,27 @@ fn difference(old: &Context, new: &Context) -> String {
     if old.build != new.build {
         what.push("another build of formsim (its runs may differ)".into());
     }
-    if old.command != new.command {
-        what.push(format!("formsim {} there", old.command));
-    }
     if old.scene_text != new.scene_text {
         what.push("another scene text".into());
+    }
+    what
+}
+
+impl Context {
+    fn basis(&self) -> Basis<'_> {
+        Basis {
+            version: &self.version,
+            build: &self.build,
+            scene_text: &self.scene_text,
+        }
+    }
+}
+
+/// What differs between two contexts, in a few words.
+fn difference(old: &Context, new: &Context) -> String {
+    let mut what = basis_difference(&old.basis(), &new.basis());
+    if old.command != new.command {
+        what.push(format!("formsim {} there", old.command));
     }
     if old.args != new.args {
         what.push("other arguments".into());

@@ -7,6 +7,7 @@
 
 use super::IdentifyError;
 use super::observe::Observables;
+use crate::batch::journal::{Basis, basis_difference};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -200,21 +201,19 @@ fn write_atomic(path: &Path, text: &str) -> Result<(), IdentifyError> {
     crate::batch::journal::write_atomic(path, text).map_err(IdentifyError::from)
 }
 
+impl Context {
+    fn basis(&self) -> Basis<'_> {
+        Basis {
+            version: &self.version,
+            build: &self.build,
+            scene_text: &self.scene_text,
+        }
+    }
+}
+
 /// What differs between two contexts, in a few words.
 fn difference(old: &Context, new: &Context) -> String {
-    let mut what = Vec::new();
-    if old.version != new.version {
-        what.push(format!(
-            "formsim {} there, {} here",
-            old.version, new.version
-        ));
-    }
-    if old.build != new.build {
-        what.push("another build of formsim (its runs may differ)".into());
-    }
-    if old.scene_text != new.scene_text {
-        what.push("another scene text".into());
-    }
+    let mut what = basis_difference(&old.basis(), &new.basis());
     if old.overrides != new.overrides {
         what.push("other --set overrides or report strokes".into());
     }

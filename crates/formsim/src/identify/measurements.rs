@@ -40,83 +40,16 @@ pub struct DataSet {
     pub points: Vec<Point>,
 }
 
-/// What a measured value is a value of.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Quantity {
-    /// A number in `summary.json`, by its dotted key (`states.40.draw_in.DX`).
-    Scalar {
-        /// The key.
-        key: String,
-    },
-    /// A section curve at a report stroke, at an initial distance along it.
-    Curve {
-        /// Section name.
-        section: String,
-        /// Report stroke (mm).
-        stroke: f64,
-        /// `major`, `minor`, `thickness_strain` or `thinning`.
-        column: CurveColumn,
-        /// Initial distance from the section's start (mm).
-        distance: f64,
-    },
-    /// The punch force (full part, N) at a stroke (mm).
-    Force {
-        /// Stroke (mm).
-        stroke: f64,
-    },
-}
-
-/// A column of a section curve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CurveColumn {
-    /// Major strain (-).
-    Major,
-    /// Minor strain (-).
-    Minor,
-    /// Thickness strain (-).
-    ThicknessStrain,
-    /// Thinning (-).
-    Thinning,
-}
-
-impl CurveColumn {
-    /// Parse a column name.
-    pub fn parse(name: &str) -> Option<Self> {
-        Some(match name {
-            "major" => Self::Major,
-            "minor" => Self::Minor,
-            "thickness_strain" => Self::ThicknessStrain,
-            "thinning" => Self::Thinning,
-            _ => return None,
-        })
-    }
-
-    /// The column's value in a row of a section curve.
-    pub fn of(self, row: &crate::run::post::SectionRow) -> f64 {
-        match self {
-            Self::Major => row.major,
-            Self::Minor => row.minor,
-            Self::ThicknessStrain => row.thickness_strain,
-            Self::Thinning => row.thinning,
-        }
-    }
-
-    /// The column's name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Major => "major",
-            Self::Minor => "minor",
-            Self::ThicknessStrain => "thickness_strain",
-            Self::Thinning => "thinning",
-        }
-    }
-}
+pub use crate::quantity::{CurveColumn, Quantity};
 
 /// One measured value.
 #[derive(Debug, Clone)]
 pub struct Point {
-    /// What it measures.
+    /// What it measures (a curve's at a report stroke).
     pub quantity: Quantity,
+    /// For a curve: the initial distance from the section's start (mm) at
+    /// which the curve is read.
+    pub distance: Option<f64>,
     /// The measured value (in the scene's units).
     pub value: f64,
     /// Its standard error, if given.
@@ -141,11 +74,11 @@ impl Point {
                 section,
                 stroke,
                 column,
-                distance,
             } => format!(
-                "{section}@{} {} at {distance} mm",
-                stroke_key(*stroke),
-                column.name()
+                "{section}@{} {} at {} mm",
+                stroke.map_or_else(|| "end".into(), stroke_key),
+                column.name(),
+                self.distance.unwrap_or(f64::NAN)
             ),
             Quantity::Force { stroke } => format!("punch force at {stroke} mm"),
         }
@@ -194,12 +127,7 @@ impl Measurements {
     pub fn strokes(&self) -> Vec<f64> {
         let mut out: Vec<f64> = Vec::new();
         for p in self.sets.iter().flat_map(|s| &s.points) {
-            let stroke = match &p.quantity {
-                Quantity::Curve { stroke, .. } => Some(*stroke),
-                Quantity::Scalar { key } => state_stroke(key),
-                Quantity::Force { .. } => None,
-            };
-            if let Some(s) = stroke
+            if let Some(s) = p.quantity.report_stroke()
                 && !out.iter().any(|o| stroke_key(*o) == stroke_key(s))
             {
                 out.push(s);
@@ -226,17 +154,6 @@ impl Measurements {
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
-}
-
-/// The stroke of a `states.<stroke>.…` key, if it is one.
-fn state_stroke(key: &str) -> Option<f64> {
-    let rest = key.strip_prefix("states.")?;
-    // The stroke may itself hold a dot (`states.12.5.draw_in.DX`): take the
-    // longest numeric prefix of the remaining segments.
-    let parts: Vec<&str> = rest.split('.').collect();
-    (1..parts.len())
-        .rev()
-        .find_map(|n| parts[..n].join(".").parse::<f64>().ok())
 }
 
 /// 1-based line of byte offset `at` in `text`.
@@ -305,6 +222,7 @@ fn read_csv(text: &str) -> Result<Vec<DataSet>, LineError> {
         let key = format!("states.{}.draw_in.{quantity}", stroke_key(stroke));
         points.push(Point {
             quantity: Quantity::Scalar { key: key.clone() },
+            distance: None,
             value,
             se,
             scale: value.abs(),
@@ -444,6 +362,7 @@ fn scalar(s: RawScalar, line: usize) -> Result<Point, LineError> {
     let value = finite(s.value, "value", line)?;
     Ok(Point {
         quantity: Quantity::Scalar { key: s.key.clone() },
+        distance: None,
         value,
         se: s.se.map(|se| positive_se(se, line)).transpose()?,
         scale: value.abs(),
@@ -508,10 +427,10 @@ fn curve(c: RawCurve, line: usize) -> Result<Vec<Point>, LineError> {
         .map(|(distance, value, se)| Point {
             quantity: Quantity::Curve {
                 section: c.section.clone(),
-                stroke,
+                stroke: Some(stroke),
                 column,
-                distance,
             },
+            distance: Some(distance),
             value,
             se,
             scale,
@@ -528,6 +447,7 @@ fn force(f: RawForce, line: usize) -> Result<Vec<Point>, LineError> {
         .into_iter()
         .map(|(stroke, value, se)| Point {
             quantity: Quantity::Force { stroke },
+            distance: None,
             value,
             se,
             scale,

@@ -261,14 +261,7 @@ pub fn check(options: &Options, data: &Measurements) -> Result<(), IdentifyError
         let probe = crate::run::probe::probe(&loaded)
             .map_err(|e| IdentifyError::Scene(format!("set {}: {e}", set.name)))?;
         for p in &set.points {
-            let checked = match &p.quantity {
-                measurements::Quantity::Scalar { key } => probe.check_key(key),
-                measurements::Quantity::Curve {
-                    section, stroke, ..
-                } => probe.check_curve(section, Some(*stroke)),
-                measurements::Quantity::Force { .. } => Ok(()),
-            };
-            checked.map_err(|why| {
+            p.quantity.check(&probe).map_err(|why| {
                 IdentifyError::Scene(format!(
                     "set {}: {} (line {}): {why}",
                     set.name,

@@ -134,6 +134,7 @@ mod tests {
     fn point(value: f64, se: Option<f64>) -> Point {
         Point {
             quantity: Quantity::Scalar { key: "k".into() },
+            distance: None,
             value,
             se,
             scale: value.abs(),

@@ -113,8 +113,12 @@ impl Observables {
                         section,
                         stroke,
                         column,
-                        distance,
-                    } => self.curve(section, *stroke, *column, *distance),
+                    } => self.curve(
+                        section,
+                        stroke.unwrap_or(f64::NAN),
+                        *column,
+                        p.distance.unwrap_or(f64::NAN),
+                    ),
                     Quantity::Force { stroke } => self.force_at(*stroke),
                 }?;
                 if v.is_finite() {

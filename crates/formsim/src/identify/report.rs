@@ -401,7 +401,7 @@ impl Report {
         let points: Vec<_> = data.sets.iter().flat_map(|s| &s.points).collect();
         let x_of = |n: usize, row: usize| match &points[row].quantity {
             Quantity::Scalar { .. } => n as f64 + 1.0,
-            Quantity::Curve { distance, .. } => *distance,
+            Quantity::Curve { .. } => points[row].distance.unwrap_or(f64::NAN),
             Quantity::Force { stroke } => *stroke,
         };
         let line = |label: &str, pick: fn(&PredictionRow) -> Option<f64>| Series {

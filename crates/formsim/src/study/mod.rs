@@ -634,16 +634,11 @@ fn variant(
         },
     })?;
     for q in &spec.quantities {
-        let checked = match q {
-            Quantity::Scalar { key } => probe.check_key(key),
-            Quantity::Curve {
-                section, stroke, ..
-            } => probe.check_curve(section, *stroke),
-        };
-        checked.map_err(|message| StudyError::QuantityNotReported {
-            label: label.clone(),
-            message,
-        })?;
+        q.check(&probe)
+            .map_err(|message| StudyError::QuantityNotReported {
+                label: label.clone(),
+                message,
+            })?;
     }
     Ok(Variant {
         label,

@@ -1,11 +1,6 @@
-//! The quantities a study compares, and the error of a variant against the
-//! reference.
-//!
-//! A quantity is either a number of `summary.json`, named by its dotted key
-//! (`draw_in.DX`, `punch_force_max`, `sections.OD.major_max`,
-//! `states.40.punch_force`), or a section curve, `SECTION:COLUMN` at the end
-//! of the run or `SECTION@STROKE:COLUMN` at a report stroke, with `COLUMN`
-//! one of `major`, `minor`, `thickness_strain`, `thinning`.
+//! What a study's quantities ([`crate::quantity`]: a number of
+//! `summary.json`, a section curve, the punch force at a stroke) measure in
+//! a run, and the error of a variant against the reference.
 //!
 //! Errors are relative. A number's is `|v − v_ref| / |v_ref|`. A curve's is
 //! measured at the reference's points (the variant's curve interpolated
@@ -14,42 +9,20 @@
 //! magnitude (max), both divided by the reference curve's largest magnitude.
 //! The L2 figure is the one held against the tolerance.
 
-use crate::identify::measurements::CurveColumn;
 use crate::identify::observe::{interpolate, lookup};
+pub use crate::quantity::Quantity;
 use crate::run::RunResult;
-use crate::run::summary::stroke_key;
 
 /// Why a quantity cannot be parsed, measured or compared.
 #[derive(Debug, thiserror::Error)]
 pub enum MeasureError {
-    /// `--quantities` holds an empty name.
-    #[error("--quantities: an empty name")]
-    EmptyName,
-    /// The column after `:` is not one of the section columns.
-    #[error(
-        "--quantities `{text}`: the column after `:` must be major, minor, thickness_strain or thinning"
-    )]
-    Column {
+    /// A name of `--quantities` does not parse.
+    #[error("--quantities `{text}`: {source}")]
+    Parse {
         /// The quantity as given.
         text: String,
-    },
-    /// The stroke after `@` is not a number.
-    #[error("--quantities `{text}`: the stroke after `@` must be a number (mm)")]
-    StrokeNotNumber {
-        /// The quantity as given.
-        text: String,
-    },
-    /// The stroke after `@` is infinite or NaN.
-    #[error("--quantities `{text}`: the stroke must be finite (mm)")]
-    StrokeNotFinite {
-        /// The quantity as given.
-        text: String,
-    },
-    /// Nothing before `:`.
-    #[error("--quantities `{text}`: no section before `:`")]
-    NoSection {
-        /// The quantity as given.
-        text: String,
+        /// What is wrong.
+        source: crate::quantity::ParseError,
     },
     /// The run's summary could not be turned into JSON.
     #[error(transparent)]
@@ -95,25 +68,6 @@ pub enum MeasureError {
     },
 }
 
-/// A quantity compared across the variants.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Quantity {
-    /// A number of `summary.json` by its dotted key.
-    Scalar {
-        /// The dotted key, e.g. `draw_in.DX`.
-        key: String,
-    },
-    /// A section curve.
-    Curve {
-        /// Section name (`output.sections`).
-        section: String,
-        /// Report stroke (mm); `None`: the end of the run.
-        stroke: Option<f64>,
-        /// Which column of the section's rows.
-        column: CurveColumn,
-    },
-}
-
 /// What a run gave for a quantity.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Measured {
@@ -133,68 +87,35 @@ pub struct QuantityError {
     pub max: f64,
 }
 
-impl Quantity {
-    /// Parse `KEY`, `SECTION:COLUMN` or `SECTION@STROKE:COLUMN`.
-    ///
-    /// # Errors
-    /// An empty name, an unknown column, a stroke that is not a finite number.
-    pub fn parse(text: &str) -> Result<Self, MeasureError> {
-        let text = text.trim();
-        if text.is_empty() {
-            return Err(MeasureError::EmptyName);
-        }
-        let Some((place, column)) = text.split_once(':') else {
-            return Ok(Quantity::Scalar { key: text.into() });
-        };
-        let column = CurveColumn::parse(column.trim())
-            .ok_or_else(|| MeasureError::Column { text: text.into() })?;
-        let (section, stroke) = match place.split_once('@') {
-            None => (place.trim(), None),
-            Some((s, k)) => {
-                let stroke: f64 = k
-                    .trim()
-                    .parse()
-                    .map_err(|_| MeasureError::StrokeNotNumber { text: text.into() })?;
-                if !stroke.is_finite() {
-                    return Err(MeasureError::StrokeNotFinite { text: text.into() });
-                }
-                (s.trim(), Some(stroke))
-            }
-        };
-        if section.is_empty() {
-            return Err(MeasureError::NoSection { text: text.into() });
-        }
-        Ok(Quantity::Curve {
-            section: section.into(),
-            stroke,
-            column,
-        })
-    }
+/// Parse a name of `--quantities` ([`Quantity::parse`]).
+///
+/// # Errors
+/// The name does not parse: one line naming it.
+pub fn parse(text: &str) -> Result<Quantity, MeasureError> {
+    Quantity::parse(text).map_err(|source| MeasureError::Parse {
+        text: text.trim().into(),
+        source,
+    })
+}
 
-    /// The quantity as it is written on the command line.
-    pub fn name(&self) -> String {
-        match self {
-            Quantity::Scalar { key } => key.clone(),
-            Quantity::Curve {
-                section,
-                stroke: None,
-                column,
-            } => format!("{section}:{}", column.name()),
-            Quantity::Curve {
-                section,
-                stroke: Some(s),
-                column,
-            } => format!("{section}@{}:{}", stroke_key(*s), column.name()),
-        }
-    }
-
+/// What a study reads of a run.
+pub trait Measure {
     /// What `result` gave for this quantity; `summary` is its summary as
     /// JSON ([`measure_all`] makes it once for every quantity).
     ///
     /// # Errors
-    /// A key `summary.json` does not have, a section or report stroke the run
-    /// did not report, a value that is not finite.
-    pub fn measure(
+    /// A key `summary.json` does not have, a section or report stroke the
+    /// run did not report, a stroke the punch did not reach, a value that
+    /// is not finite.
+    fn measure(
+        &self,
+        result: &RunResult,
+        summary: &serde_json::Value,
+    ) -> Result<Measured, MeasureError>;
+}
+
+impl Measure for Quantity {
+    fn measure(
         &self,
         result: &RunResult,
         summary: &serde_json::Value,
@@ -225,6 +146,14 @@ impl Quantity {
                     .and_then(|snap| snap.curves.get(section))
                     .ok_or_else(|| MeasureError::NoCurve { name: name.clone() })?;
                 Measured::Curve(rows.iter().map(|r| (r.distance, column.of(r))).collect())
+            }
+            Quantity::Force { stroke } => {
+                let points: Vec<(f64, f64)> = (result.history.iter())
+                    .map(|h| (h.stroke, h.punch_force))
+                    .collect();
+                let f = interpolate(&points, *stroke)
+                    .ok_or_else(|| MeasureError::NoNumber { name: name.clone() })?;
+                Measured::Scalar(f)
             }
         };
         let finite = match &measured {
@@ -304,29 +233,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn names_parse_and_print_back() {
-        for text in ["draw_in.DX", "OD:major", "OX@40:thinning", "OD@12.5:minor"] {
-            assert_eq!(Quantity::parse(text).unwrap().name(), text);
+    fn a_bad_name_is_refused_in_one_line_naming_it() {
+        for (text, what) in [
+            ("OD:strain", "column"),
+            ("OD@x:major", "stroke"),
+            (":major", "section"),
+            (" ", "empty"),
+        ] {
+            let e = parse(text).unwrap_err().to_string();
+            assert!(
+                e.starts_with(&format!("--quantities `{}`", text.trim())),
+                "{e}"
+            );
+            assert!(e.contains(what) && e.lines().count() == 1, "{e}");
         }
-        assert!(
-            Quantity::parse("OD:strain")
-                .unwrap_err()
-                .to_string()
-                .contains("column")
-        );
-        assert!(
-            Quantity::parse("OD@x:major")
-                .unwrap_err()
-                .to_string()
-                .contains("stroke")
-        );
-        assert!(
-            Quantity::parse(":major")
-                .unwrap_err()
-                .to_string()
-                .contains("section")
-        );
-        assert!(Quantity::parse(" ").is_err());
+        assert_eq!(parse("punch_force@20").unwrap().name(), "punch_force@20");
     }
 
     #[test]
