@@ -389,6 +389,13 @@ fn main() -> ExitCode {
         note!("error: --threads {n}: {e}");
         return ExitCode::FAILURE;
     }
+    // Several copies started by mpirun or srun would each do the whole work,
+    // except a command that shares its runs over MPI (docs/scale-out.md).
+    let shared = cfg!(feature = "mpi") && matches!(cli.command, Command::Study(_));
+    if !shared && let Err(e) = formsim::batch::launcher::single_copy() {
+        note!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     let result = match cli.command {
         Command::Laws(args) => laws(&args),
         Command::Plugin {
@@ -1139,6 +1146,16 @@ fn study(args: &StudyArgs, threads: Option<u16>) -> Outcome {
     let progress = cli_io::bars_wanted();
     let context = journal::Context::new("study", &args.scene, vec![format!("{spec:?}")])?;
     let plan = study::plan(&args.scene, spec)?;
+    // One run at a time unless asked: a study times its runs.
+    let local = local_executor(Some(args.batch.jobs.unwrap_or(1)), threads, 1);
+    #[cfg(feature = "mpi")]
+    let world = batch::mpi::world()?;
+    #[cfg(feature = "mpi")]
+    if let Some(w) = &world
+        && w.rank() > 0
+    {
+        return study_worker(w, &args.scene, &plan.spec.quantities, local.threads);
+    }
     let labels = plan.labels();
     let journal = batch::prepare(
         &args.batch.out,
@@ -1147,21 +1164,28 @@ fn study(args: &StudyArgs, threads: Option<u16>) -> Outcome {
         &context,
     )?;
     let resumed = journal.len();
-    // One run at a time unless asked: a study times its runs.
-    let executor = local_executor(Some(args.batch.jobs.unwrap_or(1)), threads, 1);
+    #[cfg(feature = "mpi")]
+    let mpi = world.as_ref().map(|w| w.executor(local.threads, true));
+    #[cfg(feature = "mpi")]
+    let (executor, at_a_time): (&dyn batch::Executor, usize) = match &mpi {
+        Some(m) => (m, m.ranks()),
+        None => (&local, local.jobs),
+    };
+    #[cfg(not(feature = "mpi"))]
+    let (executor, at_a_time): (&dyn batch::Executor, usize) = (&local, local.jobs);
     note!(
         "study: {} variants × {} run(s), {} at a time on {} thread(s) each{}",
         plan.variants.len(),
         args.repeat,
-        executor.jobs,
-        executor.threads,
+        at_a_time,
+        executor.threads(),
         if resumed > 0 {
             format!(" ({resumed} runs in the journal of an earlier call)")
         } else {
             String::new()
         }
     );
-    let engine = Engine::new(&executor, Some(journal));
+    let engine = Engine::new(executor, Some(journal));
     let results = study::execute(plan, &args.batch.out, progress, &engine, &|label, r| {
         if progress {
             return;
@@ -1203,6 +1227,28 @@ fn study(args: &StudyArgs, threads: Option<u16>) -> Outcome {
     } else {
         ExitCode::FAILURE
     })
+}
+
+/// A study's runs on an MPI rank other than 0: each job rank 0 sends, run
+/// from the scene file with the job's overrides, until rank 0 says stop.
+#[cfg(feature = "mpi")]
+fn study_worker(
+    world: &batch::mpi::World,
+    scene: &Path,
+    quantities: &[formsim::study::quantity::Quantity],
+    threads: usize,
+) -> Outcome {
+    let clock = std::time::Instant::now();
+    let extract = |r: &formsim::run::RunResult| {
+        let v = formsim::study::VariantRun::of(r, quantities)?;
+        serde_json::to_value(v).map_err(|e| e.to_string())
+    };
+    let work = |_: usize, spec: &batch::JobSpec| {
+        let scene = batch::Scene::File(scene);
+        batch::run_job(scene, spec, formsim::run::Progress::Hidden, clock, &extract)
+    };
+    world.serve(threads, &work)?;
+    Ok(ExitCode::SUCCESS)
 }
 
 fn identify(args: &IdentifyArgs, threads: Option<u16>) -> Outcome {

@@ -16,7 +16,10 @@
 
 pub mod cpu;
 pub mod journal;
+pub mod launcher;
 pub mod local;
+#[cfg(feature = "mpi")]
+pub mod mpi;
 
 use crate::run::{Progress, RunOptions, RunResult};
 use crate::scene::{self, LoadedScene};

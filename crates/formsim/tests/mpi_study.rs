@@ -1,0 +1,108 @@
+//! `formsim study` under `mpirun -n 3` gives the same study as with the
+//! local executor: study.json is the same text, bit for bit, once the
+//! timings (CPU and wall seconds, speed-ups, costs, and the recommendation
+//! that follows from them) are masked. The coarse square cup as in
+//! `tests/study.rs`: 10 × 10 and 8 × 8 elements, AC and WVS.
+#![cfg(feature = "mpi")]
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The study's arguments into `out`: one knob and one model, so that no
+/// `combined` variant (which follows from the timings) can appear.
+fn args(out: &Path) -> Vec<String> {
+    [
+        "--threads",
+        "1",
+        "study",
+        "scenes/square-cup.toml",
+        "--vary",
+        "blank.mesh.divisions=10,8",
+        "--model",
+        "contact.law=ac,wvs",
+        "--quantities",
+        "draw_in.DX,punch_force_max,OD:major",
+        "--out",
+        out.to_str().unwrap(),
+    ]
+    .map(String::from)
+    .to_vec()
+}
+
+fn check(o: &Output) {
+    assert!(
+        o.status.success(),
+        "{}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// study.json with every timing replaced by null.
+fn masked(out: &Path) -> Value {
+    fn mask(v: &mut Value) {
+        match v {
+            Value::Object(map) => {
+                for (k, x) in map.iter_mut() {
+                    if ["cpu_s", "wall_s", "speed_up", "cost_s", "recommendation"]
+                        .contains(&k.as_str())
+                    {
+                        *x = Value::Null;
+                    } else {
+                        mask(x);
+                    }
+                }
+            }
+            Value::Array(items) => items.iter_mut().for_each(mask),
+            _ => {}
+        }
+    }
+    let text = std::fs::read_to_string(out.join("study.json")).unwrap();
+    let mut v: Value = serde_json::from_str(&text).unwrap();
+    mask(&mut v);
+    v
+}
+
+#[test]
+fn a_study_under_mpirun_is_the_local_study_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (local, mpi) = (dir.path().join("local"), dir.path().join("mpi"));
+    let exe = env!("CARGO_BIN_EXE_formsim");
+    let o = Command::new(exe)
+        .current_dir(root())
+        .args(args(&local))
+        .output()
+        .unwrap();
+    check(&o);
+    let o = Command::new("mpirun")
+        .current_dir(root())
+        .args(["-n", "3", "--oversubscribe", exe])
+        .args(args(&mpi))
+        .output()
+        .expect("mpirun (Open MPI) on the PATH");
+    check(&o);
+    // One study (rank 0's), its runs three at a time (two workers and rank 0).
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(stderr.matches("study: ").count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("3 at a time on 1 thread(s) each"),
+        "{stderr}"
+    );
+    let (a, b) = (masked(&local), masked(&mpi));
+    assert_eq!(a["variants"].as_array().unwrap().len(), 3, "{a}");
+    // Same text: every number the same bits (shortest round-trip form).
+    assert_eq!(
+        serde_json::to_string_pretty(&a).unwrap(),
+        serde_json::to_string_pretty(&b).unwrap()
+    );
+    // Every variant's folder has its run's summary.
+    for v in a["variants"].as_array().unwrap() {
+        let label = v["label"].as_str().unwrap();
+        assert!(mpi.join(label).join("summary.json").is_file(), "{label}");
+    }
+}
