@@ -391,7 +391,11 @@ fn main() -> ExitCode {
     }
     // Several copies started by mpirun or srun would each do the whole work,
     // except a command that shares its runs over MPI (docs/scale-out.md).
-    let shared = cfg!(feature = "mpi") && matches!(cli.command, Command::Study(_));
+    let shared = cfg!(feature = "mpi")
+        && matches!(
+            cli.command,
+            Command::Study(_) | Command::Compare(_) | Command::Identify(_)
+        );
     if !shared && let Err(e) = formsim::batch::launcher::single_copy() {
         note!("error: {e}");
         return ExitCode::FAILURE;
@@ -1062,6 +1066,17 @@ fn compare(args: &CompareArgs, threads: Option<u16>) -> Outcome {
     let progress = cli_io::bars_wanted();
     let plan = formsim::compare::plan(&args.scene, &matrix)?;
     let labels: Vec<String> = plan.labels().map(String::from).collect();
+    let local = local_executor(args.batch.jobs, threads, labels.len());
+    #[cfg(feature = "mpi")]
+    let world = batch::mpi::world()?;
+    #[cfg(feature = "mpi")]
+    if let Some(w) = &world
+        && w.rank() > 0
+    {
+        return worker(w, &args.scene, local.threads, &|r| {
+            serde_json::to_value(formsim::compare::RowResult::of(r)).map_err(|e| e.to_string())
+        });
+    }
     let context = journal::Context::new("compare", &args.scene, vec![format!("{matrix:?}")])?;
     let journal = batch::prepare(
         &args.batch.out,
@@ -1069,8 +1084,16 @@ fn compare(args: &CompareArgs, threads: Option<u16>) -> Outcome {
         args.batch.fresh || args.batch.force,
         &context,
     )?;
-    let executor = local_executor(args.batch.jobs, threads, labels.len());
-    let engine = Engine::new(&executor, Some(journal));
+    #[cfg(feature = "mpi")]
+    let mpi = world.as_ref().map(|w| w.executor(local.threads, true));
+    #[cfg(feature = "mpi")]
+    let executor: &dyn batch::Executor = match &mpi {
+        Some(m) => m,
+        None => &local,
+    };
+    #[cfg(not(feature = "mpi"))]
+    let executor: &dyn batch::Executor = &local;
+    let engine = Engine::new(executor, Some(journal));
     let entries = formsim::compare::execute(plan, &args.batch.out, progress, &engine, &mut |e| {
         if progress {
             return;
@@ -1154,7 +1177,11 @@ fn study(args: &StudyArgs, threads: Option<u16>) -> Outcome {
     if let Some(w) = &world
         && w.rank() > 0
     {
-        return study_worker(w, &args.scene, &plan.spec.quantities, local.threads);
+        let quantities = &plan.spec.quantities;
+        return worker(w, &args.scene, local.threads, &|r| {
+            let v = formsim::study::VariantRun::of(r, quantities)?;
+            serde_json::to_value(v).map_err(|e| e.to_string())
+        });
     }
     let labels = plan.labels();
     let journal = batch::prepare(
@@ -1229,23 +1256,20 @@ fn study(args: &StudyArgs, threads: Option<u16>) -> Outcome {
     })
 }
 
-/// A study's runs on an MPI rank other than 0: each job rank 0 sends, run
-/// from the scene file with the job's overrides, until rank 0 says stop.
+/// A batch's runs on an MPI rank other than 0: each job rank 0 sends,
+/// run from the scene file with the job's overrides and read by `extract`,
+/// until rank 0 says stop.
 #[cfg(feature = "mpi")]
-fn study_worker(
+fn worker(
     world: &batch::mpi::World,
     scene: &Path,
-    quantities: &[formsim::study::quantity::Quantity],
     threads: usize,
+    extract: &batch::Extract<'_>,
 ) -> Outcome {
     let clock = std::time::Instant::now();
-    let extract = |r: &formsim::run::RunResult| {
-        let v = formsim::study::VariantRun::of(r, quantities)?;
-        serde_json::to_value(v).map_err(|e| e.to_string())
-    };
     let work = |_: usize, spec: &batch::JobSpec| {
         let scene = batch::Scene::File(scene);
-        batch::run_job(scene, spec, formsim::run::Progress::Hidden, clock, &extract)
+        batch::run_job(scene, spec, formsim::run::Progress::Hidden, clock, extract)
     };
     world.serve(threads, &work)?;
     Ok(ExitCode::SUCCESS)
@@ -1301,7 +1325,26 @@ fn identify(args: &IdentifyArgs, threads: Option<u16>) -> Outcome {
             Some(_) => std::thread::available_parallelism().map_or(1, usize::from),
         },
     };
+    #[cfg(feature = "mpi")]
+    let world = batch::mpi::world()?;
+    #[cfg(feature = "mpi")]
+    if let Some(w) = &world {
+        if w.rank() > 0 {
+            return worker(w, &args.scene, batch::Executor::threads(&executor), &|r| {
+                let o = identify::observe::Observables::from_run(r).map_err(|e| e.to_string())?;
+                serde_json::to_value(o).map_err(|e| e.to_string())
+            });
+        }
+        let mpi = w.executor(batch::Executor::threads(&executor), true);
+        let report = identify::identify_on(&options, &data, &mpi).map_err(err)?;
+        return identify_report(&report, &args.out);
+    }
     let report = identify::identify_on(&options, &data, &executor).map_err(err)?;
+    identify_report(&report, &args.out)
+}
+
+/// Print what an identification found.
+fn identify_report(report: &formsim::identify::report::Report, out: &Path) -> Outcome {
     for p in &report.params {
         let interval = report
             .uncertainty
@@ -1348,7 +1391,7 @@ fn identify(args: &IdentifyArgs, threads: Option<u16>) -> Outcome {
     }
     say!(
         "report: {}/identification.md, identification.json, objective.png, fit.png",
-        args.out.display()
+        out.display()
     );
     Ok(ExitCode::SUCCESS)
 }

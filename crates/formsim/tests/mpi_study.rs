@@ -106,3 +106,78 @@ fn a_study_under_mpirun_is_the_local_study_bit_for_bit() {
         assert!(mpi.join(label).join("summary.json").is_file(), "{label}");
     }
 }
+
+/// `formsim compare` under `mpirun -n 3` writes the local comparison's
+/// table: compare.csv the same text once its wall-time columns are left
+/// out; every row's run is in its folder.
+#[test]
+fn a_comparison_under_mpirun_is_the_local_one_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let exe = env!("CARGO_BIN_EXE_formsim");
+    let args = |out: &Path| -> Vec<String> {
+        [
+            "--threads",
+            "1",
+            "compare",
+            "scenes/block-on-plane.toml",
+            "--case",
+            "d2:blank.mesh.divisions=2",
+            "--case",
+            "d4:blank.mesh.divisions=4",
+            "--formulations",
+            "convective,jaumann",
+            "--set",
+            "output.frames=0",
+            "--out",
+            out.to_str().unwrap(),
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let (local, mpi) = (dir.path().join("local"), dir.path().join("mpi"));
+    check(
+        &Command::new(exe)
+            .current_dir(root())
+            .args(args(&local))
+            .output()
+            .unwrap(),
+    );
+    check(
+        &Command::new("mpirun")
+            .current_dir(root())
+            .args(["-n", "3", "--oversubscribe", exe])
+            .args(args(&mpi))
+            .output()
+            .expect("mpirun (Open MPI) on the PATH"),
+    );
+    let untimed = |out: &Path| -> Vec<String> {
+        let text = std::fs::read_to_string(out.join("compare.csv")).unwrap();
+        let header: Vec<String> = text
+            .lines()
+            .next()
+            .unwrap()
+            .split(',')
+            .map(String::from)
+            .collect();
+        text.lines()
+            .map(|l| {
+                (l.split(',').zip(&header))
+                    .filter(|(_, h)| *h != "wall_time_s" && *h != "wall_rel")
+                    .map(|(c, _)| c)
+                    .collect::<Vec<_>>()
+                    .join(",")
+            })
+            .collect()
+    };
+    let (a, b) = (untimed(&local), untimed(&mpi));
+    assert_eq!(a.len(), 5, "{a:?}");
+    assert_eq!(a, b);
+    for label in [
+        "d2-ac-convective",
+        "d2-ac-jaumann",
+        "d4-ac-convective",
+        "d4-ac-jaumann",
+    ] {
+        assert!(mpi.join(label).join("summary.json").is_file(), "{label}");
+    }
+}
