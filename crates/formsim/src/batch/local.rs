@@ -36,6 +36,14 @@ impl Local {
     }
 }
 
+/// A rayon pool of `threads` threads for the runs of one worker.
+pub(crate) fn pool(threads: usize) -> Result<rayon::ThreadPool, BatchError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| BatchError::Executor(format!("a pool of {threads} threads: {e}")))
+}
+
 impl Executor for Local {
     fn run(
         &self,
@@ -53,14 +61,7 @@ impl Executor for Local {
         let workers = self.jobs.min(jobs.len());
         let mut pools = Vec::with_capacity(workers);
         for _ in 0..workers {
-            pools.push(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(self.threads)
-                    .build()
-                    .map_err(|e| {
-                        BatchError::Executor(format!("a pool of {} threads: {e}", self.threads))
-                    })?,
-            );
+            pools.push(pool(self.threads)?);
         }
         let (tx, rx) = std::sync::mpsc::channel::<(usize, Record)>();
         std::thread::scope(|s| {

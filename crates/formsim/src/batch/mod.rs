@@ -57,6 +57,19 @@ pub struct Record {
     pub started_s: f64,
 }
 
+impl Record {
+    /// An untimed failed record of `spec`: `why` it has no result.
+    pub fn failed(spec: &JobSpec, why: &str) -> Self {
+        Self {
+            label: spec.label.clone(),
+            outcome: Err(why.to_string()),
+            cpu_s: 0.0,
+            wall_s: 0.0,
+            started_s: 0.0,
+        }
+    }
+}
+
 /// What goes wrong with a batch itself (a run's failure is a [`Record`]).
 #[derive(Debug, thiserror::Error)]
 pub enum BatchError {
@@ -247,12 +260,8 @@ impl<'a> Engine<'a> {
             .into_iter()
             .zip(jobs)
             .map(|(r, job)| {
-                r.unwrap_or_else(|| Record {
-                    label: job.label.clone(),
-                    outcome: Err("the executor lost the run (no record came back)".into()),
-                    cpu_s: 0.0,
-                    wall_s: 0.0,
-                    started_s: 0.0,
+                r.unwrap_or_else(|| {
+                    Record::failed(job, "the executor lost the run (no record came back)")
                 })
             })
             .collect())

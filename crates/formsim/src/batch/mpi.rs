@@ -53,6 +53,7 @@
 //! without the feature) calls [`super::launcher::single_copy`] instead,
 //! which refuses to run as one of several copies.
 
+use super::local::pool;
 use super::{BatchError, Executor, JobSpec, Record, Work, largest_first, panic_message};
 use mpi::Threading;
 use mpi::environment::Universe;
@@ -201,7 +202,7 @@ impl World {
                     }
                 }
                 run.join()
-                    .unwrap_or_else(|p| failed(&spec, &panic_message(p.as_ref())))
+                    .unwrap_or_else(|p| Record::failed(&spec, &panic_message(p.as_ref())))
             });
             root.send_with_tag(&encode(&(index, record))[..], TAG_RECORD);
         }
@@ -374,7 +375,7 @@ impl MpiExecutor<'_> {
             }
             if !self.local && workers.iter().all(|k| matches!(k, Worker::Out)) {
                 while let Some(i) = take() {
-                    done(i, failed(&jobs[i], "no rank is left to run it"));
+                    done(i, Record::failed(&jobs[i], "no rank is left to run it"));
                     left -= 1;
                 }
             }
@@ -459,40 +460,21 @@ impl MpiExecutor<'_> {
                     "rank {r} went silent for {:.0} s while running it (the process died?)",
                     self.silence_limit.as_secs_f64()
                 );
-                lost.push((index, failed(&jobs[index], &why)));
+                lost.push((index, Record::failed(&jobs[index], &why)));
             }
         }
         lost
     }
 }
 
-/// A rayon pool of `threads` threads for the runs of one rank.
-fn pool(threads: usize) -> Result<rayon::ThreadPool, BatchError> {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| BatchError::Executor(format!("a pool of {threads} threads: {e}")))
-}
-
 /// `work` on job `i`, a panic caught as the run's failure.
 fn guarded(work: &Work<'_>, i: usize, spec: &JobSpec) -> Record {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(i, spec))).unwrap_or_else(|p| {
-        failed(
+        Record::failed(
             spec,
             &format!("the run panicked: {}", panic_message(p.as_ref())),
         )
     })
-}
-
-/// A failed record of `spec`, untimed.
-fn failed(spec: &JobSpec, why: &str) -> Record {
-    Record {
-        label: spec.label.clone(),
-        outcome: Err(why.to_string()),
-        cpu_s: 0.0,
-        wall_s: 0.0,
-        started_s: 0.0,
-    }
 }
 
 fn encode<T: serde::Serialize>(value: &T) -> Vec<u8> {
