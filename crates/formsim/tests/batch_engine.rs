@@ -232,6 +232,31 @@ fn study_on_the_engine_gives_the_study_of_before_and_resumes() {
     );
 }
 
+/// The same study two runs at a time (`--jobs 2`): its round is one
+/// batch, so the reference's second run goes alongside the others into a
+/// scratch folder of the journal. `study.json` is the gold one (timings
+/// masked), every variant's folder holds its run, and nothing is left in
+/// the scratch folder.
+#[test]
+fn study_two_at_a_time_gives_the_same_study_and_leaves_no_scratch() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let o = out.to_str().unwrap();
+    let said = ok(&formsim(&with_out(STUDY, o, &["--jobs", "2"])));
+    assert!(said.contains("2 at a time"), "{said}");
+    let json = read(&out.join("study.json"));
+    assert_eq!(untimed_json(&json), untimed_json(&gold("study.json")));
+    for variant in ["reference", "law-wvs", "law-wh"] {
+        assert!(
+            out.join(variant).join("summary.json").is_file(),
+            "{variant}"
+        );
+    }
+    let journal = out.join("journal");
+    assert!(journal.join("runs").is_dir());
+    assert!(!journal.join("scratch").exists(), "scratch folder left");
+}
+
 /// `identify` (Nelder–Mead, four evaluations, the 6 × 6 aluminium cup):
 /// the gold `identification.json`, timings masked.
 #[test]

@@ -64,13 +64,19 @@ pub fn folder(out: &Path) -> PathBuf {
     out.join("journal")
 }
 
+/// The folder, under the journal's, of the runs of `out` whose files are
+/// not kept (a study's repeated runs): removed with the journal.
+pub fn scratch(out: &Path) -> PathBuf {
+    folder(out).join("scratch")
+}
+
 /// Whether `out` holds a batch journal.
 pub fn exists(out: &Path) -> bool {
     folder(out).join("batch.json").is_file()
 }
 
-/// Remove the journal of `out` (its context and its runs' files; a folder
-/// left empty goes too).
+/// Remove the journal of `out` (its context, its runs' files and its
+/// [`scratch`] folder; a folder left empty goes too).
 ///
 /// # Errors
 /// A file cannot be removed.
@@ -85,6 +91,10 @@ pub fn remove(out: &Path) -> Result<(), BatchError> {
             }
         }
         let _ = std::fs::remove_dir(&runs);
+    }
+    let scratch = scratch(out);
+    if scratch.is_dir() {
+        std::fs::remove_dir_all(&scratch).map_err(|e| io_error(&scratch, e))?;
     }
     let context = dir.join("batch.json");
     if context.is_file() {

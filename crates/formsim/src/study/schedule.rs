@@ -149,9 +149,13 @@ pub(crate) struct Rounds<'a> {
 }
 
 /// `repeat` rounds over `variants` (the first is the reference) in the
-/// order of [`round_order`]. Each round goes to the engine in batches in
-/// which no variant appears twice (so that two runs never write one
-/// folder at once); one run at a time, that is the order itself.
+/// order of [`round_order`], each round one batch for the engine: one run
+/// at a time, that is the order itself; with several at a time, the runs
+/// start in that order as workers become free. A variant's first run in a
+/// round writes its folder; its later runs in the same round (the
+/// reference's brackets) write a folder of their own in the journal's
+/// scratch folder ([`repeat_dir`]), removed as each ends, so that two runs never
+/// write one folder at once.
 pub(crate) fn run_rounds(
     variants: &[&Variant],
     quantities: &[Quantity],
@@ -160,69 +164,72 @@ pub(crate) fn run_rounds(
 ) -> Result<Vec<Runs>, StudyError> {
     let mut runs: Vec<Runs> = variants.iter().map(|_| Runs::default()).collect();
     for round in 0..repeat {
-        let mut position = 0;
-        for chunk in distinct_batches(&round_order(variants.len(), round)) {
-            let first = position;
-            position += chunk.len();
-            let (positions, chunk): (Vec<usize>, Vec<usize>) = (first..)
-                .zip(chunk)
-                .filter(|&(_, i)| runs[i].failure.is_none())
-                .unzip();
-            let jobs: Vec<JobSpec> = chunk
-                .iter()
-                .zip(&positions)
-                .map(|(&i, j)| JobSpec {
-                    // Unique in the study: which call, round and place in it.
-                    label: format!("{}/{}.{round}.{j}", variants[i].label, r.call),
+        let (positions, order): (Vec<usize>, Vec<usize>) = round_order(variants.len(), round)
+            .into_iter()
+            .enumerate()
+            .filter(|&(_, i)| runs[i].failure.is_none())
+            .unzip();
+        let jobs: Vec<JobSpec> = order
+            .iter()
+            .zip(&positions)
+            .enumerate()
+            .map(|(k, (&i, j))| {
+                // Unique in the study: which call, round and place in it.
+                let label = format!("{}/{}.{round}.{j}", variants[i].label, r.call);
+                let out = if order[..k].contains(&i) {
+                    repeat_dir(r.out, &label)
+                } else {
+                    r.out.join(&variants[i].label)
+                };
+                JobSpec {
+                    label,
                     sets: variants[i].sets.clone(),
-                    out: r.out.join(&variants[i].label),
+                    out,
                     estimate: 0.0,
-                })
-                .collect();
-            let extract = |result: &RunResult| {
-                let v = VariantRun::of(result, quantities)?;
-                serde_json::to_value(v).map_err(|e| e.to_string())
-            };
-            let (bar, clock) = (r.bar, r.engine.clock());
-            let work = |k: usize, spec: &JobSpec| {
-                let v = variants[chunk[k]];
-                if let Some(b) = bar {
-                    b.reset();
-                    b.set_message(format!("round {}/{repeat}: {}", round + 1, v.label));
                 }
-                let progress = bar.map_or(Progress::Hidden, |b| Progress::Bar(b.clone()));
-                let scene = batch::Scene::Planned(&v.loaded);
-                batch::run_job(scene, spec, progress, clock, &extract)
-            };
-            let records = r.engine.run(&jobs, &work, &mut |k, record, _| {
-                let label = &variants[chunk[k]].label;
-                match decode(record) {
-                    Ok(v) => (r.on_run)(label, Ok(&v)),
-                    Err(m) => (r.on_run)(label, Err(&m)),
-                }
-            })?;
-            for (k, record) in records.iter().enumerate() {
-                let i = chunk[k];
-                keep(variants[i], &mut runs[i], record)?;
+            })
+            .collect();
+        let extract = |result: &RunResult| {
+            let v = VariantRun::of(result, quantities)?;
+            serde_json::to_value(v).map_err(|e| e.to_string())
+        };
+        let (bar, clock) = (r.bar, r.engine.clock());
+        let work = |k: usize, spec: &JobSpec| {
+            let v = variants[order[k]];
+            if let Some(b) = bar {
+                b.reset();
+                b.set_message(format!("round {}/{repeat}: {}", round + 1, v.label));
             }
+            let progress = bar.map_or(Progress::Hidden, |b| Progress::Bar(b.clone()));
+            let scene = batch::Scene::Planned(&v.loaded);
+            batch::run_job(scene, spec, progress, clock, &extract)
+        };
+        let records = r.engine.run(&jobs, &work, &mut |k, record, _| {
+            if jobs[k].out.starts_with(batch::journal::scratch(r.out)) {
+                // A repeat's files are the first run's bits: only its
+                // timing is kept.
+                let _ = std::fs::remove_dir_all(&jobs[k].out);
+            }
+            let label = &variants[order[k]].label;
+            match decode(record) {
+                Ok(v) => (r.on_run)(label, Ok(&v)),
+                Err(m) => (r.on_run)(label, Err(&m)),
+            }
+        })?;
+        // Left empty by the repeats (or never made).
+        let _ = std::fs::remove_dir(batch::journal::scratch(r.out));
+        for (k, record) in records.iter().enumerate() {
+            let i = order[k];
+            keep(variants[i], &mut runs[i], record)?;
         }
     }
     Ok(runs)
 }
 
-/// `order` cut into consecutive batches in which no index appears twice.
-fn distinct_batches(order: &[usize]) -> Vec<Vec<usize>> {
-    let mut batches: Vec<Vec<usize>> = vec![Vec::new()];
-    for &i in order {
-        let last = batches.last_mut().expect("one batch at least");
-        if last.contains(&i) {
-            batches.push(vec![i]);
-        } else {
-            last.push(i);
-        }
-    }
-    batches.retain(|b| !b.is_empty());
-    batches
+/// The folder of a repeated run labelled `label` in the study's folder
+/// `out`: in the journal's scratch folder, named for the label.
+fn repeat_dir(out: &std::path::Path, label: &str) -> std::path::PathBuf {
+    batch::journal::scratch(out).join(label.replace('/', "."))
 }
 
 /// The study's figures of a record, or why the run failed.
@@ -271,12 +278,12 @@ mod tests {
     }
 
     #[test]
-    fn batches_never_hold_a_variant_twice() {
+    fn repeats_write_under_the_journal() {
+        let out = std::path::Path::new("/tmp/study");
         assert_eq!(
-            distinct_batches(&round_order(7, 0)),
-            [vec![0, 1, 2, 3, 4], vec![0, 5, 6], vec![0]]
+            repeat_dir(out, "reference/0.1.5"),
+            out.join("journal/scratch/reference.0.1.5")
         );
-        assert_eq!(distinct_batches(&[0]), [vec![0]]);
     }
 
     #[test]
