@@ -1314,9 +1314,12 @@ fn identify(args: &IdentifyArgs, threads: Option<u16>) -> Outcome {
         samples: args.samples,
     };
     let data = Measurements::read(&args.measurements).map_err(err)?;
-    if args.fresh {
-        identify::journal::remove(&args.out).map_err(err)?;
-    }
+    // Only the rank that keeps the journal may remove it: a worker rank
+    // that did would race rank 0's first records.
+    let fresh = || match args.fresh {
+        true => identify::journal::remove(&args.out).map_err(err),
+        false => Ok(()),
+    };
     let executor = formsim::batch::local::PerBatch {
         jobs: args.jobs.map(usize::from),
         threads: threads.map(usize::from),
@@ -1335,10 +1338,12 @@ fn identify(args: &IdentifyArgs, threads: Option<u16>) -> Outcome {
                 serde_json::to_value(o).map_err(|e| e.to_string())
             });
         }
+        fresh()?;
         let mpi = w.executor(batch::Executor::threads(&executor), true);
         let report = identify::identify_on(&options, &data, &mpi).map_err(err)?;
         return identify_report(&report, &args.out);
     }
+    fresh()?;
     let report = identify::identify_on(&options, &data, &executor).map_err(err)?;
     identify_report(&report, &args.out)
 }

@@ -45,6 +45,11 @@ fn check(o: &Output) {
 
 /// study.json with every timing replaced by null.
 fn masked(out: &Path) -> Value {
+    masked_file(&out.join("study.json"))
+}
+
+/// The JSON file `path` with every timing replaced by null.
+fn masked_file(path: &Path) -> Value {
     fn mask(v: &mut Value) {
         match v {
             Value::Object(map) => {
@@ -62,7 +67,7 @@ fn masked(out: &Path) -> Value {
             _ => {}
         }
     }
-    let text = std::fs::read_to_string(out.join("study.json")).unwrap();
+    let text = std::fs::read_to_string(path).unwrap();
     let mut v: Value = serde_json::from_str(&text).unwrap();
     mask(&mut v);
     v
@@ -179,5 +184,47 @@ fn a_comparison_under_mpirun_is_the_local_one_bit_for_bit() {
         "d4-ac-jaumann",
     ] {
         assert!(mpi.join(label).join("summary.json").is_file(), "{label}");
+    }
+}
+
+/// `formsim identify` under `mpirun -n 3` writes the identification of the
+/// local engine (the gold file of `tests/batch_engine.rs`, timings masked),
+/// and so does a second call with `--fresh` into the same folder, whose
+/// journal only rank 0 removes.
+#[test]
+fn an_identification_under_mpirun_is_the_gold_one_fresh_or_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("id");
+    let exe = env!("CARGO_BIN_EXE_formsim");
+    let gold = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/batch_gold/identification.json");
+    for fresh in [false, true] {
+        let o = Command::new("mpirun")
+            .current_dir(root())
+            .args(["-n", "3", "--oversubscribe", exe])
+            .args(["--threads", "1", "identify", "scenes/square-cup-al.toml"])
+            .args(["--measurements", "data/numisheet93-al-drawin-40mm.csv"])
+            .args(["--fit", "contact.params.ac.mu=0.02..0.3"])
+            .args(["--max-evaluations", "4", "-q"])
+            .args([
+                "--set",
+                "blank.mesh.divisions=6",
+                "--set",
+                "output.frames=0",
+            ])
+            .args([
+                "--set",
+                "output.plots=false",
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .args(fresh.then_some("--fresh"))
+            .output()
+            .expect("mpirun (Open MPI) on the PATH");
+        check(&o);
+        assert_eq!(
+            masked_file(&out.join("identification.json")),
+            masked_file(&gold),
+            "fresh: {fresh}"
+        );
     }
 }

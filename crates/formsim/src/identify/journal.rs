@@ -182,7 +182,11 @@ pub fn remove(out: &Path) -> Result<(), IdentifyError> {
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         let ours = name == "context.json" || (name.starts_with("eval-") && name.contains(".json"));
         if path.is_file() && ours {
-            std::fs::remove_file(&path).map_err(|e| io_error(&path, e))?;
+            match std::fs::remove_file(&path) {
+                // Gone since the listing: what was asked.
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+                r => r.map_err(|e| io_error(&path, e))?,
+            }
         }
     }
     let _ = std::fs::remove_dir(&dir);
