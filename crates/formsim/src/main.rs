@@ -396,7 +396,7 @@ fn main() -> ExitCode {
             cli.command,
             Command::Study(_) | Command::Compare(_) | Command::Identify(_)
         );
-    if !shared && let Err(e) = formsim::batch::launcher::single_copy() {
+    if !shared && let Err(e) = formsim::batch::launcher::single_copy(cfg!(feature = "mpi")) {
         note!("error: {e}");
         return ExitCode::FAILURE;
     }

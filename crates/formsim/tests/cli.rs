@@ -565,3 +565,67 @@ fn components_lists_every_registry() {
         "{strip:?}"
     );
 }
+
+/// `formsim` with `srun`'s variables of a 2-task step (`--mpi=none`) and
+/// `args`, from the repository's root.
+fn as_two_srun_tasks(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_formsim"))
+        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."))
+        .env("SLURM_STEP_NUM_TASKS", "2")
+        .env("SLURM_PROCID", "0")
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Two copies of a command that runs in one process would each do the
+/// whole work into one folder: a launcher's second copy is refused in one
+/// line, before anything is written, in every build.
+#[test]
+fn a_run_started_as_two_launcher_tasks_is_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let o = as_two_srun_tasks(&[
+        "run",
+        "scenes/block-on-plane.toml",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    assert!(
+        t.contains("started as 2 processes by an MPI launcher"),
+        "{t}"
+    );
+    assert_eq!(t.trim().lines().count(), 1, "{t}");
+    assert!(!out.exists());
+}
+
+/// Without the MPI executor a study under a launcher is refused too, and the
+/// line says how to get the executor; with it, `srun` without an MPI plugin
+/// is told before MPI starts (which would abort in its initialisation).
+#[test]
+fn a_study_as_two_srun_tasks_says_what_to_do() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let o = as_two_srun_tasks(&[
+        "study",
+        "scenes/block-on-plane.toml",
+        "--vary",
+        "blank.mesh.divisions=2",
+        "--quantities",
+        "punch_force_max",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    let said = if cfg!(feature = "mpi") {
+        "srun started 2 tasks with no MPI plugin, so MPI cannot join them: pass --mpi=pmix"
+    } else {
+        "this build has no MPI executor: start one process, or build formsim with --features mpi"
+    };
+    assert!(t.contains(said), "{t}");
+    assert_eq!(t.trim().lines().count(), 1, "{t}");
+    assert!(!out.exists());
+}

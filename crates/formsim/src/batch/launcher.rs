@@ -33,19 +33,38 @@ pub fn launched() -> Option<Option<usize>> {
     detect(&|v| std::env::var(v).ok())
 }
 
-/// For a command that runs in one process (every command of a build
-/// without the `mpi` feature): an error when a launcher started several
-/// copies of this process, which would each do the whole work into the
-/// same folder.
+/// The number of tasks of an `srun` step that gave its tasks no MPI
+/// plugin (`--mpi=none`, Slurm's usual default): more than one task, and
+/// none of the variables a PMI or PMIx plugin sets. An MPI library started
+/// so cannot find its peers (Open MPI aborts in its initialisation).
+pub fn srun_without_mpi(var: &dyn Fn(&str) -> Option<String>) -> Option<usize> {
+    let tasks = var(SLURM_STEP_SIZE)?.trim().parse::<usize>().ok()?;
+    let mpi = SIZE_VARIABLES
+        .iter()
+        .chain(&RANK_VARIABLES)
+        .any(|v| var(v).is_some());
+    (tasks > 1 && !mpi).then_some(tasks)
+}
+
+/// For a command that runs in one process: an error when a launcher started
+/// several copies of this process, which would each do the whole work into
+/// the same folder. `mpi_build` says whether this build has the MPI
+/// executor (then only other commands are refused), for the message.
 ///
 /// # Errors
 /// The launcher says the job has more than one process.
-pub fn single_copy() -> Result<(), super::BatchError> {
+pub fn single_copy(mpi_build: bool) -> Result<(), super::BatchError> {
+    let why = if mpi_build {
+        "only study, compare and identify share their runs over MPI: start this command as \
+         one process"
+    } else {
+        "this build has no MPI executor: start one process, or build formsim with --features \
+         mpi to share a study, comparison or identification over the ranks \
+         (docs/scale-out.md)"
+    };
     match launched() {
         Some(Some(n)) if n > 1 => Err(super::BatchError::Executor(format!(
-            "started as {n} processes by an MPI launcher, but this command runs in one \
-             process: start one (docs/scale-out.md says which commands share their runs \
-             over MPI)"
+            "started as {n} processes by an MPI launcher, but {why}"
         ))),
         _ => Ok(()),
     }
@@ -57,6 +76,18 @@ mod tests {
 
     fn env<'a>(pairs: &'a [(&'a str, &'a str)]) -> impl Fn(&str) -> Option<String> + 'a {
         move |v| pairs.iter().find(|p| p.0 == v).map(|p| p.1.to_string())
+    }
+
+    #[test]
+    fn srun_without_an_mpi_plugin_is_told_apart() {
+        let none = [("SLURM_PROCID", "1"), ("SLURM_STEP_NUM_TASKS", "2")];
+        assert_eq!(srun_without_mpi(&env(&none)), Some(2));
+        let pmix = [("SLURM_STEP_NUM_TASKS", "2"), ("PMIX_RANK", "1")];
+        assert_eq!(srun_without_mpi(&env(&pmix)), None);
+        let pmi2 = [("SLURM_STEP_NUM_TASKS", "2"), ("PMI_SIZE", "2")];
+        assert_eq!(srun_without_mpi(&env(&pmi2)), None);
+        let script = [("SLURM_STEP_NUM_TASKS", "1")];
+        assert_eq!(srun_without_mpi(&env(&script)), None);
     }
 
     #[test]

@@ -112,6 +112,12 @@ pub fn world() -> Result<Option<World>, BatchError> {
         return Ok(None);
     };
     let err = |m: String| Err(BatchError::Executor(m));
+    if let Some(n) = super::launcher::srun_without_mpi(&|v| std::env::var(v).ok()) {
+        return err(format!(
+            "srun started {n} tasks with no MPI plugin, so MPI cannot join them: pass \
+             --mpi=pmix (or set MpiDefault=pmix in slurm.conf)"
+        ));
+    }
     let Some((universe, threading)) = mpi::initialize_with_threading(Threading::Funneled) else {
         return err("MPI is already initialised".into());
     };
