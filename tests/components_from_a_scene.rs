@@ -126,6 +126,7 @@ inventory::submit! {
         name: "test-keep",
         summary: "convective with the history scaled by keep (a test's formulation)",
         params: FORMULATION_PARAMS,
+        relative_cost: 1.0,
         build: build_formulation,
     }
 }

@@ -28,6 +28,7 @@ macro_rules! registrations {
                 name: $module::NAME,
                 summary: $module::SUMMARY,
                 params: &[],
+                relative_cost: $module::RELATIVE_COST,
                 build: build_formulation::<$form>,
             }
         })+

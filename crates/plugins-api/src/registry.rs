@@ -34,6 +34,10 @@ pub struct FormulationEntry {
     /// Its parameters (a scene's `[contact.params.NAME]`); the built-in
     /// formulations have none.
     pub params: &'static [ParamSpec],
+    /// CPU time of a run with it relative to the same run with the
+    /// `convective` formulation (1 for a formulation that costs what it
+    /// costs): the batch engine starts the costliest runs first.
+    pub relative_cost: f64,
     /// Builder from resolved parameter values.
     pub build: FormulationBuilder,
 }

@@ -5,7 +5,8 @@ use super::{BatchError, Executor, JobSpec, Record, Work};
 use std::collections::VecDeque;
 use std::sync::Mutex;
 
-/// Runs jobs in this process, [`Local::jobs`] at a time.
+/// Runs jobs in this process, [`Local::jobs`] at a time, the largest
+/// [`JobSpec::estimate`] first (equal estimates in the batch's order).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Local {
     /// Runs at a time (≥ 1).
@@ -51,7 +52,7 @@ impl Executor for Local {
         work: &Work<'_>,
         done: &mut dyn FnMut(usize, Record),
     ) -> Result<(), BatchError> {
-        let queue: Mutex<VecDeque<usize>> = Mutex::new((0..jobs.len()).collect());
+        let queue: Mutex<VecDeque<usize>> = Mutex::new(super::largest_first(jobs).into());
         let next = || {
             queue
                 .lock()
@@ -182,6 +183,26 @@ mod tests {
                 threads: 1
             }
         );
+    }
+
+    #[test]
+    fn one_at_a_time_the_largest_estimate_runs_first() {
+        let jobs: Vec<JobSpec> = [1.0, 3.0, 2.0, 3.0]
+            .iter()
+            .enumerate()
+            .map(|(i, &e)| JobSpec {
+                estimate: e,
+                ..spec(&format!("j{i}"))
+            })
+            .collect();
+        let exec = Local {
+            jobs: 1,
+            threads: 1,
+        };
+        let work = |_: usize, s: &JobSpec| Record::failed(s, "nothing to do");
+        let mut order = Vec::new();
+        exec.run(&jobs, &work, &mut |i, _| order.push(i)).unwrap();
+        assert_eq!(order, [1, 3, 2, 0], "largest first, ties in order");
     }
 
     #[test]

@@ -312,7 +312,10 @@ pub fn estimate(scene: &Scene, mesh: MeshSize) -> Estimate {
     let increments = (end / dt).ceil();
     let frames = (scene.output.frames as f64).min(increments);
     let frame_bytes = mesh.nodes * FRAME_NODE_BYTES + mesh.elements * FRAME_ELEMENT_BYTES;
-    let cost = element.map_or(1.0, |k| k.relative_cost) * material.map_or(1.0, |k| k.relative_cost);
+    let formulation = plugins_api::registry::formulation(&scene.contact.formulation);
+    let cost = element.map_or(1.0, |k| k.relative_cost)
+        * material.map_or(1.0, |k| k.relative_cost)
+        * formulation.map_or(1.0, |f| f.relative_cost);
     Estimate {
         mesh,
         model_bytes,
@@ -633,6 +636,22 @@ mod tests {
         let hill48 = shell_elements::kinds::material("hill48").unwrap();
         assert!(hill48.relative_cost > 1.0);
         assert!((b.run_time_s / a.run_time_s / hill48.relative_cost - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_formulation_s_relative_cost_scales_the_estimate() {
+        let convective = cup(&[]);
+        let jaumann = cup(&["contact.formulation=jaumann"]);
+        let size = MeshSize::of_spec(&convective.scene).unwrap();
+        let (a, b) = (
+            estimate(&convective.scene, size),
+            estimate(&jaumann.scene, size),
+        );
+        let cost = plugins_api::registry::formulation("jaumann")
+            .unwrap()
+            .relative_cost;
+        assert!(cost > 1.0);
+        assert!((b.run_time_s / a.run_time_s / cost - 1.0).abs() < 1e-12);
     }
 
     #[test]

@@ -6,6 +6,10 @@ use plugins_api::{DirectionInputs, KinematicFormulation, PointNeeds, StepKinemat
 /// Name as typed in scenes.
 pub const NAME: &str = "convective";
 
+/// CPU time of a run with this formulation relative to the same run with
+/// `convective`: 1, the others' costs are relative to it (docs/s-rail.md).
+pub const RELATIVE_COST: f64 = 1.0;
+
 /// One-line summary for registries and the CLI.
 pub const SUMMARY: &str = "standard: history carried by the tool's rigid rotation and the minimal rotation n_n -> n_{n+1}; d = phi_tr (backward Euler)";
 

@@ -6,6 +6,11 @@ use plugins_api::{DirectionInputs, KinematicFormulation, PointNeeds, StepKinemat
 /// Name as typed in scenes.
 pub const NAME: &str = "jaumann";
 
+/// CPU time of a run with this formulation relative to the same run with
+/// `convective` (1.29–1.36 on the fine S-rail, one per law: docs/s-rail.md); orders a batch's runs, largest
+/// first.
+pub const RELATIVE_COST: f64 = 1.32;
+
 /// One-line summary for registries and the CLI.
 pub const SUMMARY: &str = "co-rotational: history rotated by the blank spin (Hughes-Winget) then onto the new tangent plane; d = phi* + dt phi_dot in the spun frame (Jaumann rate)";
 

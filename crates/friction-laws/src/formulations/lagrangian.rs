@@ -8,6 +8,11 @@ use super::{admissible, not_transportable};
 /// Name as typed in scenes.
 pub const NAME: &str = "lagrangian";
 
+/// CPU time of a run with this formulation relative to the same run with
+/// `convective` (1.40–1.47 on the fine S-rail, one per law: docs/s-rail.md); orders a batch's runs, largest
+/// first.
+pub const RELATIVE_COST: f64 = 1.44;
+
 /// One-line summary for registries and the CLI.
 pub const SUMMARY: &str = "total Lagrangian: history pushed forward by F_{n+1} F_n^-1 and projected; d = phi_n + dt phi_dot (convected rate)";
 

@@ -8,6 +8,11 @@ use super::not_transportable;
 /// Name as typed in scenes.
 pub const NAME: &str = "updated-lagrangian";
 
+/// CPU time of a run with this formulation relative to the same run with
+/// `convective` (1.31–1.34 on the fine S-rail, one per law: docs/s-rail.md); orders a batch's runs, largest
+/// first.
+pub const RELATIVE_COST: f64 = 1.32;
+
 /// One-line summary for registries and the CLI.
 pub const SUMMARY: &str = "updated Lagrangian: F = I at step n, history pushed forward by cay(dt L) and projected; d = phi_n + dt phi_dot with F_dot = L (convected rate)";
 
