@@ -335,10 +335,7 @@ impl ContactPair {
             curved_answers: 0,
             skipped: 0,
             timing: ContactTiming::default(),
-            cand: Candidates {
-                points: Vec::with_capacity(m),
-                near: Vec::with_capacity(m),
-            },
+            cand: Candidates::new(m),
             batch: Batch::with_capacity(m),
         })
     }

@@ -185,6 +185,23 @@ pub(crate) struct Candidates {
     pub points: Vec<u32>,
     /// Their projections, same order (5c).
     pub near: Vec<Near>,
+    /// The region the tool gave around each new projection, same order as
+    /// `near`; read only where `near[j].projected` (a point a region
+    /// answered keeps the region it has). Apart from [`Near`] so that a
+    /// region's answer does not move a region's bytes; as long as the
+    /// pair's points, so that it never grows in a step.
+    pub regions: Vec<Option<ToolRegion>>,
+}
+
+impl Candidates {
+    /// Scratch for a pair of `m` points.
+    pub fn new(m: usize) -> Self {
+        Self {
+            points: Vec::with_capacity(m),
+            near: Vec::with_capacity(m),
+            regions: vec![None; m],
+        }
+    }
 }
 
 /// The touching points gathered for friction (scratch, reused from step to

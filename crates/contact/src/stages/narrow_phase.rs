@@ -26,10 +26,8 @@ pub(crate) struct Near {
     pub distance: f64,
     /// Warm start of the next projection.
     pub hint: ProjectionHint,
-    /// A projection's new region, if the tool has one there (`None` when a
-    /// region answered: the point keeps the region it has).
-    pub region: Option<ToolRegion>,
-    /// Whether the tool projected the point (else the region answered).
+    /// Whether the tool projected the point (else the region answered); its
+    /// new region is then in [`Candidates::regions`].
     pub projected: bool,
     /// Whether a curved region answered.
     pub curved: bool,
@@ -45,19 +43,19 @@ impl Near {
             u: f64::NAN,
             v: f64::NAN,
         },
-        region: None,
         projected: false,
         curved: false,
     };
 
-    /// What the step keeps of `pr`, and the region around it.
-    fn of(pr: &Projection, tool: &dyn ToolSurface) -> Self {
+    /// What the step keeps of `pr`; the tool's region around it goes to
+    /// `region`.
+    fn of(pr: &Projection, tool: &dyn ToolSurface, region: &mut Option<ToolRegion>) -> Self {
         let hint = pr.hint();
+        *region = tool.region(&hint);
         Self {
             normal: pr.normal,
             distance: pr.distance,
             hint,
-            region: tool.region(&hint),
             projected: true,
             curved: false,
         }
@@ -77,7 +75,6 @@ impl Near {
             normal: at.to_global * normal,
             distance,
             hint,
-            region: None,
             projected: false,
             curved: matches!(region, ToolRegion::Curved(_)),
         })
@@ -103,25 +100,27 @@ pub(crate) fn narrow_phase(
     cand: &mut Candidates,
     pair: &str,
 ) -> Result<(), ContactError> {
-    let (ks, near) = (&cand.points, &mut cand.near);
+    let (ks, near, regions) = (&cand.points, &mut cand.near, &mut cand.regions[..]);
     near.clear();
-    let one = |k: u32| {
+    let one = |k: u32, new_region: &mut Option<ToolRegion>| {
         let (k, xk) = (k as usize, &x[nodes[k as usize] as usize]);
         if let (Some(r), Some(h)) = (&region[k], hint[k])
             && let Some(n) = Near::from_region(at, xk, r, h)
         {
             return Ok(n);
         }
-        tool.project(xk, hint[k]).map(|pr| Near::of(&pr, tool))
+        tool.project(xk, hint[k])
+            .map(|pr| Near::of(&pr, tool, new_region))
     };
     if parallel(ks.len()) {
         near.resize(ks.len(), Near::NONE);
         let done: Result<(), ()> = near
             .par_chunks_mut(PARALLEL_CHUNK)
+            .zip(regions.par_chunks_mut(PARALLEL_CHUNK))
             .zip(ks.par_chunks(PARALLEL_CHUNK))
-            .try_for_each(|(out, ks)| {
-                for (o, &k) in out.iter_mut().zip(ks) {
-                    *o = one(k).map_err(|_| ())?;
+            .try_for_each(|((out, regions), ks)| {
+                for ((o, r), &k) in out.iter_mut().zip(regions).zip(ks) {
+                    *o = one(k, r).map_err(|_| ())?;
                 }
                 Ok(())
             });
@@ -132,8 +131,8 @@ pub(crate) fn narrow_phase(
     // One thread (or a failure to report in candidate order): in order,
     // into the slots' kept capacity.
     near.clear();
-    for &k in ks.iter() {
-        near.push(one(k).map_err(|source| ContactError::Tool {
+    for (&k, r) in ks.iter().zip(regions.iter_mut()) {
+        near.push(one(k, r).map_err(|source| ContactError::Tool {
             pair: pair.to_string(),
             node: nodes[k as usize] as usize,
             source: Box::new(source),

@@ -5,7 +5,7 @@
 //! renewal of the points' [`LastProjection`] and the gathering of the
 //! touching points into the friction [`Batch`].
 
-use plugins_api::{PointNeeds, StepInput, StepKinematics, Vec3};
+use plugins_api::{PointNeeds, StepInput, StepKinematics, ToolRegion, Vec3};
 
 use super::{Batch, Candidates, LastProjection, Near, PointsMut, Settings, ToolStep};
 use crate::{BlankGeometry, BlankView, PointStatus};
@@ -68,10 +68,11 @@ impl Normal<'_> {
     ) -> NormalSums {
         batch.clear();
         let mut sums = NormalSums::default();
-        for (&k, pr) in cand.points.iter().zip(&cand.near) {
+        let candidates = cand.points.iter().zip(&cand.near).zip(&cand.regions);
+        for ((&k, pr), region) in candidates {
             let k = k as usize;
             let i = nodes[k] as usize;
-            self.remember(k, i, pr, last);
+            self.remember(k, i, pr, region, last);
             let Some(touch) = self.touch(i, pr, stiffness[k]) else {
                 points.open(k);
                 continue;
@@ -96,13 +97,21 @@ impl Normal<'_> {
         sums
     }
 
-    /// Keep the warm start of point `k` (node `i`) and, with `skip_far`, its
-    /// distance and position in the tool's frame.
+    /// Keep the warm start of point `k` (node `i`), the `region` of a new
+    /// projection and, with `skip_far`, its distance and position in the
+    /// tool's frame.
     #[inline]
-    fn remember(&self, k: usize, i: usize, pr: &Near, last: &mut LastProjection) {
+    fn remember(
+        &self,
+        k: usize,
+        i: usize,
+        pr: &Near,
+        region: &Option<ToolRegion>,
+        last: &mut LastProjection,
+    ) {
         last.hint[k] = Some(pr.hint);
         if pr.projected {
-            last.region[k] = pr.region;
+            last.region[k] = *region;
         }
         if self.settings.skip_far {
             last.dist[k] = pr.distance.abs();
@@ -292,13 +301,13 @@ mod tests {
                 u: 0.0,
                 v: 0.0,
             },
-            region: None,
             projected: true,
             curved: false,
         };
         Candidates {
             points: (0..m as u32).collect(),
             near: (0..m).map(near).collect(),
+            regions: vec![None; m],
         }
     }
 
