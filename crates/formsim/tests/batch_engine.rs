@@ -12,6 +12,9 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
+mod batch_support;
+use batch_support::untimed;
+
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
@@ -39,32 +42,6 @@ fn gold(name: &str) -> String {
 
 fn read(path: &Path) -> String {
     std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
-/// The keys of JSON outputs that hold timings (or, for a study's
-/// recommendation, depend on them).
-const TIMED_KEYS: &[&str] = &["cpu_s", "wall_s", "speed_up", "cost_s", "recommendation"];
-
-/// `v` with every timing replaced by `null`.
-fn untimed(mut v: Value) -> Value {
-    match &mut v {
-        Value::Object(map) => {
-            for (k, x) in map.iter_mut() {
-                *x = if TIMED_KEYS.contains(&k.as_str()) {
-                    Value::Null
-                } else {
-                    untimed(x.take())
-                };
-            }
-        }
-        Value::Array(items) => {
-            for x in items.iter_mut() {
-                *x = untimed(x.take());
-            }
-        }
-        _ => {}
-    }
-    v
 }
 
 /// The text of a JSON file with its timings masked.

@@ -9,6 +9,9 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod batch_support;
+use batch_support::untimed;
+
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
@@ -50,27 +53,8 @@ fn masked(out: &Path) -> Value {
 
 /// The JSON file `path` with every timing replaced by null.
 fn masked_file(path: &Path) -> Value {
-    fn mask(v: &mut Value) {
-        match v {
-            Value::Object(map) => {
-                for (k, x) in map.iter_mut() {
-                    if ["cpu_s", "wall_s", "speed_up", "cost_s", "recommendation"]
-                        .contains(&k.as_str())
-                    {
-                        *x = Value::Null;
-                    } else {
-                        mask(x);
-                    }
-                }
-            }
-            Value::Array(items) => items.iter_mut().for_each(mask),
-            _ => {}
-        }
-    }
     let text = std::fs::read_to_string(path).unwrap();
-    let mut v: Value = serde_json::from_str(&text).unwrap();
-    mask(&mut v);
-    v
+    untimed(serde_json::from_str(&text).unwrap())
 }
 
 #[test]
