@@ -399,8 +399,8 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
         )?)
     }
 
-    /// Run the element loop in parallel from `n` elements on (serial below);
-    /// `usize::MAX` keeps it serial.
+    /// Run the element loop in parallel from `n` elements on (serial below,
+    /// and on one rayon thread); `usize::MAX` keeps it serial.
     pub fn with_parallel_min(mut self, n: usize) -> Self {
         self.parallel_min = n;
         self
@@ -658,8 +658,9 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
     /// Every element's forces into `results_x4` / `results` (blocks of four
     /// consecutive elements through the formulation's four-element kernel,
     /// SIMD lanes for BT; the rest one by one), stresses and histories
-    /// updated; in parallel from `parallel_min` elements on. The nodal state
-    /// holds every node the shells use (checked by the caller).
+    /// updated; in parallel from `parallel_min` elements on, with more than
+    /// one rayon thread. The nodal state holds every node the shells use
+    /// (checked by the caller).
     fn compute_elements(&mut self, dt: f64, state: &NodalState) {
         let ip = E::IN_PLANE_POINTS;
         let nsp = ip * self.section.rule.n;
@@ -682,7 +683,9 @@ impl<E: ShellFormulation, M: Material> ShellSet<E, M> {
         let (sh_b, sh_r) = self.shear.split_at_mut(4 * nb * ip);
         let (hg_b, hg_r) = self.hourglass.split_at_mut(4 * nb * nhg);
         let res_b = &mut self.results_x4[..];
-        if self.conn.len() >= self.parallel_min {
+        // One thread runs the loop itself: rayon's one worker would take it
+        // over and hand it back at every step, two thread switches a step.
+        if self.conn.len() >= self.parallel_min && rayon::current_num_threads() > 1 {
             conn_b
                 .par_iter()
                 .zip(t_b.par_iter_mut())
