@@ -1576,7 +1576,8 @@ impl Solver {
     /// elements, the contact pairs, the nodes) then split their work among
     /// the pool's threads without each handing it over and waiting on its
     /// own. A caller stepping many times saves even that by calling from
-    /// inside the pool (`rayon::scope`, as `formsim run` does).
+    /// inside the pool (`ThreadPool::install`, as the batch executors run
+    /// each job). On one thread nothing is handed over.
     pub fn step(&mut self) -> Result<StepReport, FemError> {
         self.initialize()?;
         let started = Instant::now();
